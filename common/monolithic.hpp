@@ -1,0 +1,36 @@
+// The monolithic reference: wheel, contact, rail, pads, sleepers and ballast
+// integrated as one system from the static equilibrium.
+#pragma once
+
+#include <vector>
+
+#include "newmark.hpp"
+#include "participant.hpp"
+#include "scene.hpp"
+#include "track_model.hpp"
+
+namespace railcosim {
+
+class MonolithicModel {
+ public:
+  // output_step: the interval at which the history is recorded and the
+  // integrator lands exactly; tolerance: the integrator's local error bound.
+  MonolithicModel(const Scene& scene, double output_step, double tolerance);
+
+  // Advances from step n to n + 1 (t = n * output_step).
+  void advance(long n);
+  HistoryRow history_row(long n) const;
+
+  // Rail node displacements w_k (rotations left out).
+  std::vector<double> rail_deflection() const;
+  const Structure& structure() const { return sys_; }
+  const Newmark& integrator() const { return newmark_; }
+  double output_step() const { return dt_; }
+
+ private:
+  Structure sys_;
+  double dt_;
+  Newmark newmark_;
+};
+
+}  // namespace railcosim

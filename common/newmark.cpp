@@ -1,0 +1,172 @@
+#include "newmark.hpp"
+
+#include <cmath>
+
+#include "hertz.hpp"
+
+namespace railcosim {
+
+Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed_level)
+    : sys_(system),
+      interval_(interval),
+      tol_(tolerance),
+      fixed_level_(fixed_level),
+      keff_(kMaxLevel + 1),
+      responses_(kMaxLevel + 1),
+      mass_(system.M) {
+  const int n = sys_.layout.size;
+  state_.u = Vector::Zero(n);
+  state_.v = Vector::Zero(n);
+  state_.a = Vector::Zero(n);
+  state_.level = fixed_level;
+  // A rotation error is weighed as the displacement it makes over one rail
+  // element, so the tolerance means metres for every DOF.
+  error_weight_ = Vector::Ones(n);
+  for (int dof : sys_.layout.rail_theta) error_weight_[dof] = sys_.layout.element_length;
+}
+
+const BandCholesky& Newmark::factor(int level) {
+  BandCholesky& f = keff_[level];
+  if (f.empty()) {
+    const double h = std::ldexp(interval_, -level);
+    f = BandCholesky(SymmetricBandMatrix::combine(1.0, sys_.K, kGamma / (kBeta * h), sys_.C,
+                                                  1.0 / (kBeta * h * h), sys_.M));
+  }
+  return f;
+}
+
+const Vector& Newmark::unit_response(int level, int dof) {
+  auto& cache = responses_[level];
+  for (const auto& r : cache.entries)
+    if (r.dof == dof) return r.column;
+  auto& slot = cache.entries[cache.next];
+  cache.next = (cache.next + 1) % cache.entries.size();
+  slot.dof = dof;
+  slot.column.setZero(sys_.layout.size);
+  slot.column[dof] = 1.0;
+  factor(level).solve_in_place(slot.column);
+  return slot.column;
+}
+
+double Newmark::contact_force(const Vector& u, double t) const {
+  if (!sys_.contact) return 0.0;
+  const ContactTerm& c = *sys_.contact;
+  if (c.law == ContactTerm::Law::kPrescribed) return c.prescribed_force;
+  ContactTerm::Entry g[5];
+  const int ng = c.entries(t, sys_.layout, g);
+  double delta = c.delta0();
+  for (int i = 0; i < ng; ++i) delta += g[i].weight * u[g[i].dof];
+  return hertz_force(c.hertz_constant, delta);
+}
+
+void Newmark::set_state(const Vector& u, const Vector& v, double t) {
+  state_.u = u;
+  state_.v = v;
+  update_acceleration(t);
+}
+
+void Newmark::update_acceleration(double t) {
+  Vector r = sys_.load;
+  sys_.K.multiply_add(-1.0, state_.u, r);
+  sys_.C.multiply_add(-1.0, state_.v, r);
+  state_.contact_force = contact_force(state_.u, t);
+  if (sys_.contact) {
+    ContactTerm::Entry g[5];
+    const int ng = sys_.contact->entries(t, sys_.layout, g);
+    for (int i = 0; i < ng; ++i) r[g[i].dof] -= state_.contact_force * g[i].weight;
+  }
+  mass_.solve_in_place(r);
+  state_.a = r;
+}
+
+void Newmark::step(double t_end, double h, int level, Trial& out) {
+  const double c0 = 1.0 / (kBeta * h * h), c1 = kGamma / (kBeta * h);
+  const NewmarkState& s = state_;
+  // Predictors: the parts of u+ and v+ known before a+.
+  pred_u_ = s.u + h * s.v + (h * h * (0.5 - kBeta)) * s.a;
+  pred_v_ = s.v + (h * (1.0 - kGamma)) * s.a;
+  // K_eff u+ = load + M c0 pred_u + C (c1 pred_u - pred_v) - F g.
+  rhs_ = sys_.load;
+  damp_arg_ = c1 * pred_u_ - pred_v_;
+  SymmetricBandMatrix::multiply_add2(c0, sys_.M, pred_u_, 1.0, sys_.C, damp_arg_, rhs_);
+
+  const BandCholesky& keff = factor(level);
+  double force = 0.0;
+  if (sys_.contact) {
+    const ContactTerm& c = *sys_.contact;
+    ContactTerm::Entry g[5];
+    const int ng = c.entries(t_end, sys_.layout, g);
+    if (c.law == ContactTerm::Law::kPrescribed) {
+      force = c.prescribed_force;
+      for (int i = 0; i < ng; ++i) rhs_[g[i].dof] -= force * g[i].weight;
+      keff.solve_in_place(rhs_);
+    } else {
+      keff.solve_in_place(rhs_);  // u0: the step without contact force
+      // y = K_eff^-1 g, from the cached unit responses of the <= 5 DOFs of g.
+      y_.setZero(sys_.layout.size);
+      for (int i = 0; i < ng; ++i) y_ += g[i].weight * unit_response(level, g[i].dof);
+      double d0 = c.delta0(), flex = 0.0;
+      for (int i = 0; i < ng; ++i) {
+        d0 += g[i].weight * rhs_[g[i].dof];
+        flex += g[i].weight * y_[g[i].dof];
+      }
+      const double delta = hertz_solve_penetration(c.hertz_constant, d0, flex);
+      force = hertz_force(c.hertz_constant, delta);
+      rhs_ -= force * y_;
+    }
+  } else {
+    keff.solve_in_place(rhs_);
+  }
+  out.u = rhs_;
+  out.a = c0 * (out.u - pred_u_);
+  out.v = pred_v_ + (kGamma * h) * out.a;
+  out.force = force;
+}
+
+void Newmark::advance(double t0, double t1) {
+  // Position inside [t, t + H] in units of H / 2^kMaxLevel.
+  const long long end = 1LL << kMaxLevel;
+  long long pos = 0;
+  int level = tol_ > 0.0 ? state_.level : fixed_level_;
+  // A level too coarse for the alignment at pos = 0 cannot happen (0 is
+  // aligned with every level), so only levels are adjusted below.
+  const double err_scale = std::abs(kBeta - 1.0 / 6.0);
+  while (pos < end) {
+    const double h = std::ldexp(interval_, -level);
+    const long long stride = 1LL << (kMaxLevel - level);
+    const double t_next =
+        pos + stride == end
+            ? t1
+            : t0 + interval_ * std::ldexp(static_cast<double>(pos + stride), -kMaxLevel);
+    step(t_next, h, level, trial_);
+
+    if (tol_ > 0.0) {
+      const double err = err_scale * h * h *
+                         (trial_.a - state_.a).cwiseAbs().cwiseProduct(error_weight_).maxCoeff() /
+                         tol_;
+      if (err > 1.0 && level < kMaxLevel) {
+        ++level;
+        ++state_.rejected_steps;
+        continue;
+      }
+      pos += stride;
+      std::swap(state_.u, trial_.u);
+      std::swap(state_.v, trial_.v);
+      std::swap(state_.a, trial_.a);
+      state_.contact_force = trial_.force;
+      ++state_.micro_steps;
+      // Coarsen when the error is small and the next step stays aligned.
+      if (err < 1.0 / 16.0 && level > 0 && (pos % (2 * stride)) == 0) --level;
+    } else {
+      pos += stride;
+      std::swap(state_.u, trial_.u);
+      std::swap(state_.v, trial_.v);
+      std::swap(state_.a, trial_.a);
+      state_.contact_force = trial_.force;
+      ++state_.micro_steps;
+    }
+  }
+  if (tol_ > 0.0) state_.level = level;
+}
+
+}  // namespace railcosim

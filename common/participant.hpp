@@ -1,0 +1,88 @@
+// The interface between the master and one co-simulation subsystem.
+//
+// The master's schedules drive participants through this interface only: an
+// in-process Subsystem and a proxy for a subsystem on a remote node are two
+// implementations of it, so a schedule never knows where a subsystem lives.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace railcosim {
+
+// Values exchanged at a communication point, one entry per coupling point
+// (1 for the wheel/rail cut, N railpads for the rail/sleepers cut). A
+// quantity a side does not exchange is left empty.
+struct CouplingData {
+  std::vector<double> displacement;  // m, positive down
+  std::vector<double> velocity;      // m/s
+  std::vector<double> force;         // N, on S2's side of the cut, positive down
+
+  bool operator==(const CouplingData&) const = default;
+};
+
+// What one macro step left behind.
+struct StepResult {
+  CouplingData outputs;             // at the end of the step, with the inputs held over it
+  double max_abs_displacement = 0;  // over every DOF, for the divergence check
+  bool finite = true;               // false if any state value is NaN or infinite
+};
+
+// One row of a subsystem's history, recorded at every communication point by
+// the side that holds the wheel.
+struct HistoryRow {
+  double t = 0;
+  double wheel = 0;          // q, m (down)
+  double contact_force = 0;  // N
+};
+
+// The final results a participant holds.
+struct ParticipantResults {
+  std::vector<double> rail_deflection;  // w_k at the last time (empty if no rail)
+  std::vector<HistoryRow> history;      // empty if it does not hold the wheel
+  long micro_steps = 0;
+};
+
+// An opaque snapshot of a participant (bitwise restorable).
+struct ParticipantState {
+  std::vector<double> values;
+  bool operator==(const ParticipantState&) const = default;
+};
+
+// A call out of order, or inputs that do not fit: a bug in the caller.
+class CallOrderError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// Call order (enforced; a call out of order throws CallOrderError):
+//   initialize()                       once, first; returns the outputs at t = 0
+//   then for each macro step n = 0, 1, 2, ... in turn:
+//     set_inputs(n, data)              at least once: the inputs held over [nH, (n+1)H]
+//     outputs()                        any number of times: outputs now, with the held inputs
+//     start_step(n), finish_step()     advance to (n+1)H; nothing else in between
+//   results(), save(), restore()       any time after initialize() (not inside a step)
+// start_step/finish_step are split so that a schedule can start several
+// participants before waiting for any (Jacobi over the network).
+class Participant {
+ public:
+  virtual ~Participant() = default;
+
+  virtual std::string name() const = 0;
+  virtual CouplingData initialize() = 0;
+  virtual void set_inputs(long n, const CouplingData& inputs) = 0;
+  virtual CouplingData outputs() = 0;
+  virtual void start_step(long n) = 0;
+  virtual StepResult finish_step() = 0;
+  virtual ParticipantResults results() = 0;
+  virtual ParticipantState save() = 0;
+  virtual void restore(const ParticipantState& state) = 0;
+
+  StepResult step(long n) {
+    start_step(n);
+    return finish_step();
+  }
+};
+
+}  // namespace railcosim

@@ -1,0 +1,211 @@
+#include "scene.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace railcosim {
+namespace {
+
+// Reads typed keys from a TOML document and remembers which it consumed, so
+// that anything left over can be reported as an unknown key.
+class Reader {
+ public:
+  Reader(const toml::table& root, std::string source) : root_(root), source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(source_ + ": key '" + key + "': " + what);
+  }
+
+  const toml::node* find(const std::string& table, const std::string& key, bool required) {
+    used_[table].insert(key);
+    const auto* tbl = root_.get(table) ? root_.get(table)->as_table() : nullptr;
+    const toml::node* node = tbl ? tbl->get(key) : nullptr;
+    if (!node && required) fail(table + "." + key, "missing (every scene must set it)");
+    return node;
+  }
+
+  double number(const std::string& table, const std::string& key) {
+    return number_or(table, key, std::nullopt);
+  }
+  double number_or(const std::string& table, const std::string& key,
+                   std::optional<double> fallback) {
+    const toml::node* n = find(table, key, !fallback.has_value());
+    if (!n) return *fallback;
+    if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
+      if (!std::isfinite(*v)) fail(table + "." + key, "must be a finite number");
+      return *v;
+    }
+    fail(table + "." + key, "must be a number");
+  }
+  long integer(const std::string& table, const std::string& key) {
+    const toml::node* n = find(table, key, true);
+    if (!n->is_integer()) fail(table + "." + key, "must be an integer");
+    return static_cast<long>(*n->value<int64_t>());
+  }
+  std::string string_or(const std::string& table, const std::string& key, std::string fallback) {
+    const toml::node* n = find(table, key, false);
+    if (!n) return fallback;
+    if (!n->is_string()) fail(table + "." + key, "must be a string");
+    return *n->value<std::string>();
+  }
+
+  // Every table and key in the file must have been read.
+  void reject_unknown() const {
+    for (const auto& [tname, tnode] : root_) {
+      const std::string table(tname.str());
+      const auto it = used_.find(table);
+      if (it == used_.end()) fail(table, "unknown table");
+      const auto* tbl = tnode.as_table();
+      if (!tbl) fail(table, "must be a table ([" + table + "])");
+      for (const auto& [kname, knode] : *tbl) {
+        (void)knode;
+        if (!it->second.count(std::string(kname.str())))
+          fail(table + "." + std::string(kname.str()), "unknown key");
+      }
+    }
+  }
+
+ private:
+  const toml::table& root_;
+  std::string source_;
+  std::map<std::string, std::set<std::string>> used_;
+};
+
+}  // namespace
+
+long Scene::macro_steps() const {
+  return std::lround(end_time / macro_step);
+}
+
+void Scene::validate() const {
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw SceneError(source + ": key '" + key + "': " + what);
+  };
+  auto positive = [&](const std::string& key, double v) {
+    if (!(v > 0.0)) {
+      std::ostringstream s;
+      s << "must be positive (got " << v << ")";
+      fail(key, s.str());
+    }
+  };
+  auto non_negative = [&](const std::string& key, double v) {
+    if (!(v >= 0.0)) {
+      std::ostringstream s;
+      s << "must be zero or positive (got " << v << ")";
+      fail(key, s.str());
+    }
+  };
+  positive("vehicle.mass", vehicle_mass);
+  positive("vehicle.hertz_constant", hertz_constant);
+  non_negative("vehicle.speed_kmh", speed);
+  positive("rail.young_modulus", young_modulus);
+  positive("rail.second_moment", second_moment);
+  positive("rail.area", area);
+  positive("rail.density", density);
+  if (elements_per_span < 2 || elements_per_span % 2 != 0)
+    fail("rail.elements_per_span",
+         "must be a positive even number, so that a rail node sits over each sleeper (got " +
+             std::to_string(elements_per_span) + ")");
+  positive("railpad.stiffness", pad_stiffness);
+  non_negative("railpad.damping", pad_damping);
+  positive("sleepers.mass", sleeper_mass);
+  positive("sleepers.spacing", sleeper_spacing);
+  if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
+  positive("ballast.stiffness", ballast_stiffness);
+  non_negative("ballast.damping", ballast_damping);
+  if (soil_model != "fixed")
+    fail("soil.model", "unknown soil model '" + soil_model + "' (known: fixed)");
+  positive("simulation.gravity", gravity);
+  positive("simulation.end_time", end_time);
+  positive("simulation.macro_step", macro_step);
+  positive("simulation.tolerance", tolerance);
+  const double steps = end_time / macro_step;
+  if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+    fail("simulation.end_time", "must be a whole number of macro steps (end_time / macro_step = " +
+                                    std::to_string(steps) + ")");
+  positive("cosim.divergence_factor", divergence_factor);
+  positive("cosim.amplification_threshold", amplification_threshold);
+
+  const double length = track_length();
+  auto on_rail = [&](double x) { return x >= 0.0 && x <= length; };
+  if (!on_rail(initial_position)) {
+    std::ostringstream s;
+    s << "the load starts at x = " << initial_position << " m, outside the rail [0, " << length
+      << "] m";
+    fail("vehicle.initial_position", s.str());
+  }
+  const double x_end = initial_position + speed * end_time;
+  if (!on_rail(x_end)) {
+    std::ostringstream s;
+    s << "the load reaches x = " << x_end << " m at t_end = " << end_time
+      << " s, beyond the rail end at " << length << " m (lengthen the track or shorten the run)";
+    fail("simulation.end_time", s.str());
+  }
+}
+
+Scene parse_scene(const std::string& toml_text, const std::string& source_name) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream s;
+    s << source_name << ":" << e.source().begin.line << ":" << e.source().begin.column
+      << ": not valid TOML: " << e.description();
+    throw SceneError(s.str());
+  }
+  Reader r(root, source_name);
+  Scene sc;
+  sc.source = source_name;
+  sc.name = r.string_or("scene", "name", "unnamed");
+
+  sc.vehicle_mass = r.number("vehicle", "mass");
+  sc.hertz_constant = r.number("vehicle", "hertz_constant");
+  sc.speed = r.number("vehicle", "speed_kmh") / 3.6;
+  sc.initial_position = r.number("vehicle", "initial_position");
+
+  sc.young_modulus = r.number("rail", "young_modulus");
+  sc.second_moment = r.number("rail", "second_moment");
+  sc.area = r.number("rail", "area");
+  sc.density = r.number("rail", "density");
+  sc.elements_per_span = static_cast<int>(r.integer("rail", "elements_per_span"));
+
+  sc.pad_stiffness = r.number("railpad", "stiffness");
+  sc.pad_damping = r.number("railpad", "damping");
+
+  sc.sleeper_mass = r.number("sleepers", "mass");
+  sc.sleeper_spacing = r.number("sleepers", "spacing");
+  sc.sleeper_count = static_cast<int>(r.integer("sleepers", "count"));
+
+  sc.ballast_stiffness = r.number("ballast", "stiffness");
+  sc.ballast_damping = r.number("ballast", "damping");
+
+  sc.soil_model = r.string_or("soil", "model", "fixed");
+
+  sc.gravity = r.number("simulation", "gravity");
+  sc.end_time = r.number("simulation", "end_time");
+  sc.macro_step = r.number("simulation", "macro_step");
+  sc.tolerance = r.number("simulation", "tolerance");
+
+  sc.divergence_factor = r.number_or("cosim", "divergence_factor", sc.divergence_factor);
+  sc.amplification_threshold =
+      r.number_or("cosim", "amplification_threshold", sc.amplification_threshold);
+
+  r.reject_unknown();
+  sc.validate();
+  return sc;
+}
+
+Scene load_scene(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open the scene file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return parse_scene(buf.str(), path);
+}
+
+}  // namespace railcosim

@@ -1,0 +1,76 @@
+// A scene: every physical and numerical parameter of one study, read from a
+// TOML file (see scenes/paper.toml). The physics never hard-codes a value.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace railcosim {
+
+// A user's mistake in a scene file or a scene override: the message names
+// the file and the key to fix.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Scene {
+  std::string source;  // the file it came from, for messages
+  std::string name;
+
+  // [vehicle]: one wheel carrying the static load m_tot * g.
+  double vehicle_mass = 0;      // m_tot, kg (wheel mass and load mass)
+  double hertz_constant = 0;    // K_H, N/m^1.5
+  double speed = 0;             // v_0, m/s (the file gives km/h)
+  double initial_position = 0;  // x_0, m
+
+  // [rail]: Euler–Bernoulli beam, free ends.
+  double young_modulus = 0;   // E, Pa
+  double second_moment = 0;   // I, m^4
+  double area = 0;            // A, m^2
+  double density = 0;         // rho, kg/m^3
+  int elements_per_span = 0;  // N_r, even
+
+  // [railpad]
+  double pad_stiffness = 0;  // k_p, N/m
+  double pad_damping = 0;    // d_p, N s/m
+
+  // [sleepers]
+  double sleeper_mass = 0;     // m_s, kg
+  double sleeper_spacing = 0;  // l, m
+  int sleeper_count = 0;       // N
+
+  // [ballast]
+  double ballast_stiffness = 0;  // k_b, N/m
+  double ballast_damping = 0;    // d_b, N s/m
+
+  // [soil]
+  std::string soil_model = "fixed";
+
+  // [simulation]
+  double gravity = 0;     // g, m/s^2
+  double end_time = 0;    // t_end, s
+  double macro_step = 0;  // H, s
+  double tolerance = 0;   // bound on the local error of one micro step, m (and rad)
+
+  // [cosim]: how a co-simulation run is judged.
+  double divergence_factor = 50.0;       // |displacement| > factor * static max => diverged
+  double amplification_threshold = 0.1;  // history error > threshold => amplified
+
+  double track_length() const { return sleeper_count * sleeper_spacing; }
+  double element_length() const { return sleeper_spacing / elements_per_span; }
+  int rail_nodes() const { return sleeper_count * elements_per_span + 1; }
+  double load() const { return vehicle_mass * gravity; }
+  // Macro steps from 0 to end_time (end_time is a whole number of steps).
+  long macro_steps() const;
+
+  // Checks every value; throws SceneError naming the key.
+  void validate() const;
+};
+
+// Reads and validates a scene file. Unknown keys, missing keys, wrong types
+// and out-of-range values throw SceneError naming the file and the key.
+Scene load_scene(const std::string& path);
+Scene parse_scene(const std::string& toml_text, const std::string& source_name);
+
+}  // namespace railcosim

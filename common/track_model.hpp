@@ -1,0 +1,117 @@
+// Assembly of the wheel/rail/sleeper model, whole or in part.
+//
+// The monolithic model and every co-simulation subsystem are assembled by the
+// same code: a subsystem is the model restricted to the bodies it holds, plus
+// the half of the cut element that it keeps (see subsystem.hpp).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "banded_matrix.hpp"
+#include "beam_element.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+
+// Which bodies a (sub)system holds.
+struct Parts {
+  bool wheel = false;
+  bool rail = false;
+  bool sleepers = false;
+};
+
+// How the railpads appear in a system that holds only one of their ends.
+enum class CutPads {
+  kNone,     // no railpad term (the pad force arrives as an input load)
+  kSprings,  // the pad spring/damper to a held displacement/velocity of the far end
+};
+
+// Global numbering of the degrees of freedom. Each sleeper is numbered right
+// after the rail node above it, which keeps the half-bandwidth at 4.
+struct DofLayout {
+  int wheel = -1;
+  std::vector<int> rail_w;      // per rail node: vertical displacement
+  std::vector<int> rail_theta;  // per rail node: rotation
+  std::vector<int> sleeper;     // per sleeper
+  int size = 0;
+  int elements_per_span = 0;
+  double element_length = 0;  // rail element length, m
+
+  // Rail node under sleeper i.
+  int pad_node(int i) const { return elements_per_span * i + elements_per_span / 2; }
+};
+
+DofLayout make_layout(const Scene& scene, Parts parts);
+
+// Where the moving wheel meets the rail: element and Hermite weights.
+struct ContactPoint {
+  int element = 0;
+  Vector4 shape = Vector4::Zero();  // weights of (w_e, theta_e, w_e+1, theta_e+1)
+};
+
+struct ContactPath {
+  double x0 = 0, speed = 0, element_length = 0;
+  int elements = 0;
+  double position(double t) const { return x0 + speed * t; }
+  ContactPoint at(double t) const;
+};
+
+// The contact between the wheel and the rail as a rank-one term of the
+// equations of motion. With the penetration delta = g(t)^T u + delta0, the
+// contact adds F * g(t) to the internal forces, where g carries +1 on the
+// wheel DOF and -N(x_c(t)) on the rail DOFs. A body not held by the system
+// enters as a held value in delta0 instead.
+struct ContactTerm {
+  enum class Law {
+    kHertz,       // F = K_H max(delta, 0)^1.5
+    kPrescribed,  // F held (the rail side of an X-T wheel/rail cut)
+  };
+  Law law = Law::kHertz;
+  double hertz_constant = 0;
+  bool has_wheel = false;  // else the wheel displacement is held_wheel
+  bool has_rail = false;   // else the rail displacement under the wheel is held_rail
+  double held_wheel = 0;
+  double held_rail = 0;
+  double prescribed_force = 0;
+  ContactPath path;
+
+  // The sparse vector g(t): up to 5 (dof, weight) entries.
+  struct Entry {
+    int dof;
+    double weight;
+  };
+  int entries(double t, const DofLayout& layout, Entry out[5]) const;
+  double delta0() const { return (has_wheel ? 0.0 : held_wheel) - (has_rail ? 0.0 : held_rail); }
+};
+
+// A linear second-order system M a + C v + K u = load, plus an optional
+// contact term. This is the whole interface the integrator sees.
+struct Structure {
+  DofLayout layout;
+  SymmetricBandMatrix M, C, K;
+  Vector load;  // constant over a macro step
+  std::optional<ContactTerm> contact;
+};
+
+// Assembles M, C, K and the gravity load on the wheel for the given parts.
+Structure assemble(const Scene& scene, Parts parts, CutPads cut);
+
+// The static equilibrium of the whole model with the wheel at x_0 (no
+// self-weight): the starting state of every run.
+struct StaticState {
+  double wheel = 0;            // q
+  std::vector<double> rail_w;  // per rail node
+  std::vector<double> rail_theta;
+  std::vector<double> sleeper;  // per sleeper
+  double contact_force = 0;
+};
+StaticState solve_statics(const Scene& scene);
+
+// Rail displacement under the wheel at time t from the rail node values.
+double rail_displacement_at(const ContactPath& path, double t, const std::vector<double>& w,
+                            const std::vector<double>& theta);
+
+ContactPath contact_path(const Scene& scene);
+
+}  // namespace railcosim

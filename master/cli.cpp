@@ -1,0 +1,139 @@
+#include "cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cosim_case.hpp"
+#include "evaluation.hpp"
+#include "log.hpp"
+#include "run_output.hpp"
+#include "runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+namespace {
+
+struct RunArgs {
+  std::string scene_path;
+  std::string case_name;
+  double macro_step = 0;  // 0: from the scene
+  double tolerance = 0;   // 0: from the scene
+  std::string feedthrough = "lagged";
+  std::string transport = "tcp";
+  std::string vehicle, track;
+  std::string out = "results";
+};
+
+void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
+  std::printf("%s: %s", r.case_name.c_str(), r.status.c_str());
+  if (r.rel_l2_error && r.case_name != "monolithic")
+    std::printf(", rel. L2 error %.3e, max |error| %.3e m", *r.rel_l2_error, *r.max_abs_error_m);
+  std::printf(", %ld macro steps,", r.macro_steps);
+  for (const auto& [k, v] : r.micro_steps) std::printf(" %s %ld micro steps,", k.c_str(), v);
+  std::printf(" wall %.3f s\n", r.wall_s);
+  if (!r.message.empty()) std::printf("  %s\n", r.message.c_str());
+  std::printf("  results in %s\n", dir.string().c_str());
+}
+
+int do_run(const RunArgs& a) {
+  auto log = logger("master");
+  Scene scene = load_scene(a.scene_path);
+  const CaseSpec spec = parse_case(a.case_name);
+  RunOptions o;
+  o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
+  o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
+  o.feedthrough = *parse_feedthrough(a.feedthrough);
+  if (a.macro_step > 0) {
+    const double steps = scene.end_time / o.macro_step;
+    if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+      throw std::invalid_argument("--macro-step " + std::to_string(o.macro_step) +
+                                  " does not divide the end time " +
+                                  std::to_string(scene.end_time) + " s of " + scene.source);
+  }
+
+  RunRecord record;
+  if (spec.monolithic) {
+    if (a.transport == "tcp" && (!a.vehicle.empty() || !a.track.empty()))
+      throw std::invalid_argument(
+          "the monolithic case runs inside the master: it uses no nodes, "
+          "so --vehicle/--track do not apply");
+    record = run_monolithic(scene, o);
+  } else {
+    if (a.transport == "tcp")
+      throw std::invalid_argument(
+          "the tcp transport is not available in this build yet; run with --transport inproc");
+    log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
+              o.macro_step, o.tolerance);
+    const RunRecord reference = run_monolithic(scene, o);
+    record = run_cosim(scene, spec, o, inproc_factory(scene), a.transport);
+    judge(record, reference, scene);
+  }
+  const auto dir = write_run(a.out, record);
+  print_summary(record, dir);
+  return 0;
+}
+
+}  // namespace
+
+int master_main(int argc, char** argv) {
+  CLI::App app{
+      "Vehicle/track co-simulation master: runs the monolithic reference or a "
+      "co-simulation case of a scene."};
+  app.require_subcommand(1);
+
+  RunArgs ra;
+  auto* run = app.add_subcommand("run",
+                                 "Run one case and write DIR/CASE/{deflection.csv, "
+                                 "history.csv, summary.json}");
+  run->add_option("--scene", ra.scene_path, "Scene file (TOML), e.g. scenes/paper.toml")
+      ->required()
+      ->check(CLI::ExistingFile);
+  std::string cases;
+  for (const char* const* n = all_case_names(); *n; ++n)
+    cases += std::string(cases.empty() ? "" : ", ") + *n;
+  run->add_option("--case", ra.case_name, "Case to run: " + cases)->required();
+  run->add_option("--macro-step", ra.macro_step,
+                  "Macro step H in seconds (default: simulation.macro_step of the scene)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--tolerance", ra.tolerance,
+                  "Local error bound of a micro step in metres (default: "
+                  "simulation.tolerance of the scene)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--feedthrough", ra.feedthrough,
+                  "When S1's force output is read in Jacobi X-T: lagged (end of its last step) "
+                  "or resolved (after it received the fresh displacement)")
+      ->check(CLI::IsMember({"lagged", "resolved"}))
+      ->capture_default_str();
+  run->add_option("--transport", ra.transport,
+                  "inproc: both subsystems inside the master; tcp: each in its own node process")
+      ->check(CLI::IsMember({"inproc", "tcp"}))
+      ->capture_default_str();
+  run->add_option("--vehicle", ra.vehicle, "HOST:PORT of a running vehicle_node (S1)");
+  run->add_option("--track", ra.track, "HOST:PORT of a running track_node (S2)");
+  run->add_option("--out", ra.out, "Output folder; the run writes OUT/CASE/")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*run) return do_run(ra);
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "master: scene error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "master: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "master: run failed: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace railcosim

@@ -1,0 +1,109 @@
+#include "run_output.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace railcosim {
+namespace {
+
+// Shortest text that reads back to the same double.
+std::string num(double v) {
+  char buf[32];
+  for (int prec = 15; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, v);
+    if (std::strtod(buf, nullptr) == v) break;
+  }
+  return buf;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string json_opt(const std::optional<std::string>& s) {
+  return s ? json_string(*s) : "null";
+}
+std::string json_opt(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? num(*v) : "null";
+}
+
+void write_atomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".part";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+    f << text;
+    f.flush();
+    if (!f) throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
+
+std::string summary_json(const RunRecord& r) {
+  std::ostringstream s;
+  s << "{\n";
+  s << "  \"case\": " << json_string(r.case_name) << ",\n";
+  s << "  \"split\": " << json_opt(r.split) << ",\n";
+  s << "  \"coupling\": " << json_opt(r.coupling) << ",\n";
+  s << "  \"scheme\": " << json_opt(r.scheme) << ",\n";
+  s << "  \"feedthrough\": " << json_opt(r.feedthrough) << ",\n";
+  s << "  \"macro_step_s\": " << num(r.macro_step) << ",\n";
+  s << "  \"t_end_s\": " << num(r.t_end) << ",\n";
+  s << "  \"wall_s\": " << num(r.wall_s) << ",\n";
+  s << "  \"macro_steps\": " << r.macro_steps << ",\n";
+  s << "  \"micro_steps\": {";
+  bool first = true;
+  for (const auto& [k, v] : r.micro_steps) {
+    s << (first ? "" : ", ") << json_string(k) << ": " << v;
+    first = false;
+  }
+  s << "},\n";
+  s << "  \"status\": " << json_string(r.status) << ",\n";
+  s << "  \"message\": " << json_string(r.message) << ",\n";
+  s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
+  s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
+  s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
+  s << "  \"transport\": " << json_string(r.transport) << "\n";
+  s << "}\n";
+  return s.str();
+}
+
+std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& r) {
+  const std::filesystem::path dir = out_dir / r.case_name;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+
+  std::string text = "x_m,w_m\n";
+  for (std::size_t k = 0; k < r.deflection.size(); ++k)
+    text += num(r.x[k]) + "," + num(r.deflection[k]) + "\n";
+  write_atomically(dir / "deflection.csv", text);
+
+  text = "t_s,wheel_m,contact_force_N\n";
+  for (const auto& h : r.history)
+    text += num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force) + "\n";
+  write_atomically(dir / "history.csv", text);
+
+  write_atomically(dir / "summary.json", summary_json(r));
+  return dir;
+}
+
+}  // namespace railcosim

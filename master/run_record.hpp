@@ -1,0 +1,33 @@
+// Everything one run produces: what summary.json, deflection.csv and
+// history.csv hold.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "participant.hpp"
+
+namespace railcosim {
+
+struct RunRecord {
+  std::string case_name;
+  std::optional<std::string> split, coupling, scheme, feedthrough;  // none for monolithic
+  double macro_step = 0;
+  double t_end = 0;  // the end time asked for
+  double wall_s = 0;
+  long macro_steps = 0;                     // done
+  std::map<std::string, long> micro_steps;  // per subsystem ("monolithic", or "s1", "s2")
+  std::string status = "ok";                // ok, amplified, diverged, failed
+  std::string message;                      // why, when not ok
+  std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
+  std::optional<double> history_error;
+  std::string transport = "inproc";
+
+  std::vector<double> x;           // rail node positions
+  std::vector<double> deflection;  // rail node displacements at the last time
+  std::vector<HistoryRow> history;
+};
+
+}  // namespace railcosim

@@ -1,0 +1,36 @@
+// Runs one case from start to finish: the monolithic reference, or a
+// co-simulation driven by a schedule over two participants.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "cosim_case.hpp"
+#include "participant.hpp"
+#include "run_record.hpp"
+#include "scene.hpp"
+#include "subsystem.hpp"
+
+namespace railcosim {
+
+struct RunOptions {
+  double macro_step = 0;  // H, s
+  double tolerance = 0;   // micro-step local error bound, m
+  Feedthrough feedthrough = Feedthrough::kLagged;
+};
+
+// Makes the participant for one side (in-process, or a proxy to a node).
+using ParticipantFactory = std::function<std::unique_ptr<Participant>(const SubsystemConfig&)>;
+
+ParticipantFactory inproc_factory(const Scene& scene);
+
+// The monolithic model from the static state to t_end; history every H.
+RunRecord run_monolithic(const Scene& scene, const RunOptions& options);
+
+// A co-simulation case. A divergence ends the run early with status
+// "diverged" and a message naming the macro step and time; errors and the
+// amplification check are left to judge().
+RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                    const ParticipantFactory& make, const std::string& transport);
+
+}  // namespace railcosim
