@@ -155,6 +155,7 @@ void Newmark::advance(double t0, double t1) {
       std::swap(state_.a, trial_.a);
       state_.contact_force = trial_.force;
       ++state_.micro_steps;
+      if (observer_) observer_(t_next, level);
       // Coarsen when the error is small and the next step stays aligned.
       if (err < 1.0 / 16.0 && level > 0 && (pos % (2 * stride)) == 0) --level;
     } else {
@@ -164,6 +165,7 @@ void Newmark::advance(double t0, double t1) {
       std::swap(state_.a, trial_.a);
       state_.contact_force = trial_.force;
       ++state_.micro_steps;
+      if (observer_) observer_(t_next, level);
     }
   }
   if (tol_ > 0.0) state_.level = level;

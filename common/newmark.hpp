@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "banded_matrix.hpp"
@@ -61,6 +62,12 @@ class Newmark {
   // caller computes both ends from integer step counts, so that t1 is exact).
   void advance(double t0, double t1);
 
+  // Called after every accepted micro step with its end time and its level
+  // (step = H / 2^level). For tests and diagnostics; empty by default.
+  void set_step_observer(std::function<void(double t, int level)> observer) {
+    observer_ = std::move(observer);
+  }
+
   // The contact force for displacement u at time t (0 without a contact).
   double contact_force(const Vector& u, double t) const;
 
@@ -94,6 +101,7 @@ class Newmark {
   Trial trial_;
   Vector pred_u_, pred_v_, damp_arg_, rhs_, y_;
   Vector error_weight_;
+  std::function<void(double, int)> observer_;
 };
 
 }  // namespace railcosim

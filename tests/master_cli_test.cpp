@@ -1,0 +1,95 @@
+// The master as a user runs it: a real process, real files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace railcosim {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Outcome run_master(const std::string& args) {
+  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master " + args + " 2>&1";
+  Outcome o;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return o;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), p)) o.output += buf.data();
+  const int st = pclose(p);
+  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return o;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("railcosim_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(MasterCli, MonolithicRunWritesTheThreeFiles) {
+  const fs::path out = temp_dir("cli_mono");
+  const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                               " --case monolithic --out " + out.string());
+  ASSERT_EQ(o.status, 0) << o.output;
+  const fs::path dir = out / "monolithic";
+  const std::string deflection = read_file(dir / "deflection.csv");
+  const std::string history = read_file(dir / "history.csv");
+  const std::string summary = read_file(dir / "summary.json");
+  EXPECT_EQ(deflection.rfind("x_m,w_m\n", 0), 0u);
+  EXPECT_EQ(std::count(deflection.begin(), deflection.end(), '\n'), 102);
+  EXPECT_EQ(history.rfind("t_s,wheel_m,contact_force_N\n", 0), 0u);
+  EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 2502);
+  for (const char* key :
+       {"\"case\": \"monolithic\"", "\"split\"", "\"coupling\"", "\"scheme\"", "\"feedthrough\"",
+        "\"macro_step_s\": 0.0001", "\"t_end_s\": 0.25", "\"wall_s\"", "\"macro_steps\": 2500",
+        "\"micro_steps\": {\"monolithic\"", "\"status\": \"ok\"", "\"max_abs_error_m\": 0",
+        "\"rel_l2_error\": 0", "\"transport\""})
+    EXPECT_NE(summary.find(key), std::string::npos) << key << "\n" << summary;
+  fs::remove_all(out);
+}
+
+TEST(MasterCli, BadSceneStopsBeforeRunningAndNamesTheKey) {
+  const fs::path out = temp_dir("cli_bad");
+  std::string text = read_file(test::source_path("scenes/paper.toml"));
+  text.replace(text.find("density = 7850.0"), 16, "density = -7850.0");
+  std::ofstream(out / "bad.toml") << text;
+  const Outcome o = run_master("run --scene " + (out / "bad.toml").string() +
+                               " --case monolithic --out " + (out / "res").string());
+  EXPECT_NE(o.status, 0);
+  EXPECT_NE(o.output.find("bad.toml: key 'rail.density': must be positive"), std::string::npos)
+      << o.output;
+  EXPECT_FALSE(fs::exists(out / "res")) << "nothing may run on a bad scene";
+  fs::remove_all(out);
+}
+
+TEST(MasterCli, UnknownCaseListsTheValidOnes) {
+  const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                               " --case wr-xy-jacobi --transport inproc");
+  EXPECT_EQ(o.status, 2);
+  EXPECT_NE(o.output.find("unknown case 'wr-xy-jacobi'"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("rs-xt-gauss-seidel"), std::string::npos) << o.output;
+}
+
+}  // namespace
+}  // namespace railcosim

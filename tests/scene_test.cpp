@@ -1,0 +1,125 @@
+#include "scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace railcosim {
+namespace {
+
+std::string paper_text() {
+  std::ifstream in(test::source_path("scenes/paper.toml"));
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Replaces the first line that starts with `prefix` by `line`.
+std::string with_line(const std::string& prefix, const std::string& line) {
+  std::string text = paper_text();
+  const std::size_t at = text.find("\n" + prefix);
+  EXPECT_NE(at, std::string::npos) << prefix;
+  if (at == std::string::npos) return text;
+  const std::size_t end = text.find('\n', at + 1);
+  return text.substr(0, at + 1) + line + text.substr(end);
+}
+
+// Parses `text` and returns the SceneError message ("" if none).
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "bad.toml");
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scene, PaperSceneHoldsTheModelTable) {
+  const Scene s = test::paper_scene();
+  EXPECT_EQ(s.vehicle_mass, 11250.0);
+  EXPECT_DOUBLE_EQ(s.load(), 110362.5);
+  EXPECT_EQ(s.hertz_constant, 92.86e9);
+  EXPECT_EQ(s.young_modulus, 210e9);
+  EXPECT_EQ(s.second_moment, 1987e-8);
+  EXPECT_EQ(s.area, 63.8e-4);
+  EXPECT_EQ(s.density, 7850.0);
+  EXPECT_EQ(s.sleeper_mass, 90.84);
+  EXPECT_EQ(s.sleeper_spacing, 0.6);
+  EXPECT_EQ(s.pad_stiffness, 180e6);
+  EXPECT_EQ(s.pad_damping, 28e3);
+  EXPECT_EQ(s.ballast_stiffness, 25.5e6);
+  EXPECT_EQ(s.ballast_damping, 40e3);
+  EXPECT_EQ(s.sleeper_count, 50);
+  EXPECT_EQ(s.elements_per_span, 2);
+  EXPECT_DOUBLE_EQ(s.speed, 300.0 / 3.6);
+  EXPECT_EQ(s.initial_position, 2.0);
+  EXPECT_EQ(s.macro_step, 1e-4);
+  EXPECT_EQ(s.end_time, 0.25);
+  EXPECT_EQ(s.gravity, 9.81);
+  EXPECT_EQ(s.rail_nodes(), 101);
+  EXPECT_EQ(s.macro_steps(), 2500);
+}
+
+struct BadCase {
+  const char* label;
+  const char* key;      // start of the line to replace
+  const char* line;     // its replacement ("" drops it)
+  const char* message;  // expected in the error, with the key
+};
+
+class BadSceneTest : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadSceneTest, StopsWithAMessageNamingTheKey) {
+  const BadCase& c = GetParam();
+  const std::string msg = error_of(with_line(c.key, c.line));
+  EXPECT_NE(msg.find("bad.toml"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(c.message), std::string::npos) << msg;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadSceneTest,
+    ::testing::Values(
+        BadCase{"missing_key", "density =", "", "'rail.density': missing"},
+        BadCase{"unknown_key", "density =", "density = 7850.0\ndensty = 1.0",
+                "'rail.densty': unknown key"},
+        BadCase{"negative_mass", "mass =", "mass = -11250.0", "'vehicle.mass': must be positive"},
+        BadCase{"zero_stiffness", "stiffness =", "stiffness = 0",
+                "'railpad.stiffness': must be positive"},
+        BadCase{"negative_sleeper_mass", "mass = 90.84", "mass = -1.0",
+                "'sleepers.mass': must be positive"},
+        BadCase{"odd_elements_per_span", "elements_per_span =", "elements_per_span = 3",
+                "'rail.elements_per_span': must be a positive even number"},
+        BadCase{"load_starts_outside", "initial_position =", "initial_position = -1.0",
+                "'vehicle.initial_position': the load starts at x = -1"},
+        BadCase{"load_runs_off_the_rail", "end_time =", "end_time = 0.5",
+                "'simulation.end_time': the load reaches x = 43.6"},
+        BadCase{"wrong_type", "count =", "count = \"fifty\"",
+                "'sleepers.count': must be an integer"},
+        BadCase{"unknown_soil", "model =", "model = \"elastic\"",
+                "'soil.model': unknown soil model"}),
+    [](const auto& param_info) { return std::string(param_info.param.label); });
+
+TEST(Scene, UnknownTableIsRejected) {
+  const std::string msg = error_of(paper_text() + "\n[wheels]\nmass = 1.0\n");
+  EXPECT_NE(msg.find("'wheels': unknown table"), std::string::npos) << msg;
+}
+
+TEST(Scene, SyntaxErrorNamesFileAndLine) {
+  const std::string msg = error_of("[rail\n");
+  EXPECT_NE(msg.find("bad.toml:1:"), std::string::npos) << msg;
+}
+
+TEST(Scene, MissingFileIsNamed) {
+  try {
+    load_scene("no/such/scene.toml");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("no/such/scene.toml"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace railcosim
