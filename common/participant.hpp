@@ -5,6 +5,7 @@
 // implementations of it, so a schedule never knows where a subsystem lives.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,25 +23,25 @@ struct CouplingData {
   bool operator==(const CouplingData&) const = default;
 };
 
-// What one macro step left behind.
-struct StepResult {
-  CouplingData outputs;             // at the end of the step, with the inputs held over it
-  double max_abs_displacement = 0;  // over every DOF, for the divergence check
-  bool finite = true;               // false if any state value is NaN or infinite
-};
-
-// One row of a subsystem's history, recorded at every communication point by
-// the side that holds the wheel.
+// One row of a run's history: the wheel at a communication point, reported by
+// the side that holds it.
 struct HistoryRow {
   double t = 0;
   double wheel = 0;          // q, m (down)
   double contact_force = 0;  // N
 };
 
+// What one macro step left behind (or, from initialize(), the state at t = 0).
+struct StepResult {
+  CouplingData outputs;             // at the end of the step, with the inputs held over it
+  double max_abs_displacement = 0;  // over every DOF, for the divergence check
+  bool finite = true;               // false if any state value is NaN or infinite
+  std::optional<HistoryRow> row;    // from the side that holds the wheel
+};
+
 // The final results a participant holds.
 struct ParticipantResults {
   std::vector<double> rail_deflection;  // w_k at the last time (empty if no rail)
-  std::vector<HistoryRow> history;      // empty if it does not hold the wheel
   long micro_steps = 0;
 };
 
@@ -70,7 +71,7 @@ class Participant {
   virtual ~Participant() = default;
 
   virtual std::string name() const = 0;
-  virtual CouplingData initialize() = 0;
+  virtual StepResult initialize() = 0;
   virtual void set_inputs(long n, const CouplingData& inputs) = 0;
   virtual CouplingData outputs() = 0;
   virtual void start_step(long n) = 0;

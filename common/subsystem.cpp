@@ -50,7 +50,7 @@ void Subsystem::require(bool ok, const std::string& call, const std::string& why
   if (!ok) throw CallOrderError(name() + ": " + call + " rejected: " + why);
 }
 
-CouplingData Subsystem::initialize() {
+StepResult Subsystem::initialize() {
   require(phase_ == Phase::kCreated, "initialize()", "initialize() may only be called once");
   // Start from the static equilibrium of the whole model, and hold the other
   // side's static values as the first inputs.
@@ -93,9 +93,7 @@ CouplingData Subsystem::initialize() {
   apply_inputs(in);
   newmark_->set_state(u, Vector::Zero(l.size), 0.0);
   phase_ = Phase::kAwaitingInputs;
-  history_.clear();
-  record_history();
-  return outputs();
+  return report();
 }
 
 void Subsystem::check_inputs(const CouplingData& in) const {
@@ -154,6 +152,10 @@ void Subsystem::set_inputs(long n, const CouplingData& inputs) {
 CouplingData Subsystem::outputs() {
   require(phase_ == Phase::kAwaitingInputs || phase_ == Phase::kInputsSet, "outputs()",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
+  return compute_outputs();
+}
+
+CouplingData Subsystem::compute_outputs() const {
   const Vector& u = newmark_->state().u;
   const Vector& v = newmark_->state().v;
   const DofLayout& l = sys_.layout;
@@ -200,30 +202,30 @@ void Subsystem::start_step(long n) {
   phase_ = Phase::kStepping;
   newmark_->advance(time(n), time(n + 1));
   ++next_step_;
-  record_history();
-  const DofLayout& l = sys_.layout;
-  const Vector& u = newmark_->state().u;
-  pending_ = StepResult{};
-  pending_.finite = u.allFinite() && newmark_->state().v.allFinite();
-  double m = 0;
-  if (l.wheel >= 0) m = std::abs(u[l.wheel]);
-  for (int dof : l.rail_w) m = std::max(m, std::abs(u[dof]));
-  for (int dof : l.sleeper) m = std::max(m, std::abs(u[dof]));
-  pending_.max_abs_displacement = m;
 }
 
 StepResult Subsystem::finish_step() {
   require(phase_ == Phase::kStepping, "finish_step()", "no step was started");
   phase_ = Phase::kAwaitingInputs;
-  pending_.outputs = outputs();
-  return pending_;
+  return report();
 }
 
-void Subsystem::record_history() {
-  if (sys_.layout.wheel < 0) return;
-  const auto& s = newmark_->state();
-  const double t = time(next_step_);
-  history_.push_back({t, s.u[sys_.layout.wheel], newmark_->contact_force(s.u, t)});
+StepResult Subsystem::report() const {
+  const DofLayout& l = sys_.layout;
+  const NewmarkState& s = newmark_->state();
+  StepResult r;
+  r.finite = s.u.allFinite() && s.v.allFinite();
+  double m = 0;
+  if (l.wheel >= 0) m = std::abs(s.u[l.wheel]);
+  for (int dof : l.rail_w) m = std::max(m, std::abs(s.u[dof]));
+  for (int dof : l.sleeper) m = std::max(m, std::abs(s.u[dof]));
+  r.max_abs_displacement = m;
+  if (l.wheel >= 0) {
+    const double t = time(next_step_);
+    r.row = HistoryRow{t, s.u[l.wheel], newmark_->contact_force(s.u, t)};
+  }
+  r.outputs = compute_outputs();
+  return r;
 }
 
 ParticipantResults Subsystem::results() {
@@ -231,7 +233,6 @@ ParticipantResults Subsystem::results() {
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
   ParticipantResults r;
   for (int dof : sys_.layout.rail_w) r.rail_deflection.push_back(newmark_->state().u[dof]);
-  r.history = history_;
   r.micro_steps = newmark_->state().micro_steps;
   return r;
 }
@@ -289,7 +290,6 @@ ParticipantState Subsystem::save() {
   o.push_back(static_cast<double>(s.micro_steps));
   o.push_back(static_cast<double>(s.rejected_steps));
   o.push_back(s.contact_force);
-  o.push_back(static_cast<double>(history_.size()));
   put(o, s.u);
   put(o, s.v);
   put(o, s.a);
@@ -309,7 +309,6 @@ void Subsystem::restore(const ParticipantState& state) {
   const long micro = static_cast<long>(c.next());
   const long rejected = static_cast<long>(c.next());
   const double force = c.next();
-  const std::size_t hist = c.count(history_.size());
   const auto n = static_cast<std::size_t>(sys_.layout.size);
   const auto N = static_cast<std::size_t>(points_);
   const std::vector<double> u = c.vec(n), v = c.vec(n), a = c.vec(n);
@@ -327,7 +326,6 @@ void Subsystem::restore(const ParticipantState& state) {
   s.rejected_steps = rejected;
   s.contact_force = force;
   next_step_ = step;
-  history_.resize(hist);
   phase_ = inputs_set ? Phase::kInputsSet : Phase::kAwaitingInputs;
 }
 

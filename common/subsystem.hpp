@@ -38,7 +38,7 @@ class Subsystem final : public Participant {
   Subsystem& operator=(const Subsystem&) = delete;
 
   std::string name() const override;
-  CouplingData initialize() override;
+  StepResult initialize() override;
   void set_inputs(long n, const CouplingData& inputs) override;
   CouplingData outputs() override;
   void start_step(long n) override;
@@ -58,7 +58,8 @@ class Subsystem final : public Participant {
   void apply_inputs(const CouplingData& in);
   void check_inputs(const CouplingData& in) const;
   double time(long n) const { return static_cast<double>(n) * config_.macro_step; }
-  void record_history();
+  StepResult report() const;
+  CouplingData compute_outputs() const;
 
   Scene scene_;
   SubsystemConfig config_;
@@ -69,8 +70,6 @@ class Subsystem final : public Participant {
   Phase phase_ = Phase::kCreated;
   long next_step_ = 0;  // the macro step the subsystem is at the start of
   CouplingData held_;
-  std::vector<HistoryRow> history_;
-  StepResult pending_;
 };
 
 }  // namespace railcosim

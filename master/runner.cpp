@@ -41,10 +41,14 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.t_end = scene.end_time;
   const long N = steps_to(scene, o.macro_step);
   r.history.reserve(static_cast<std::size_t>(N + 1));
-  r.history.push_back(model.history_row(0));
+  auto record_row = [&](const HistoryRow& row) {
+    r.history.push_back(row);
+    if (o.on_row) o.on_row(row);
+  };
+  record_row(model.history_row(0));
   for (long n = 0; n < N; ++n) {
     model.advance(n);
-    r.history.push_back(model.history_row(n + 1));
+    record_row(model.history_row(n + 1));
   }
   r.macro_steps = N;
   r.micro_steps["monolithic"] = model.integrator().state().micro_steps;
@@ -77,13 +81,19 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   auto s1 = make(c1);
   auto s2 = make(c2);
   auto schedule = make_schedule(spec.scheme, o.feedthrough, *s1, *s2);
-  schedule->initialize();
+  auto record_row = [&](const MacroStepResult& m) {
+    if (!m.s1.row) throw std::runtime_error(s1->name() + " reported no wheel history row");
+    r.history.push_back(*m.s1.row);
+    if (o.on_row) o.on_row(*m.s1.row);
+  };
+  record_row(schedule->initialize());
 
   const double bound = divergence_bound(scene);
   const long N = steps_to(scene, o.macro_step);
   long n = 0;
   for (; n < N; ++n) {
     const MacroStepResult m = schedule->advance(n);
+    record_row(m);
     const bool finite = m.s1.finite && m.s2.finite;
     const double umax = std::max(m.s1.max_abs_displacement, m.s2.max_abs_displacement);
     if (!finite || umax > bound) {
@@ -107,7 +117,6 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   const ParticipantResults p2 = s2->results();
   r.micro_steps["s1"] = p1.micro_steps;
   r.micro_steps["s2"] = p2.micro_steps;
-  r.history = p1.history;
   r.x = rail_positions(scene);
   r.deflection = spec.split == Split::kWheelRail ? p2.rail_deflection : p1.rail_deflection;
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -17,6 +17,9 @@ struct RunOptions {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // micro-step local error bound, m
   Feedthrough feedthrough = Feedthrough::kLagged;
+  // Called with every history row as soon as it is known (t = 0 first), so
+  // that the history reaches the disk while the run goes on.
+  std::function<void(const HistoryRow&)> on_row;
 };
 
 // Makes the participant for one side (in-process, or a proxy to a node).

@@ -4,9 +4,11 @@
 
 namespace railcosim {
 
-void Schedule::initialize() {
-  out1_ = s1_.initialize();
-  out2_ = s2_.initialize();
+MacroStepResult Schedule::initialize() {
+  MacroStepResult r{s1_.initialize(), s2_.initialize()};
+  out1_ = r.s1.outputs;
+  out2_ = r.s2.outputs;
+  return r;
 }
 
 MacroStepResult JacobiSchedule::advance(long n) {

@@ -22,7 +22,7 @@ class Schedule {
   virtual ~Schedule() = default;
 
   // Initialises both participants and keeps their outputs at t = 0.
-  void initialize();
+  MacroStepResult initialize();
   // Exchanges and steps from nH to (n+1)H.
   virtual MacroStepResult advance(long n) = 0;
 

@@ -16,9 +16,9 @@ class FakeParticipant final : public Participant {
   FakeParticipant(std::string name, std::vector<std::string>& log, double state)
       : name_(std::move(name)), log_(log), state_(state) {}
   std::string name() const override { return name_; }
-  CouplingData initialize() override {
+  StepResult initialize() override {
     log_.push_back(name_ + ".initialize");
-    return outputs_now();
+    return {outputs_now(), 0.0, true, std::nullopt};
   }
   void set_inputs(long n, const CouplingData& in) override {
     log_.push_back(name_ + ".set_inputs(" + std::to_string(n) + ", " + fmt(in.displacement[0]) +
@@ -35,7 +35,7 @@ class FakeParticipant final : public Participant {
   }
   StepResult finish_step() override {
     log_.push_back(name_ + ".finish_step");
-    return {outputs_now(), 0.0, true};
+    return {outputs_now(), 0.0, true, std::nullopt};
   }
   ParticipantResults results() override { return {}; }
   ParticipantState save() override { return {}; }

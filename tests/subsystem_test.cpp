@@ -38,7 +38,7 @@ CouplingData inputs_at(const CouplingData& base, long n) {
 CouplingData static_inputs(const Scene& scene, const Combo& c) {
   Subsystem other(scene, {c.split, c.side == Side::kS1 ? Side::kS2 : Side::kS1, c.coupling,
                           scene.macro_step, scene.tolerance});
-  return other.initialize();
+  return other.initialize().outputs;
 }
 
 class SubsystemTest : public ::testing::TestWithParam<Combo> {};
@@ -73,7 +73,6 @@ TEST_P(SubsystemTest, SaveRestoreAndStepAgainIsBitwiseIdentical) {
   EXPECT_EQ(sub.save(), end_first);  // operator== on doubles: bitwise for finite values
   const ParticipantResults results_again = sub.results();
   EXPECT_EQ(results_again.rail_deflection, results_first.rail_deflection);
-  EXPECT_EQ(results_again.history.size(), results_first.history.size());
   EXPECT_EQ(results_again.micro_steps, results_first.micro_steps);
 }
 

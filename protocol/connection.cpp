@@ -1,0 +1,147 @@
+#include "connection.hpp"
+
+#include <thread>
+
+namespace railcosim {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+
+Address parse_address(const std::string& text, const std::string& what) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos)
+    throw std::invalid_argument(what + " '" + text + "': expected HOST:PORT");
+  Address a;
+  std::string host = text.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']')
+    host = host.substr(1, host.size() - 2);
+  if (!host.empty()) a.host = host;
+  const std::string port = text.substr(colon + 1);
+  char* end = nullptr;
+  const long p = std::strtol(port.c_str(), &end, 10);
+  if (port.empty() || *end != '\0' || p < 0 || p > 65535)
+    throw std::invalid_argument(what + " '" + text +
+                                "': the port must be a number from 0 to 65535");
+  a.port = static_cast<std::uint16_t>(p);
+  return a;
+}
+
+Connection::Connection(Address peer) : peer_(std::move(peer)), socket_(io_) {}
+
+Connection::~Connection() {
+  close();
+}
+
+void Connection::close() {
+  boost::system::error_code ec;
+  if (socket_.is_open()) {
+    socket_.shutdown(tcp::socket::shutdown_both, ec);
+    socket_.close(ec);
+  }
+}
+
+std::unique_ptr<Connection> Connection::connect(const Address& address, Duration timeout) {
+  auto c = std::unique_ptr<Connection>(new Connection(address));
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto pause = Duration(20);
+  std::string last = "no attempt";
+  while (true) {
+    boost::system::error_code ec;
+    const auto ip = asio::ip::make_address(address.host, ec);
+    tcp::resolver::results_type endpoints;
+    if (ec) {
+      tcp::resolver resolver(c->io_);
+      endpoints = resolver.resolve(address.host, std::to_string(address.port), ec);
+      if (ec)
+        throw NetError(NetError::Kind::kConnect,
+                       "cannot resolve " + address.str() + ": " + ec.message());
+    }
+    c->socket_ = tcp::socket(c->io_);
+    if (!ec && endpoints.empty())
+      c->socket_.connect(tcp::endpoint(ip, address.port), ec);
+    else
+      asio::connect(c->socket_, endpoints, ec);
+    if (!ec) {
+      c->socket_.set_option(tcp::no_delay(true), ec);
+      return c;
+    }
+    last = ec.message();
+    if (std::chrono::steady_clock::now() + pause > deadline) break;
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, Duration(500));
+  }
+  throw NetError(NetError::Kind::kConnect, "cannot connect to " + address.str() + ": " + last +
+                                               " (gave up after " +
+                                               std::to_string(timeout.count()) + " ms)");
+}
+
+void Connection::run_until(bool& done, Duration timeout, const char* what) {
+  io_.restart();
+  io_.run_for(timeout);
+  if (!done) {
+    boost::system::error_code ec;
+    socket_.cancel(ec);
+    io_.restart();
+    io_.run();  // let the cancelled operation complete
+    throw NetError(NetError::Kind::kTimeout, std::string("no ") + what + " from " + peer_.str() +
+                                                 " within " + std::to_string(timeout.count()) +
+                                                 " ms");
+  }
+}
+
+void Connection::send(const wire::Envelope& envelope, Duration timeout) {
+  send_raw(encode_frame(envelope, max_frame_), timeout);
+}
+
+void Connection::send_raw(const std::string& bytes, Duration timeout) {
+  bool done = false;
+  boost::system::error_code result;
+  asio::async_write(socket_, asio::buffer(bytes),
+                    [&](const boost::system::error_code& ec, std::size_t) {
+                      result = ec;
+                      done = true;
+                    });
+  run_until(done, timeout, "write completion");
+  if (result)
+    throw NetError(NetError::Kind::kClosed,
+                   "cannot send to " + peer_.str() + ": " + result.message());
+}
+
+wire::Envelope Connection::receive(Duration timeout) {
+  unsigned char header[kFrameHeaderBytes];
+  bool done = false;
+  boost::system::error_code result;
+  asio::async_read(socket_, asio::buffer(header),
+                   [&](const boost::system::error_code& ec, std::size_t) {
+                     result = ec;
+                     done = true;
+                   });
+  run_until(done, timeout, "reply");
+  if (result) {
+    if (result == asio::error::eof || result == asio::error::connection_reset)
+      throw NetError(NetError::Kind::kClosed, peer_.str() + " closed the connection");
+    throw NetError(NetError::Kind::kIo,
+                   "cannot read from " + peer_.str() + ": " + result.message());
+  }
+  const std::uint32_t len = decode_frame_length(header);
+  if (len > max_frame_)
+    throw NetError(NetError::Kind::kProtocol,
+                   peer_.str() + " announced a frame of " + std::to_string(len) +
+                       " bytes, over the limit of " + std::to_string(max_frame_));
+  std::string body(len, '\0');
+  done = false;
+  asio::async_read(socket_, asio::buffer(body),
+                   [&](const boost::system::error_code& ec, std::size_t) {
+                     result = ec;
+                     done = true;
+                   });
+  run_until(done, timeout, "reply");
+  if (result)
+    throw NetError(NetError::Kind::kClosed, peer_.str() + " closed the connection mid-frame");
+  wire::Envelope e;
+  if (!e.ParseFromString(body) || e.body_case() == wire::Envelope::BODY_NOT_SET)
+    throw NetError(NetError::Kind::kProtocol, peer_.str() + " sent a frame that is not a message");
+  return e;
+}
+
+}  // namespace railcosim

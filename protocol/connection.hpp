@@ -1,0 +1,71 @@
+// A framed TCP connection with deadlines, used by the master to talk to a
+// node (and by tests to talk to a node like any other client would).
+#pragma once
+
+#include <boost/asio.hpp>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>  // before Asio: its headers use std::exchange
+
+#include "wire.hpp"
+
+namespace railcosim {
+
+// A network failure: the peer closed the connection, did not answer in time,
+// or sent something that is not a frame.
+class NetError : public std::runtime_error {
+ public:
+  enum class Kind { kConnect, kClosed, kTimeout, kIo, kProtocol };
+  NetError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  Kind kind() const { return kind_; }
+
+ private:
+  Kind kind_;
+};
+
+struct Address {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 0;
+  std::string str() const { return host + ":" + std::to_string(port); }
+};
+
+// Parses "HOST:PORT" (or ":PORT", or "[v6]:PORT"); throws std::invalid_argument
+// naming `what` (e.g. "--listen").
+Address parse_address(const std::string& text, const std::string& what);
+
+class Connection {
+ public:
+  using Duration = std::chrono::milliseconds;
+
+  // Connects, retrying with back-off until `timeout` has passed (a node may
+  // still be starting). Throws NetError(kConnect) naming the address.
+  static std::unique_ptr<Connection> connect(const Address& address, Duration timeout);
+
+  ~Connection();
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+
+  // Writes one frame. Throws NetError on failure or after `timeout`.
+  void send(const wire::Envelope& envelope, Duration timeout = Duration(10000));
+  // Writes raw bytes (tests use it to send malformed frames).
+  void send_raw(const std::string& bytes, Duration timeout = Duration(10000));
+  // Reads one frame. Throws NetError if none arrives within `timeout`.
+  wire::Envelope receive(Duration timeout);
+
+  const Address& peer() const { return peer_; }
+  void close();
+
+ private:
+  explicit Connection(Address peer);
+  void run_until(bool& done, Duration timeout, const char* what);
+
+  Address peer_;
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::socket socket_;
+  std::size_t max_frame_ = kDefaultMaxFrameBytes;
+};
+
+}  // namespace railcosim

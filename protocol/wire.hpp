@@ -1,0 +1,91 @@
+// The only code that encodes and decodes the wire format: frames, and the
+// conversions between protocol messages and the engine's types.
+//
+// A frame is a 4-byte big-endian payload length followed by that many bytes:
+// one serialised railcosim.wire.Envelope. A frame longer than the limit is
+// refused before any of its payload is read.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "cosim_case.hpp"
+#include "participant.hpp"
+#include "railcosim.pb.h"
+#include "scene.hpp"
+
+namespace railcosim {
+
+inline constexpr std::uint32_t kProtocolVersion = 1;
+inline constexpr std::size_t kFrameHeaderBytes = 4;
+// The largest frame accepted by default: a saved state of a 2,500-sleeper
+// track (3 x 12,500 doubles) fits 25 times over.
+inline constexpr std::size_t kDefaultMaxFrameBytes = 8u << 20;
+
+// A violation of the protocol by a peer, with the code its error reply carries.
+class ProtocolError : public std::runtime_error {
+ public:
+  ProtocolError(wire::Error::Code code, const std::string& what)
+      : std::runtime_error(what), code_(code) {}
+  wire::Error::Code code() const { return code_; }
+
+ private:
+  wire::Error::Code code_;
+};
+
+// Header plus payload. Throws ProtocolError(FRAME_TOO_LARGE) above max_bytes.
+std::string encode_frame(const wire::Envelope& envelope,
+                         std::size_t max_bytes = kDefaultMaxFrameBytes);
+std::uint32_t decode_frame_length(const unsigned char header[kFrameHeaderBytes]);
+
+// Splits a byte stream into envelopes.
+class FrameDecoder {
+ public:
+  enum class Status {
+    kNeedMore,  // no complete frame yet
+    kFrame,     // one envelope decoded
+    kTooLarge,  // the announced length exceeds the limit (the stream is lost)
+    kBadFrame,  // the payload is not an envelope (the stream is lost)
+  };
+  explicit FrameDecoder(std::size_t max_bytes = kDefaultMaxFrameBytes) : max_(max_bytes) {}
+  void feed(const char* data, std::size_t n) { buffer_.append(data, n); }
+  Status next(wire::Envelope& out);
+  std::size_t buffered() const { return buffer_.size(); }
+  // The length announced by the frame at the head of the buffer (0 if unknown).
+  std::uint32_t announced() const;
+
+ private:
+  std::size_t max_;
+  std::string buffer_;
+};
+
+// Name of the message an envelope carries ("hello", "step", ...), for logs.
+std::string body_name(const wire::Envelope& envelope);
+
+wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const std::string& message,
+                              long step = -1, double t = 0.0);
+
+// Engine types <-> messages. from_wire() throws ProtocolError(BAD_REQUEST)
+// for a message that does not describe a valid value.
+wire::SceneParams to_wire(const Scene& scene);
+Scene from_wire(const wire::SceneParams& params, const std::string& source);
+// A hash of every scene parameter, the same on every machine.
+std::uint64_t scene_fingerprint(const Scene& scene);
+
+wire::CouplingData to_wire(const CouplingData& data);
+CouplingData from_wire(const wire::CouplingData& data);
+
+wire::StepReport to_wire(const StepResult& result, long step, double t);
+StepResult from_wire(const wire::StepReport& report);
+
+wire::Split to_wire(Split split);
+wire::Coupling to_wire(Coupling coupling);
+Split from_wire(wire::Split split);
+Coupling from_wire(wire::Coupling coupling);
+
+wire::Role role_of(Side side);
+std::string role_name(wire::Role role);
+
+}  // namespace railcosim
