@@ -4,10 +4,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <vector>
 
 #include "cosim_case.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
+#include "node_launcher.hpp"
+#include "remote_participant.hpp"
 #include "run_output.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
@@ -37,6 +41,45 @@ void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
   std::printf("  results in %s\n", dir.string().c_str());
 }
 
+// The participants of a co-simulation: in the master, or on nodes (started
+// here on loopback, or already running where --vehicle/--track say).
+struct Transport {
+  std::string name;
+  ParticipantFactory factory;
+  std::vector<std::unique_ptr<LaunchedNode>> nodes;
+};
+
+Transport make_transport(const RunArgs& a, const Scene& scene) {
+  Transport t;
+  t.name = a.transport;
+  if (a.transport == "inproc") {
+    if (!a.vehicle.empty() || !a.track.empty())
+      throw std::invalid_argument("--vehicle and --track need --transport tcp");
+    t.factory = inproc_factory(scene);
+    return t;
+  }
+  if (a.vehicle.empty() != a.track.empty())
+    throw std::invalid_argument(
+        "give both --vehicle and --track, or neither (the master then "
+        "starts both nodes on loopback)");
+  Address vehicle, track;
+  if (a.vehicle.empty()) {
+    auto log = logger("master");
+    t.nodes.push_back(std::make_unique<LaunchedNode>("vehicle_node", std::chrono::seconds(10)));
+    t.nodes.push_back(std::make_unique<LaunchedNode>("track_node", std::chrono::seconds(10)));
+    vehicle = t.nodes[0]->address();
+    track = t.nodes[1]->address();
+    log->info("started vehicle_node on {} and track_node on {}", vehicle.str(), track.str());
+  } else {
+    vehicle = parse_address(a.vehicle, "--vehicle");
+    track = parse_address(a.track, "--track");
+  }
+  t.factory = [scene, vehicle, track](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? vehicle : track, scene, c);
+  };
+  return t;
+}
+
 int do_run(const RunArgs& a) {
   auto log = logger("master");
   Scene scene = load_scene(a.scene_path);
@@ -52,26 +95,53 @@ int do_run(const RunArgs& a) {
                                   " does not divide the end time " +
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
+  if (spec.monolithic && (!a.vehicle.empty() || !a.track.empty()))
+    throw std::invalid_argument(
+        "the monolithic case runs inside the master: it uses no nodes, "
+        "so --vehicle/--track do not apply");
+  if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
+      o.feedthrough == Feedthrough::kResolved)
+    throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
 
-  RunRecord record;
-  if (spec.monolithic) {
-    if (a.transport == "tcp" && (!a.vehicle.empty() || !a.track.empty()))
-      throw std::invalid_argument(
-          "the monolithic case runs inside the master: it uses no nodes, "
-          "so --vehicle/--track do not apply");
-    record = run_monolithic(scene, o);
-  } else {
-    if (a.transport == "tcp")
-      throw std::invalid_argument(
-          "the tcp transport is not available in this build yet; run with --transport inproc");
+  RunRecord reference;
+  if (!spec.monolithic) {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
-    const RunRecord reference = run_monolithic(scene, o);
-    record = run_cosim(scene, spec, o, inproc_factory(scene), a.transport);
-    judge(record, reference, scene);
+    reference = run_monolithic(scene, o);
   }
-  const auto dir = write_run(a.out, record);
-  print_summary(record, dir);
+
+  RunWriter writer(a.out, spec.name());
+  o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+  RunRecord record;
+  try {
+    if (spec.monolithic) {
+      record = run_monolithic(scene, o);
+    } else {
+      Transport transport = make_transport(a, scene);
+      record = run_cosim(scene, spec, o, transport.factory, transport.name);
+      judge(record, reference, scene);
+    }
+  } catch (const std::exception& e) {
+    RunRecord failed;
+    failed.case_name = spec.name();
+    if (!spec.monolithic) {
+      failed.split = to_string(spec.split);
+      failed.coupling = to_string(spec.coupling);
+      failed.scheme = to_string(spec.scheme);
+      failed.feedthrough = to_string(o.feedthrough);
+      failed.transport = a.transport;
+    }
+    failed.macro_step = o.macro_step;
+    failed.t_end = scene.end_time;
+    failed.status = "failed";
+    failed.message = e.what();
+    writer.finish(failed);
+    std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
+                 spec.name().c_str(), e.what(), writer.dir().string().c_str());
+    return 1;
+  }
+  writer.finish(record);
+  print_summary(record, writer.dir());
   return 0;
 }
 

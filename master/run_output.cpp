@@ -86,24 +86,69 @@ std::string summary_json(const RunRecord& r) {
   return s.str();
 }
 
-std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& r) {
-  const std::filesystem::path dir = out_dir / r.case_name;
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+namespace {
 
+std::string deflection_csv(const RunRecord& r) {
   std::string text = "x_m,w_m\n";
   for (std::size_t k = 0; k < r.deflection.size(); ++k)
     text += num(r.x[k]) + "," + num(r.deflection[k]) + "\n";
-  write_atomically(dir / "deflection.csv", text);
+  return text;
+}
 
-  text = "t_s,wheel_m,contact_force_N\n";
-  for (const auto& h : r.history)
-    text += num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force) + "\n";
+std::string history_line(const HistoryRow& h) {
+  return num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force) + "\n";
+}
+
+constexpr const char* kHistoryHeader = "t_s,wheel_m,contact_force_N\n";
+
+std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {
+  const std::filesystem::path dir = out_dir / name;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+  return dir;
+}
+
+}  // namespace
+
+std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& r) {
+  const std::filesystem::path dir = make_run_dir(out_dir, r.case_name);
+  write_atomically(dir / "deflection.csv", deflection_csv(r));
+  std::string text = kHistoryHeader;
+  for (const auto& h : r.history) text += history_line(h);
   write_atomically(dir / "history.csv", text);
-
   write_atomically(dir / "summary.json", summary_json(r));
   return dir;
+}
+
+RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& case_name)
+    : dir_(make_run_dir(out_dir, case_name)) {
+  // A summary from an earlier run in this folder must not pass for this one.
+  std::error_code ec;
+  std::filesystem::remove(dir_ / "summary.json", ec);
+  std::filesystem::remove(dir_ / "deflection.csv", ec);
+  history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
+  if (!history_) throw std::runtime_error("cannot write " + (dir_ / "history.csv").string());
+  std::fputs(kHistoryHeader, history_);
+  std::fflush(history_);
+}
+
+RunWriter::~RunWriter() {
+  if (history_) std::fclose(history_);
+}
+
+void RunWriter::row(const HistoryRow& row) {
+  std::fputs(history_line(row).c_str(), history_);
+  std::fflush(history_);
+}
+
+void RunWriter::finish(const RunRecord& r) {
+  if (history_) {
+    std::fclose(history_);
+    history_ = nullptr;
+  }
+  if (!r.deflection.empty()) write_atomically(dir_ / "deflection.csv", deflection_csv(r));
+  write_atomically(dir_ / "summary.json", summary_json(r));
 }
 
 }  // namespace railcosim

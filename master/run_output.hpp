@@ -3,6 +3,7 @@
 // reader never sees half a file.
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 
 #include "run_record.hpp"
@@ -11,6 +12,26 @@ namespace railcosim {
 
 // Returns the folder written. Throws std::runtime_error naming the path.
 std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& run);
+
+// Writes a run as it goes: history.csv grows (and is flushed) with every
+// row, deflection.csv and summary.json come at the end. A run that fails
+// still leaves its history so far and a summary.json saying why.
+class RunWriter {
+ public:
+  // Creates OUT/CASE/ and starts history.csv. Throws std::runtime_error.
+  RunWriter(const std::filesystem::path& out_dir, const std::string& case_name);
+  ~RunWriter();
+  RunWriter(const RunWriter&) = delete;
+  RunWriter& operator=(const RunWriter&) = delete;
+  void row(const HistoryRow& row);
+  // Writes deflection.csv (if the run has one) and summary.json.
+  void finish(const RunRecord& run);
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+  std::FILE* history_ = nullptr;
+};
 
 std::string summary_json(const RunRecord& run);
 

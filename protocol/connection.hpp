@@ -2,13 +2,14 @@
 // node (and by tests to talk to a node like any other client would).
 #pragma once
 
+#include <utility>  // before Asio: its headers use std::exchange
+
 #include <boost/asio.hpp>
 #include <chrono>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <utility>  // before Asio: its headers use std::exchange
 
 #include "wire.hpp"
 

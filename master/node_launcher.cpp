@@ -1,0 +1,86 @@
+#include "node_launcher.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+
+namespace railcosim {
+
+std::string own_directory() {
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) return ".";
+  return exe.parent_path().string();
+}
+
+LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout)
+    : program_(program) {
+  const std::string path = own_directory() + "/" + program;
+  if (::access(path.c_str(), X_OK) != 0)
+    throw std::runtime_error("cannot start " + path + ": " + std::strerror(errno) +
+                             " (build it, or start the nodes yourself and pass --vehicle/--track)");
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const pid_t parent = ::getpid();
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid_ == 0) {
+    // The node must not outlive the master that started it.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) ::_exit(1);
+    ::dup2(fds[1], STDOUT_FILENO);
+    const char* argv[] = {path.c_str(), "--listen", "127.0.0.1:0", "--log-level", "warn", nullptr};
+    ::execv(path.c_str(), const_cast<char* const*>(argv));
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+
+  // Read the first line, up to the deadline.
+  std::string line;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (line.find('\n') == std::string::npos) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    pollfd p{fds[0], POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+    char buf[256];
+    const ssize_t n = ::read(fds[0], buf, sizeof buf);
+    if (n <= 0) break;
+    line.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  const std::string prefix = "listening on ";
+  const auto nl = line.find('\n');
+  if (nl == std::string::npos || line.rfind(prefix, 0) != 0) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+    throw std::runtime_error(program + " did not report its address within " +
+                             std::to_string(timeout.count()) + " ms" +
+                             (line.empty() ? "" : " (it printed: " + line.substr(0, nl) + ")"));
+  }
+  address_ = parse_address(line.substr(prefix.size(), nl - prefix.size()), program + " address");
+}
+
+LaunchedNode::~LaunchedNode() {
+  if (pid_ <= 0) return;
+  ::kill(pid_, SIGTERM);
+  for (int i = 0; i < 200; ++i) {
+    if (::waitpid(pid_, nullptr, WNOHANG) == pid_) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid_, SIGKILL);
+  ::waitpid(pid_, nullptr, 0);
+}
+
+}  // namespace railcosim

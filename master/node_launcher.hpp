@@ -1,0 +1,36 @@
+// Starts a node program on loopback for the master, reads its
+// "listening on HOST:PORT" line, and stops it when done.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <string>
+
+#include "connection.hpp"
+
+namespace railcosim {
+
+class LaunchedNode {
+ public:
+  // Starts `program` (vehicle_node or track_node, looked up next to the
+  // running master) with --listen 127.0.0.1:0. Throws std::runtime_error if
+  // it does not print its address within `timeout`.
+  LaunchedNode(const std::string& program, std::chrono::milliseconds timeout);
+  ~LaunchedNode();  // SIGTERM, then SIGKILL if it does not exit within 2 s
+  LaunchedNode(const LaunchedNode&) = delete;
+  LaunchedNode& operator=(const LaunchedNode&) = delete;
+
+  const Address& address() const { return address_; }
+  pid_t pid() const { return pid_; }
+
+ private:
+  std::string program_;
+  pid_t pid_ = -1;
+  Address address_;
+};
+
+// The folder of the running executable (where the node programs are built).
+std::string own_directory();
+
+}  // namespace railcosim

@@ -1,0 +1,170 @@
+#include "remote_participant.hpp"
+
+#include <sstream>
+
+#include "wire.hpp"
+
+namespace railcosim {
+
+namespace {
+std::string node_label(Side side) {
+  return side == Side::kS1 ? "vehicle node (S1)" : "track node (S2)";
+}
+}  // namespace
+
+RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
+                                     const SubsystemConfig& config, RemoteTimeouts timeouts)
+    : address_(address), config_(config), timeouts_(timeouts) {
+  try {
+    conn_ = Connection::connect(address, timeouts.connect);
+  } catch (const NetError& e) {
+    throw NodeFailure(node_label(config.side) + ": " + e.what());
+  }
+  wire::Envelope hello;
+  auto* h = hello.mutable_hello();
+  h->set_protocol_version(kProtocolVersion);
+  h->set_role(wire::ROLE_MASTER);
+  h->set_expected_peer(role_of(config.side));
+  h->set_scene_fingerprint(scene_fingerprint(scene));
+  h->set_name("master");
+  send(hello, false);
+  await(wire::Envelope::kHelloReply, "hello");
+
+  wire::Envelope configure;
+  auto* c = configure.mutable_configure();
+  *c->mutable_scene() = to_wire(scene);
+  c->set_split(to_wire(config.split));
+  c->set_coupling(to_wire(config.coupling));
+  c->set_macro_step(config.macro_step);
+  c->set_tolerance(config.tolerance);
+  send(configure, false);
+  await(wire::Envelope::kAck, "configure");
+}
+
+RemoteParticipant::~RemoteParticipant() {
+  if (!conn_) return;
+  try {
+    wire::Envelope bye;
+    bye.set_id(next_id_++);
+    bye.mutable_shutdown();
+    conn_->send(bye, std::chrono::milliseconds(1000));
+  } catch (const std::exception&) {
+    // The node is gone already: nothing to end.
+  }
+  conn_->close();
+}
+
+std::string RemoteParticipant::name() const {
+  return node_label(config_.side) + " at " + address_.str();
+}
+
+void RemoteParticipant::fail(const std::string& what) const {
+  std::ostringstream s;
+  s << name() << ": " << what << " at macro step " << step_
+    << " (t = " << static_cast<double>(step_) * config_.macro_step << " s)";
+  throw NodeFailure(s.str());
+}
+
+void RemoteParticipant::send(wire::Envelope request, bool expects_ack) {
+  request.set_id(next_id_++);
+  try {
+    conn_->send(request, timeouts_.reply);
+  } catch (const NetError& e) {
+    fail(e.what());
+  } catch (const ProtocolError& e) {
+    fail(e.what());
+  }
+  if (expects_ack) ++pending_acks_;
+}
+
+wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const char* what) {
+  while (true) {
+    wire::Envelope reply;
+    try {
+      reply = conn_->receive(timeouts_.reply);
+    } catch (const NetError& e) {
+      fail(e.what());
+    }
+    if (reply.has_error()) {
+      const auto& err = reply.error();
+      fail(std::string(what) + " failed: " + wire::Error::Code_Name(err.code()) + ": " +
+           err.message());
+    }
+    if (reply.body_case() == wire::Envelope::kAck && pending_acks_ > 0) {
+      --pending_acks_;
+      if (expected == wire::Envelope::kAck && pending_acks_ == 0) return reply;
+      if (expected != wire::Envelope::kAck) continue;
+    }
+    if (reply.body_case() != expected)
+      fail(std::string("unexpected ") + body_name(reply) + " in reply to " + what);
+    return reply;
+  }
+}
+
+StepResult RemoteParticipant::initialize() {
+  wire::Envelope e;
+  e.mutable_initialize();
+  send(e, false);
+  return from_wire(await(wire::Envelope::kStepReport, "initialize").step_report());
+}
+
+void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
+  step_ = n;
+  wire::Envelope e;
+  auto* s = e.mutable_set_inputs();
+  s->set_step(n);
+  s->set_t(static_cast<double>(n) * config_.macro_step);
+  *s->mutable_inputs() = to_wire(inputs);
+  send(e, true);  // pipelined: its ack is read with the next reply
+}
+
+CouplingData RemoteParticipant::outputs() {
+  wire::Envelope e;
+  e.mutable_get_outputs()->set_step(step_);
+  send(e, false);
+  return from_wire(await(wire::Envelope::kOutputs, "get_outputs").outputs().data());
+}
+
+void RemoteParticipant::start_step(long n) {
+  step_ = n;
+  wire::Envelope e;
+  auto* s = e.mutable_step();
+  s->set_step(n);
+  s->set_t(static_cast<double>(n) * config_.macro_step);
+  s->set_h(config_.macro_step);
+  send(e, false);
+}
+
+StepResult RemoteParticipant::finish_step() {
+  StepResult r = from_wire(await(wire::Envelope::kStepReport, "step").step_report());
+  return r;
+}
+
+ParticipantResults RemoteParticipant::results() {
+  wire::Envelope e;
+  e.mutable_get_results();
+  send(e, false);
+  const wire::Results w = await(wire::Envelope::kResults, "get_results").results();
+  ParticipantResults r;
+  r.rail_deflection.assign(w.rail_deflection().begin(), w.rail_deflection().end());
+  r.micro_steps = w.micro_steps();
+  return r;
+}
+
+ParticipantState RemoteParticipant::save() {
+  wire::Envelope e;
+  e.mutable_save();
+  send(e, false);
+  const wire::State w = await(wire::Envelope::kState, "save").state();
+  return ParticipantState{{w.values().begin(), w.values().end()}};
+}
+
+void RemoteParticipant::restore(const ParticipantState& state) {
+  wire::Envelope e;
+  auto* r = e.mutable_restore()->mutable_state();
+  for (double v : state.values) r->add_values(v);
+  send(e, true);
+  await(wire::Envelope::kAck, "restore");
+}
+
+}  // namespace railcosim

@@ -1,0 +1,168 @@
+#include "session.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace railcosim {
+namespace {
+
+std::string hex(std::uint64_t v) {
+  std::ostringstream s;
+  s << std::hex << v;
+  return s.str();
+}
+
+}  // namespace
+
+wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
+  close = false;
+  try {
+    return dispatch(request, close);
+  } catch (const ProtocolError& e) {
+    close = true;
+    return error_envelope(request.id(), e.code(), e.what(), step_,
+                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  } catch (const CallOrderError& e) {
+    close = true;
+    return error_envelope(request.id(), wire::Error::OUT_OF_ORDER, e.what(), step_,
+                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  } catch (const std::exception& e) {
+    close = true;
+    return error_envelope(request.id(), wire::Error::INTERNAL,
+                          std::string("internal error: ") + e.what(), step_,
+                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  }
+}
+
+wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
+  using E = wire::Envelope;
+  wire::Envelope reply;
+  reply.set_id(req.id());
+  const std::string what = body_name(req);
+
+  if (req.body_case() == E::kShutdown) {
+    close = true;
+    reply.mutable_ack();
+    return reply;
+  }
+
+  switch (state_) {
+    case State::kAwaitHello: {
+      if (req.body_case() != E::kHello)
+        throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                            "expected hello as the first message of a session, got " + what);
+      const wire::Hello& h = req.hello();
+      if (h.protocol_version() != kProtocolVersion)
+        throw ProtocolError(wire::Error::VERSION_MISMATCH,
+                            "protocol version " + std::to_string(h.protocol_version()) +
+                                " is not supported; this node speaks version " +
+                                std::to_string(kProtocolVersion));
+      if (h.expected_peer() != options_.role)
+        throw ProtocolError(wire::Error::WRONG_ROLE, "this node serves the " +
+                                                         role_name(options_.role) + ", not the " +
+                                                         role_name(h.expected_peer()));
+      if (options_.pinned_scene) {
+        const std::uint64_t mine = scene_fingerprint(*options_.pinned_scene);
+        if (h.scene_fingerprint() != mine)
+          throw ProtocolError(wire::Error::SCENE_MISMATCH,
+                              "the master's scene (fingerprint " + hex(h.scene_fingerprint()) +
+                                  ") differs from this node's " + options_.pinned_scene->source +
+                                  " (fingerprint " + hex(mine) + ")");
+      }
+      fingerprint_ = h.scene_fingerprint();
+      state_ = State::kAwaitConfigure;
+      auto* r = reply.mutable_hello_reply();
+      r->set_protocol_version(kProtocolVersion);
+      r->set_role(options_.role);
+      r->set_name(options_.name);
+      return reply;
+    }
+    case State::kAwaitConfigure: {
+      if (req.body_case() != E::kConfigure)
+        throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                            "expected configure after hello, got " + what);
+      const wire::Configure& c = req.configure();
+      const Scene scene = from_wire(c.scene(), "the master's scene");
+      if (scene_fingerprint(scene) != fingerprint_)
+        throw ProtocolError(wire::Error::SCENE_MISMATCH,
+                            "the configured scene does not match the fingerprint of the hello");
+      if (!(c.macro_step() > 0) || !(c.tolerance() > 0))
+        throw ProtocolError(wire::Error::BAD_REQUEST,
+                            "configure: macro_step and tolerance must be positive");
+      SubsystemConfig cfg{from_wire(c.split()), side(), from_wire(c.coupling()), c.macro_step(),
+                          c.tolerance()};
+      subsystem_ = std::make_unique<Subsystem>(scene, cfg);
+      macro_step_ = c.macro_step();
+      description_ = subsystem_->name();
+      state_ = State::kConfigured;
+      reply.mutable_ack();
+      return reply;
+    }
+    case State::kConfigured:
+      break;
+  }
+
+  Subsystem& sub = *subsystem_;
+  switch (req.body_case()) {
+    case E::kInitialize: {
+      const StepResult r = sub.initialize();
+      step_ = 0;
+      *reply.mutable_step_report() = to_wire(r, 0, 0.0);
+      return reply;
+    }
+    case E::kSetInputs: {
+      const auto& s = req.set_inputs();
+      sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()));
+      reply.mutable_ack();
+      return reply;
+    }
+    case E::kGetOutputs: {
+      auto* o = reply.mutable_outputs();
+      *o->mutable_data() = to_wire(sub.outputs());
+      o->set_step(step_);
+      o->set_t(static_cast<double>(step_) * macro_step_);
+      return reply;
+    }
+    case E::kStep: {
+      const auto& s = req.step();
+      if (s.h() != macro_step_)
+        throw ProtocolError(
+            wire::Error::BAD_REQUEST,
+            "step " + std::to_string(s.step()) + " asks for h = " + std::to_string(s.h()) +
+                " s, but the session was configured with H = " + std::to_string(macro_step_) +
+                " s");
+      const long n = static_cast<long>(s.step());
+      const StepResult r = sub.step(n);
+      step_ = n + 1;
+      *reply.mutable_step_report() = to_wire(r, step_, static_cast<double>(step_) * macro_step_);
+      return reply;
+    }
+    case E::kGetResults: {
+      const ParticipantResults r = sub.results();
+      auto* w = reply.mutable_results();
+      for (double v : r.rail_deflection) w->add_rail_deflection(v);
+      w->set_micro_steps(r.micro_steps);
+      return reply;
+    }
+    case E::kSave: {
+      const ParticipantState st = sub.save();
+      auto* w = reply.mutable_state();
+      for (double v : st.values) w->add_values(v);
+      return reply;
+    }
+    case E::kRestore: {
+      const auto& values = req.restore().state().values();
+      sub.restore(ParticipantState{{values.begin(), values.end()}});
+      reply.mutable_ack();
+      return reply;
+    }
+    case E::kHello:
+    case E::kConfigure:
+      throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                          what + " is only allowed once, at the start of a session");
+    default:
+      throw ProtocolError(wire::Error::BAD_REQUEST, "a node does not accept " + what + " messages");
+  }
+}
+
+}  // namespace railcosim

@@ -1,0 +1,54 @@
+// One co-simulation session on a node, independent of any socket: the
+// protocol's state machine around one Subsystem.
+//
+//   hello -> configure -> initialize -> { set_inputs, get_outputs, step,
+//                                          save, restore, get_results }* -> shutdown
+//
+// Every request gets exactly one reply. A request that breaks the protocol
+// gets an error reply and ends the session (the node then serves the next).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "scene.hpp"
+#include "subsystem.hpp"
+#include "wire.hpp"
+
+namespace railcosim {
+
+struct NodeOptions {
+  wire::Role role = wire::ROLE_VEHICLE;  // which side this node serves
+  std::optional<Scene> pinned_scene;     // when set, only this scene is accepted
+  std::string name = "node";
+};
+
+class NodeSession {
+ public:
+  explicit NodeSession(const NodeOptions& options) : options_(options) {}
+
+  // Handles one request. `close` is set when the session must end after the
+  // reply is sent (shutdown, or an error).
+  wire::Envelope handle(const wire::Envelope& request, bool& close);
+
+  // The macro step the session is at (-1 before initialize), for logs.
+  long step() const { return step_; }
+  const std::string& description() const { return description_; }
+
+ private:
+  enum class State { kAwaitHello, kAwaitConfigure, kConfigured };
+  wire::Envelope dispatch(const wire::Envelope& request, bool& close);
+  Side side() const { return options_.role == wire::ROLE_VEHICLE ? Side::kS1 : Side::kS2; }
+
+  NodeOptions options_;
+  State state_ = State::kAwaitHello;
+  std::uint64_t fingerprint_ = 0;
+  std::unique_ptr<Subsystem> subsystem_;
+  double macro_step_ = 0;
+  long step_ = -1;
+  std::string description_ = "not configured";
+};
+
+}  // namespace railcosim
