@@ -110,15 +110,22 @@ StepResult RemoteParticipant::initialize() {
 
 void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
   step_ = n;
+  pending_inputs_ = inputs;  // sent with the step, or flushed before any other request
+}
+
+void RemoteParticipant::flush_inputs() {
+  if (!pending_inputs_) return;
   wire::Envelope e;
   auto* s = e.mutable_set_inputs();
-  s->set_step(n);
-  s->set_t(static_cast<double>(n) * config_.macro_step);
-  *s->mutable_inputs() = to_wire(inputs);
+  s->set_step(step_);
+  s->set_t(static_cast<double>(step_) * config_.macro_step);
+  *s->mutable_inputs() = to_wire(*pending_inputs_);
+  pending_inputs_.reset();
   send(e, true);  // pipelined: its ack is read with the next reply
 }
 
 CouplingData RemoteParticipant::outputs() {
+  flush_inputs();
   wire::Envelope e;
   e.mutable_get_outputs()->set_step(step_);
   send(e, false);
@@ -132,6 +139,10 @@ void RemoteParticipant::start_step(long n) {
   s->set_step(n);
   s->set_t(static_cast<double>(n) * config_.macro_step);
   s->set_h(config_.macro_step);
+  if (pending_inputs_) {
+    *s->mutable_inputs() = to_wire(*pending_inputs_);
+    pending_inputs_.reset();
+  }
   send(e, false);
 }
 
@@ -141,6 +152,7 @@ StepResult RemoteParticipant::finish_step() {
 }
 
 ParticipantResults RemoteParticipant::results() {
+  flush_inputs();
   wire::Envelope e;
   e.mutable_get_results();
   send(e, false);
@@ -152,6 +164,7 @@ ParticipantResults RemoteParticipant::results() {
 }
 
 ParticipantState RemoteParticipant::save() {
+  flush_inputs();
   wire::Envelope e;
   e.mutable_save();
   send(e, false);
@@ -160,6 +173,7 @@ ParticipantState RemoteParticipant::save() {
 }
 
 void RemoteParticipant::restore(const ParticipantState& state) {
+  pending_inputs_.reset();  // the restored state brings its own held inputs
   wire::Envelope e;
   auto* r = e.mutable_restore()->mutable_state();
   for (double v : state.values) r->add_values(v);

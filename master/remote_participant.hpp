@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 
 #include "connection.hpp"
 #include "participant.hpp"
@@ -49,6 +50,8 @@ class RemoteParticipant final : public Participant {
   // pipelined requests are consumed on the way.
   wire::Envelope await(wire::Envelope::BodyCase expected, const char* what);
   [[noreturn]] void fail(const std::string& what) const;
+  // Sends inputs held back by set_inputs() as a message of their own.
+  void flush_inputs();
 
   Address address_;
   SubsystemConfig config_;
@@ -57,6 +60,8 @@ class RemoteParticipant final : public Participant {
   std::uint64_t next_id_ = 1;
   int pending_acks_ = 0;
   long step_ = 0;  // the macro step being done, for messages
+  // set_inputs() keeps its data here; the next step carries it.
+  std::optional<CouplingData> pending_inputs_;
 };
 
 }  // namespace railcosim

@@ -68,6 +68,13 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
     socket_.async_read_some(asio::buffer(buf_), [this, self](boost::system::error_code ec,
                                                              std::size_t n) {
       if (ec) {
+        if (ec == asio::error::eof && decoder_.buffered() > 0) {
+          // The peer stopped sending inside a frame: say so before closing.
+          fail(wire::Error::BAD_FRAME, "the connection was closed in the middle of a frame (" +
+                                           std::to_string(decoder_.buffered()) +
+                                           " bytes of an unfinished frame)");
+          return;
+        }
         if (ec != asio::error::operation_aborted)
           log_->info("session from {} ended by the peer ({}) at macro step {}", peer_,
                      ec == asio::error::eof ? "connection closed" : ec.message(), session_.step());

@@ -132,6 +132,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                 " s, but the session was configured with H = " + std::to_string(macro_step_) +
                 " s");
       const long n = static_cast<long>(s.step());
+      if (s.has_inputs()) sub.set_inputs(n, from_wire(s.inputs()));
       const StepResult r = sub.step(n);
       step_ = n + 1;
       *reply.mutable_step_report() = to_wire(r, step_, static_cast<double>(step_) * macro_step_);

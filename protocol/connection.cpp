@@ -26,10 +26,15 @@ Address parse_address(const std::string& text, const std::string& what) {
   return a;
 }
 
-Connection::Connection(Address peer) : peer_(std::move(peer)), socket_(io_) {}
+Connection::Connection(Address peer) : peer_(std::move(peer)), socket_(io_), decoder_(max_frame_) {}
 
 Connection::~Connection() {
   close();
+}
+
+void Connection::shutdown_send() {
+  boost::system::error_code ec;
+  socket_.shutdown(tcp::socket::shutdown_send, ec);
 }
 
 void Connection::close() {
@@ -108,40 +113,42 @@ void Connection::send_raw(const std::string& bytes, Duration timeout) {
 }
 
 wire::Envelope Connection::receive(Duration timeout) {
-  unsigned char header[kFrameHeaderBytes];
-  bool done = false;
-  boost::system::error_code result;
-  asio::async_read(socket_, asio::buffer(header),
-                   [&](const boost::system::error_code& ec, std::size_t) {
-                     result = ec;
-                     done = true;
-                   });
-  run_until(done, timeout, "reply");
-  if (result) {
-    if (result == asio::error::eof || result == asio::error::connection_reset)
-      throw NetError(NetError::Kind::kClosed, peer_.str() + " closed the connection");
-    throw NetError(NetError::Kind::kIo,
-                   "cannot read from " + peer_.str() + ": " + result.message());
-  }
-  const std::uint32_t len = decode_frame_length(header);
-  if (len > max_frame_)
-    throw NetError(NetError::Kind::kProtocol,
-                   peer_.str() + " announced a frame of " + std::to_string(len) +
-                       " bytes, over the limit of " + std::to_string(max_frame_));
-  std::string body(len, '\0');
-  done = false;
-  asio::async_read(socket_, asio::buffer(body),
-                   [&](const boost::system::error_code& ec, std::size_t) {
-                     result = ec;
-                     done = true;
-                   });
-  run_until(done, timeout, "reply");
-  if (result)
-    throw NetError(NetError::Kind::kClosed, peer_.str() + " closed the connection mid-frame");
   wire::Envelope e;
-  if (!e.ParseFromString(body) || e.body_case() == wire::Envelope::BODY_NOT_SET)
-    throw NetError(NetError::Kind::kProtocol, peer_.str() + " sent a frame that is not a message");
-  return e;
+  while (true) {
+    switch (decoder_.next(e)) {
+      case FrameDecoder::Status::kFrame:
+        return e;
+      case FrameDecoder::Status::kTooLarge:
+        throw NetError(NetError::Kind::kProtocol, peer_.str() + " announced a frame of " +
+                                                      std::to_string(decoder_.announced()) +
+                                                      " bytes, over the limit of " +
+                                                      std::to_string(max_frame_));
+      case FrameDecoder::Status::kBadFrame:
+        throw NetError(NetError::Kind::kProtocol,
+                       peer_.str() + " sent a frame that is not a message");
+      case FrameDecoder::Status::kNeedMore:
+        break;
+    }
+    bool done = false;
+    boost::system::error_code result;
+    std::size_t got = 0;
+    socket_.async_read_some(asio::buffer(buffer_),
+                            [&](const boost::system::error_code& ec, std::size_t n) {
+                              result = ec;
+                              got = n;
+                              done = true;
+                            });
+    run_until(done, timeout, "reply");
+    if (result) {
+      if (result == asio::error::eof || result == asio::error::connection_reset)
+        throw NetError(NetError::Kind::kClosed,
+                       peer_.str() + (decoder_.buffered() ? " closed the connection mid-frame"
+                                                          : " closed the connection"));
+      throw NetError(NetError::Kind::kIo,
+                     "cannot read from " + peer_.str() + ": " + result.message());
+    }
+    decoder_.feed(buffer_.data(), got);
+  }
 }
 
 }  // namespace railcosim

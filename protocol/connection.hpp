@@ -4,6 +4,7 @@
 
 #include <utility>  // before Asio: its headers use std::exchange
 
+#include <array>
 #include <boost/asio.hpp>
 #include <chrono>
 #include <cstdint>
@@ -57,6 +58,8 @@ class Connection {
   wire::Envelope receive(Duration timeout);
 
   const Address& peer() const { return peer_; }
+  // Stops sending (the peer sees end of stream) but keeps reading.
+  void shutdown_send();
   void close();
 
  private:
@@ -67,6 +70,8 @@ class Connection {
   boost::asio::io_context io_;
   boost::asio::ip::tcp::socket socket_;
   std::size_t max_frame_ = kDefaultMaxFrameBytes;
+  FrameDecoder decoder_;
+  std::array<char, 65536> buffer_{};
 };
 
 }  // namespace railcosim
