@@ -88,9 +88,8 @@ void Connection::run_until(bool& done, Duration timeout, const char* what) {
     socket_.cancel(ec);
     io_.restart();
     io_.run();  // let the cancelled operation complete
-    throw NetError(NetError::Kind::kTimeout, std::string("no ") + what + " from " + peer_.str() +
-                                                 " within " + std::to_string(timeout.count()) +
-                                                 " ms");
+    throw NetError(NetError::Kind::kTimeout, std::string("no ") + what + " within " +
+                                                 std::to_string(timeout.count()) + " ms");
   }
 }
 
@@ -107,9 +106,7 @@ void Connection::send_raw(const std::string& bytes, Duration timeout) {
                       done = true;
                     });
   run_until(done, timeout, "write completion");
-  if (result)
-    throw NetError(NetError::Kind::kClosed,
-                   "cannot send to " + peer_.str() + ": " + result.message());
+  if (result) throw NetError(NetError::Kind::kClosed, "cannot send: " + result.message());
 }
 
 wire::Envelope Connection::receive(Duration timeout) {
@@ -119,13 +116,11 @@ wire::Envelope Connection::receive(Duration timeout) {
       case FrameDecoder::Status::kFrame:
         return e;
       case FrameDecoder::Status::kTooLarge:
-        throw NetError(NetError::Kind::kProtocol, peer_.str() + " announced a frame of " +
-                                                      std::to_string(decoder_.announced()) +
-                                                      " bytes, over the limit of " +
-                                                      std::to_string(max_frame_));
-      case FrameDecoder::Status::kBadFrame:
         throw NetError(NetError::Kind::kProtocol,
-                       peer_.str() + " sent a frame that is not a message");
+                       "the peer announced a frame of " + std::to_string(decoder_.announced()) +
+                           " bytes, over the limit of " + std::to_string(max_frame_));
+      case FrameDecoder::Status::kBadFrame:
+        throw NetError(NetError::Kind::kProtocol, "the peer sent a frame that is not a message");
       case FrameDecoder::Status::kNeedMore:
         break;
     }
@@ -142,10 +137,10 @@ wire::Envelope Connection::receive(Duration timeout) {
     if (result) {
       if (result == asio::error::eof || result == asio::error::connection_reset)
         throw NetError(NetError::Kind::kClosed,
-                       peer_.str() + (decoder_.buffered() ? " closed the connection mid-frame"
-                                                          : " closed the connection"));
-      throw NetError(NetError::Kind::kIo,
-                     "cannot read from " + peer_.str() + ": " + result.message());
+                       decoder_.buffered()
+                           ? "the peer closed the connection in the middle of a frame"
+                           : "the peer closed the connection");
+      throw NetError(NetError::Kind::kIo, "cannot read: " + result.message());
     }
     decoder_.feed(buffer_.data(), got);
   }

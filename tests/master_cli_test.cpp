@@ -8,6 +8,12 @@
 #include <fstream>
 #include <sstream>
 
+#include <signal.h>
+
+#include <chrono>
+#include <thread>
+
+#include "node_launcher.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -89,6 +95,60 @@ TEST(MasterCli, UnknownCaseListsTheValidOnes) {
   EXPECT_EQ(o.status, 2);
   EXPECT_NE(o.output.find("unknown case 'wr-xy-jacobi'"), std::string::npos) << o.output;
   EXPECT_NE(o.output.find("rs-xt-gauss-seidel"), std::string::npos) << o.output;
+}
+
+TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
+  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  const fs::path out = temp_dir("cli_tcp");
+  const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                               " --case rs-xx-gauss-seidel --vehicle " + vehicle.address().str() +
+                               " --track " + track.address().str() + " --out " + out.string());
+  ASSERT_EQ(o.status, 0) << o.output;
+  const std::string summary = read_file(out / "rs-xx-gauss-seidel" / "summary.json");
+  EXPECT_NE(summary.find("\"transport\": \"tcp\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"status\": \"ok\""), std::string::npos) << summary;
+  fs::remove_all(out);
+}
+
+TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
+  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  const fs::path out = temp_dir("cli_kill");
+  const fs::path history = out / "rs-xx-jacobi" / "history.csv";
+  // A fine macro step makes the run long enough to be caught in the middle.
+  Outcome o;
+  std::thread master([&] {
+    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                   " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " + vehicle.address().str() +
+                   " --track " + track.address().str() + " --out " + out.string());
+  });
+  // Wait until the run is well under way, then kill the track node.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < give_up) {
+    const std::string h = read_file(history);
+    if (std::count(h.begin(), h.end(), '\n') > 200) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const auto killed_at = std::chrono::steady_clock::now();
+  ::kill(track.pid(), SIGKILL);
+  master.join();
+  const double seconds_to_exit =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - killed_at).count();
+
+  EXPECT_NE(o.status, 0) << o.output;
+  EXPECT_LT(seconds_to_exit, 5.0);
+  EXPECT_NE(o.output.find("track node (S2) at " + track.address().str()), std::string::npos)
+      << o.output;
+  EXPECT_NE(o.output.find("at macro step "), std::string::npos) << o.output;
+  // The history up to the failure is on disk, and the summary says why.
+  const std::string h = read_file(history);
+  EXPECT_GT(std::count(h.begin(), h.end(), '\n'), 200);
+  EXPECT_LT(std::count(h.begin(), h.end(), '\n'), 25002);
+  const std::string summary = read_file(out / "rs-xx-jacobi" / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("track node (S2)"), std::string::npos) << summary;
+  fs::remove_all(out);
 }
 
 }  // namespace
