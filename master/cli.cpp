@@ -1,6 +1,9 @@
 #include "cli.hpp"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -80,6 +83,37 @@ Transport make_transport(const RunArgs& a, const Scene& scene) {
   return t;
 }
 
+// A progress line on stderr, redrawn at most five times a second, when stderr
+// is a terminal; nothing otherwise.
+class Progress {
+ public:
+  Progress(std::string label, double macro_step)
+      : label_(std::move(label)), H_(macro_step), enabled_(::isatty(STDERR_FILENO) != 0) {}
+  // Ends the line, if one was drawn.
+  void end() {
+    if (drawn_) std::fputs("\n", stderr);
+    drawn_ = false;
+  }
+  void operator()(long done, long total) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (done != total && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    const double t = static_cast<double>(done) * H_;
+    std::fprintf(stderr, "\r%s: step %ld/%ld, t = %.4f s, real-time factor %.3g   ", label_.c_str(),
+                 done, total, t, wall > 0 ? t / wall : 0.0);
+    drawn_ = true;
+  }
+
+ private:
+  std::string label_;
+  double H_;
+  bool enabled_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
+};
+
 int do_run(const RunArgs& a) {
   auto log = logger("master");
   Scene scene = load_scene(a.scene_path);
@@ -112,6 +146,8 @@ int do_run(const RunArgs& a) {
 
   RunWriter writer(a.out, spec.name());
   o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+  auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
+  o.on_progress = [progress](long done, long total) { (*progress)(done, total); };
   RunRecord record;
   try {
     if (spec.monolithic) {
@@ -136,11 +172,13 @@ int do_run(const RunArgs& a) {
     failed.status = "failed";
     failed.message = e.what();
     writer.finish(failed);
+    progress->end();
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
                  spec.name().c_str(), e.what(), writer.dir().string().c_str());
     return 1;
   }
   writer.finish(record);
+  progress->end();
   print_summary(record, writer.dir());
   return 0;
 }

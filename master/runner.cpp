@@ -49,6 +49,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   for (long n = 0; n < N; ++n) {
     model.advance(n);
     record_row(model.history_row(n + 1));
+    if (o.on_progress) o.on_progress(n + 1, N);
   }
   r.macro_steps = N;
   r.micro_steps["monolithic"] = model.integrator().state().micro_steps;
@@ -94,6 +95,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   for (; n < N; ++n) {
     const MacroStepResult m = schedule->advance(n);
     record_row(m);
+    if (o.on_progress) o.on_progress(n + 1, N);
     const bool finite = m.s1.finite && m.s2.finite;
     const double umax = std::max(m.s1.max_abs_displacement, m.s2.max_abs_displacement);
     if (!finite || umax > bound) {

@@ -20,6 +20,8 @@ struct RunOptions {
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;
+  // Called after every macro step with the steps done and the total.
+  std::function<void(long done, long total)> on_progress;
 };
 
 // Makes the participant for one side (in-process, or a proxy to a node).
