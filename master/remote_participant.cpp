@@ -48,6 +48,10 @@ RemoteParticipant::~RemoteParticipant() {
     bye.set_id(next_id_++);
     bye.mutable_shutdown();
     conn_->send(bye, std::chrono::milliseconds(1000));
+    // Wait for the node to end the session, so that the next session can
+    // start on it at once. Replies still in flight come first.
+    for (int i = 0; i < 8; ++i)
+      if (conn_->receive(std::chrono::milliseconds(2000)).has_ack() && pending_acks_-- <= 0) break;
   } catch (const std::exception&) {
     // The node is gone already: nothing to end.
   }

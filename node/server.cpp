@@ -113,17 +113,21 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
                     req.step().t());
       else if (req.has_configure())
         log_->info("session from {} configured: {}", peer_, session_.description());
-      queue(encode_frame(reply, server_.limits_.max_frame_bytes));
       if (close) {
+        // Free the node for the next session before the reply leaves, so a
+        // client that got this reply can connect again at once.
         closing_ = true;
-        return false;
+        server_.session_ended(this);
       }
+      queue(encode_frame(reply, server_.limits_.max_frame_bytes));
+      if (close) return false;
     }
   }
 
   void fail(wire::Error::Code code, const std::string& message) {
     log_->warn("session from {}: {}; closing it", peer_, message);
     closing_ = true;
+    server_.session_ended(this);
     queue(encode_frame(error_envelope(0, code, message, session_.step())));
   }
 
