@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "cosim_case.hpp"
@@ -15,9 +16,11 @@
 #include "log.hpp"
 #include "node_launcher.hpp"
 #include "remote_participant.hpp"
+#include "report.hpp"
 #include "run_output.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "study.hpp"
 
 namespace railcosim {
 namespace {
@@ -158,19 +161,7 @@ int do_run(const RunArgs& a) {
       judge(record, reference, scene);
     }
   } catch (const std::exception& e) {
-    RunRecord failed;
-    failed.case_name = spec.name();
-    if (!spec.monolithic) {
-      failed.split = to_string(spec.split);
-      failed.coupling = to_string(spec.coupling);
-      failed.scheme = to_string(spec.scheme);
-      failed.feedthrough = to_string(o.feedthrough);
-      failed.transport = a.transport;
-    }
-    failed.macro_step = o.macro_step;
-    failed.t_end = scene.end_time;
-    failed.status = "failed";
-    failed.message = e.what();
+    const RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
     writer.finish(failed);
     progress->end();
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
@@ -180,6 +171,50 @@ int do_run(const RunArgs& a) {
   writer.finish(record);
   progress->end();
   print_summary(record, writer.dir());
+  return 0;
+}
+
+struct StudyArgs {
+  std::string scene_path;
+  std::string out = "results";
+  int jobs = 0;
+  std::vector<double> macro_steps;
+  std::vector<double> tolerances = {1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
+  std::string transport = "tcp";
+};
+
+int do_study(const StudyArgs& a) {
+  const Scene scene = load_scene(a.scene_path);
+  StudyOptions o;
+  o.out = a.out;
+  o.jobs =
+      a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  o.transport = a.transport;
+  o.tolerances = a.tolerances;
+  for (double H : a.macro_steps) {
+    const double n = scene.end_time / H;
+    if (std::abs(n - std::round(n)) > 1e-9 * n)
+      throw std::invalid_argument("--macro-steps: " + std::to_string(H) +
+                                  " s does not divide the end time " +
+                                  std::to_string(scene.end_time) + " s of " + scene.source);
+  }
+  o.macro_steps = a.macro_steps;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<StudyRun> runs = run_study(scene, o);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  int failed = 0;
+  for (const auto& r : runs) failed += r.record.status == "failed";
+  std::printf("study of %s: %zu runs in %.1f s (%d failed)\n", scene.source.c_str(), runs.size(),
+              wall, failed);
+  for (const Finding& f : check_findings(runs))
+    std::printf("  %-18s %s\n", f.verdict.c_str(), f.claim.c_str());
+  std::printf("report: %s\n", (o.out / "REPORT.md").string().c_str());
+  if (failed > 0) {
+    for (const auto& r : runs)
+      if (r.record.status == "failed")
+        std::fprintf(stderr, "master: %s failed: %s\n", r.folder.c_str(), r.record.message.c_str());
+    return 1;
+  }
   return 0;
 }
 
@@ -223,6 +258,32 @@ int master_main(int argc, char** argv) {
   run->add_option("--out", ra.out, "Output folder; the run writes OUT/CASE/")
       ->capture_default_str();
 
+  StudyArgs sa;
+  auto* study = app.add_subcommand(
+      "study",
+      "Run the whole study of a scene: every case, a macro-step sweep per method, the "
+      "monolithic run across tolerances; write summary.csv, figures/ and REPORT.md");
+  study->add_option("--scene", sa.scene_path, "Scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  study->add_option("--out", sa.out, "Output folder")->capture_default_str();
+  study->add_option("--jobs", sa.jobs, "Runs in parallel (default: the number of cores)")
+      ->check(CLI::PositiveNumber);
+  study
+      ->add_option(
+          "--macro-steps", sa.macro_steps,
+          "Macro steps of the sweep, s (default: 1e-5 ... 1e-3, those dividing the end time)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  study
+      ->add_option("--tolerances", sa.tolerances, "Tolerances of the monolithic reference curve, m")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  study->add_option("--transport", sa.transport, "inproc or tcp (nodes started by the study)")
+      ->check(CLI::IsMember({"inproc", "tcp"}))
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -231,6 +292,7 @@ int master_main(int argc, char** argv) {
 
   try {
     if (*run) return do_run(ra);
+    if (*study) return do_study(sa);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "master: scene error: %s\n", e.what());
     return 2;

@@ -57,6 +57,10 @@ void write_atomically(const std::filesystem::path& path, const std::string& text
 
 }  // namespace
 
+std::string format_double(double v) {
+  return std::isfinite(v) ? num(v) : "null";
+}
+
 std::string summary_json(const RunRecord& r) {
   std::ostringstream s;
   s << "{\n";
@@ -121,8 +125,8 @@ std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunR
   return dir;
 }
 
-RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& case_name)
-    : dir_(make_run_dir(out_dir, case_name)) {
+RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& folder)
+    : dir_(make_run_dir(out_dir, folder)) {
   // A summary from an earlier run in this folder must not pass for this one.
   std::error_code ec;
   std::filesystem::remove(dir_ / "summary.json", ec);

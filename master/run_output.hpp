@@ -18,8 +18,9 @@ std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunR
 // still leaves its history so far and a summary.json saying why.
 class RunWriter {
  public:
-  // Creates OUT/CASE/ and starts history.csv. Throws std::runtime_error.
-  RunWriter(const std::filesystem::path& out_dir, const std::string& case_name);
+  // Creates OUT/FOLDER/ (FOLDER is the case name for `master run`) and starts
+  // history.csv. Throws std::runtime_error.
+  RunWriter(const std::filesystem::path& out_dir, const std::string& folder);
   ~RunWriter();
   RunWriter(const RunWriter&) = delete;
   RunWriter& operator=(const RunWriter&) = delete;
@@ -34,5 +35,8 @@ class RunWriter {
 };
 
 std::string summary_json(const RunRecord& run);
+
+// The shortest text that reads back to the same double ("null" if not finite).
+std::string format_double(double v);
 
 }  // namespace railcosim

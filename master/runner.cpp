@@ -32,6 +32,24 @@ ParticipantFactory inproc_factory(const Scene& scene) {
   };
 }
 
+RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                        const std::string& transport, const std::string& why) {
+  RunRecord r;
+  r.case_name = spec.name();
+  if (!spec.monolithic) {
+    r.split = to_string(spec.split);
+    r.coupling = to_string(spec.coupling);
+    r.scheme = to_string(spec.scheme);
+    r.feedthrough = to_string(o.feedthrough);
+    r.transport = transport;
+  }
+  r.macro_step = o.macro_step;
+  r.t_end = scene.end_time;
+  r.status = "failed";
+  r.message = why;
+  return r;
+}
+
 RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   const auto t0 = Clock::now();
   MonolithicModel model(scene, o.macro_step, o.tolerance);

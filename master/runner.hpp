@@ -29,6 +29,10 @@ using ParticipantFactory = std::function<std::unique_ptr<Participant>(const Subs
 
 ParticipantFactory inproc_factory(const Scene& scene);
 
+// The record of a run that could not finish: status "failed" and why.
+RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                        const std::string& transport, const std::string& why);
+
 // The monolithic model from the static state to t_end; history every H.
 RunRecord run_monolithic(const Scene& scene, const RunOptions& options);
 

@@ -1,0 +1,227 @@
+#include "study.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "evaluation.hpp"
+#include "log.hpp"
+#include "node_launcher.hpp"
+#include "remote_participant.hpp"
+#include "report.hpp"
+#include "run_output.hpp"
+#include "runner.hpp"
+
+namespace railcosim {
+namespace {
+
+std::string short_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// A unit of work for a worker.
+struct Job {
+  std::size_t index;  // into the runs
+  bool monolithic;
+  Method method;
+  RunOptions options;
+};
+
+}  // namespace
+
+std::string Method::label() const {
+  return spec.name() + (feedthrough == Feedthrough::kResolved ? "-resolved" : "");
+}
+
+std::vector<Method> all_methods() {
+  std::vector<Method> m;
+  for (const char* const* n = all_case_names() + 1; *n; ++n) {
+    const CaseSpec c = parse_case(*n);
+    m.push_back({c, Feedthrough::kLagged});
+    if (c.scheme == Scheme::kJacobi && c.coupling == Coupling::kXT)
+      m.push_back({c, Feedthrough::kResolved});
+  }
+  return m;
+}
+
+std::vector<double> default_macro_steps(const Scene& scene) {
+  std::vector<double> out;
+  for (double H : {1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3}) {
+    const double n = scene.end_time / H;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && n >= 1) out.push_back(H);
+  }
+  if (std::find(out.begin(), out.end(), scene.macro_step) == out.end()) {
+    out.push_back(scene.macro_step);
+    std::sort(out.begin(), out.end());
+  }
+  return out;
+}
+
+void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs) {
+  std::ofstream f(file);
+  if (!f) throw std::runtime_error("cannot write " + file.string());
+  f << "group,folder,method,case,split,coupling,scheme,feedthrough,macro_step_s,tolerance_m,"
+       "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
+       "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message\n";
+  auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
+  auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
+  auto steps = [](const RunRecord& r, const char* k) {
+    const auto it = r.micro_steps.find(k);
+    return it == r.micro_steps.end() ? std::string() : std::to_string(it->second);
+  };
+  auto quoted = [](std::string s) {
+    for (auto& c : s)
+      if (c == '"' || c == '\n') c = '\'';
+    return "\"" + s + "\"";
+  };
+  for (const StudyRun& s : runs) {
+    const RunRecord& r = s.record;
+    f << s.group << "," << s.folder << "," << s.method << "," << r.case_name << "," << opt(r.split)
+      << "," << opt(r.coupling) << "," << opt(r.scheme) << "," << opt(r.feedthrough) << ","
+      << format_double(r.macro_step) << "," << format_double(s.tolerance) << ","
+      << format_double(r.t_end) << "," << format_double(r.wall_s) << "," << r.macro_steps << ","
+      << steps(r, "monolithic") << "," << steps(r, "s1") << "," << steps(r, "s2") << "," << r.status
+      << "," << optd(r.max_abs_error_m) << "," << optd(r.rel_l2_error) << ","
+      << optd(r.history_error) << ","
+      << (r.status == "ok" || r.status == "amplified" ? format_double(s.rel_l2_error_converged)
+                                                      : std::string())
+      << "," << r.transport << "," << quoted(r.message) << "\n";
+  }
+}
+
+std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
+  auto log = logger("master");
+  std::filesystem::create_directories(opt.out);
+  const std::vector<double> sweep =
+      opt.macro_steps.empty() ? default_macro_steps(scene) : opt.macro_steps;
+
+  // The plan: runs at the scene's H (the cases), the sweep, the tolerances.
+  std::vector<StudyRun> runs;
+  std::vector<Job> jobs;
+  auto add = [&](const std::string& group, const std::string& folder, bool mono, const Method& m,
+                 double H, double tol) {
+    StudyRun s;
+    s.group = group;
+    s.folder = folder;
+    s.method = mono ? "monolithic" : m.label();
+    s.tolerance = tol;
+    RunOptions o;
+    o.macro_step = H;
+    o.tolerance = tol;
+    o.feedthrough = m.feedthrough;
+    jobs.push_back({runs.size(), mono, m, o});
+    runs.push_back(std::move(s));
+  };
+  add("case", "monolithic", true, {}, scene.macro_step, scene.tolerance);
+  for (const Method& m : opt.methods)
+    add("case", m.label(), false, m, scene.macro_step, scene.tolerance);
+  for (double H : sweep) {
+    if (H == scene.macro_step) continue;  // the cases are that column of the sweep
+    for (const Method& m : opt.methods)
+      add("sweep", "sweep/H_" + short_number(H) + "/" + m.label(), false, m, H, scene.tolerance);
+  }
+  for (double tol : opt.tolerances)
+    add("tolerance", "sweep/tol_" + short_number(tol) + "/monolithic", true, {}, scene.macro_step,
+        tol);
+
+  // Monolithic references, one per macro step, and the converged one.
+  std::map<double, RunRecord> references;
+  {
+    std::vector<double> steps = sweep;
+    steps.push_back(scene.macro_step);
+    std::sort(steps.begin(), steps.end());
+    steps.erase(std::unique(steps.begin(), steps.end()), steps.end());
+    std::vector<std::thread> threads;
+    std::mutex mutex;
+    for (double H : steps)
+      threads.emplace_back([&, H] {
+        RunOptions o;
+        o.macro_step = H;
+        o.tolerance = scene.tolerance;
+        RunRecord r = run_monolithic(scene, o);
+        std::lock_guard lock(mutex);
+        references[H] = std::move(r);
+      });
+    for (auto& t : threads) t.join();
+  }
+  RunOptions conv;
+  conv.macro_step = scene.macro_step;
+  conv.tolerance = opt.converged_tolerance;
+  const RunRecord converged = run_monolithic(scene, conv);
+
+  // Workers: each owns a pair of nodes that serves its runs one after another.
+  const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(jobs.size())));
+  std::vector<std::unique_ptr<LaunchedNode>> nodes;
+  if (opt.transport == "tcp")
+    for (int w = 0; w < workers; ++w) {
+      nodes.push_back(std::make_unique<LaunchedNode>("vehicle_node", std::chrono::seconds(10)));
+      nodes.push_back(std::make_unique<LaunchedNode>("track_node", std::chrono::seconds(10)));
+    }
+  log->info("study of {}: {} runs on {} worker(s), transport {}", scene.source, jobs.size(),
+            workers, opt.transport);
+
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex out_mutex;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  auto work = [&](int w) {
+    ParticipantFactory factory = inproc_factory(scene);
+    if (opt.transport == "tcp") {
+      const Address va = nodes[2 * w]->address(), ta = nodes[2 * w + 1]->address();
+      factory = [&scene, va, ta](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+        return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? va : ta, scene, c);
+      };
+    }
+    for (std::size_t j; (j = next++) < jobs.size();) {
+      const Job& job = jobs[j];
+      StudyRun& s = runs[job.index];
+      RunRecord r;
+      const CaseSpec spec = job.monolithic ? CaseSpec{} : job.method.spec;
+      try {
+        RunWriter writer(opt.out, s.folder);
+        RunOptions o = job.options;
+        o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+        if (job.monolithic) {
+          r = run_monolithic(scene, o);
+        } else {
+          r = run_cosim(scene, spec, o, factory, opt.transport);
+          judge(r, references.at(o.macro_step), scene);
+        }
+        if (r.status == "ok" || r.status == "amplified")
+          s.rel_l2_error_converged = deflection_error(r.deflection, converged.deflection).rel_l2;
+        writer.finish(r);
+      } catch (const std::exception& e) {
+        r = failed_record(scene, spec, job.options, opt.transport, e.what());
+        log->error("{} failed: {}", s.folder, e.what());
+        try {
+          RunWriter(opt.out, s.folder).finish(r);
+        } catch (const std::exception&) {
+        }
+      }
+      s.record = std::move(r);
+      const std::size_t d = ++done;
+      if (tty) {
+        std::lock_guard lock(out_mutex);
+        std::fprintf(stderr, "\rstudy: %zu/%zu runs done   ", d, jobs.size());
+        if (d == jobs.size()) std::fputs("\n", stderr);
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(work, w);
+  for (auto& t : threads) t.join();
+
+  write_summary_csv(opt.out / "summary.csv", runs);
+  write_report(scene, opt, runs, converged);
+  return runs;
+}
+
+}  // namespace railcosim

@@ -1,0 +1,59 @@
+// The study of a scene: the monolithic reference and every co-simulation
+// case, a sweep of macro steps for each method, the monolithic run across
+// tolerances, then summary.csv, figures and REPORT.md.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cosim_case.hpp"
+#include "run_record.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+
+// A co-simulation method: a case and its feedthrough.
+struct Method {
+  CaseSpec spec;
+  Feedthrough feedthrough = Feedthrough::kLagged;
+  std::string label() const;  // case name, "-resolved" appended for the resolved variant
+};
+
+// Every case, and the resolved variant of each Jacobi X-T case (the only
+// ones where the feedthrough changes anything).
+std::vector<Method> all_methods();
+
+struct StudyOptions {
+  std::filesystem::path out = "results";
+  int jobs = 1;
+  std::string transport = "tcp";       // for the co-simulation runs
+  std::vector<double> macro_steps;     // the sweep (each must divide t_end)
+  std::vector<double> tolerances;      // of the monolithic reference curve
+  double converged_tolerance = 1e-10;  // the reference all accuracies are measured against
+  std::vector<Method> methods = all_methods();
+  std::string figure_script;  // empty: scripts/figures.py next to the sources
+};
+
+// One run of the study and where it stands.
+struct StudyRun {
+  std::string group;   // "case" (the scene's H), "sweep" or "tolerance"
+  std::string folder;  // relative to the study's folder
+  std::string method;  // Method::label(), or "monolithic"
+  double tolerance = 0;
+  RunRecord record;
+  double rel_l2_error_converged = 0;  // deflection at t_end against the converged reference
+};
+
+// Default sweep: 1e-5 ... 1e-3 s, kept to the steps that divide t_end.
+std::vector<double> default_macro_steps(const Scene& scene);
+
+// Runs everything, writes every file; returns the runs. Throws only for what
+// stops the whole study (an unwritable folder, nodes that cannot start); a run
+// that fails is recorded as failed and the study goes on.
+std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& options);
+
+// Writes DIR/summary.csv: one row per run.
+void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs);
+
+}  // namespace railcosim
