@@ -35,6 +35,17 @@ HistoryRow MonolithicModel::history_row(long n) const {
           newmark_.state().contact_force};
 }
 
+double MonolithicModel::rail_under_wheel(double t) const {
+  const Vector& u = newmark_.state().u;
+  const DofLayout& l = sys_.layout;
+  std::vector<double> w, theta;
+  for (std::size_t k = 0; k < l.rail_w.size(); ++k) {
+    w.push_back(u[l.rail_w[k]]);
+    theta.push_back(u[l.rail_theta[k]]);
+  }
+  return rail_displacement_at(sys_.contact->path, t, w, theta);
+}
+
 std::vector<double> MonolithicModel::rail_deflection() const {
   std::vector<double> w;
   w.reserve(sys_.layout.rail_w.size());

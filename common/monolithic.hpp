@@ -21,6 +21,9 @@ class MonolithicModel {
   void advance(long n);
   HistoryRow history_row(long n) const;
 
+  // The rail displacement under the wheel at time t (Hermite interpolation).
+  double rail_under_wheel(double t) const;
+
   // Rail node displacements w_k (rotations left out).
   std::vector<double> rail_deflection() const;
   const Structure& structure() const { return sys_; }

@@ -78,6 +78,27 @@ class Reader {
 
 }  // namespace
 
+double Scene::winkler_beta() const {
+  const double support = pad_stiffness * ballast_stiffness / (pad_stiffness + ballast_stiffness);
+  const double k = support / sleeper_spacing;
+  return std::pow(k / (4.0 * young_modulus * second_moment), 0.25);
+}
+
+void Scene::size_track(double x0) {
+  // A point load on a Winkler beam deflects it as exp(-beta x)(cos + sin): at
+  // a distance m its influence has fallen below exp(-beta m). A free end that
+  // close changes the deflection under the load by about that much, so
+  // m = ln(1 / tolerance) / beta. The rail starts and ends on the sleeper
+  // grid of the scene's frame (sleeper i at (i + 1/2) l), so that the load
+  // meets the sleepers where it would on a longer track.
+  margin = std::log(1.0 / margin_tolerance) / winkler_beta();
+  const double l = sleeper_spacing;
+  rail_start = l * std::floor((x0 - margin) / l);
+  const double rail_end = l * std::ceil((x0 + speed * end_time + margin) / l);
+  sleeper_count = static_cast<int>(std::lround((rail_end - rail_start) / l));
+  initial_position = x0 - rail_start;
+}
+
 long Scene::macro_steps() const {
   return std::lround(end_time / macro_step);
 }
@@ -179,7 +200,20 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
 
   sc.sleeper_mass = r.number("sleepers", "mass");
   sc.sleeper_spacing = r.number("sleepers", "spacing");
-  sc.sleeper_count = static_cast<int>(r.integer("sleepers", "count"));
+  double x0_scene = 0;
+  if (const toml::node* n = r.find("sleepers", "count", true); n->is_string()) {
+    if (*n->value<std::string>() != "auto")
+      r.fail("sleepers.count", "must be a whole number of sleepers or \"auto\"");
+    sc.auto_length = true;
+  } else {
+    sc.sleeper_count = static_cast<int>(r.integer("sleepers", "count"));
+  }
+  if (r.find("sleepers", "margin_tolerance", false)) {
+    if (!sc.auto_length) r.fail("sleepers.margin_tolerance", "applies only with count = \"auto\"");
+    sc.margin_tolerance = r.number("sleepers", "margin_tolerance");
+    if (!(sc.margin_tolerance > 0 && sc.margin_tolerance < 1))
+      r.fail("sleepers.margin_tolerance", "must lie strictly between 0 and 1");
+  }
 
   sc.ballast_stiffness = r.number("ballast", "stiffness");
   sc.ballast_damping = r.number("ballast", "damping");
@@ -196,6 +230,19 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
       r.number_or("cosim", "amplification_threshold", sc.amplification_threshold);
 
   r.reject_unknown();
+  if (sc.auto_length) {
+    x0_scene = sc.initial_position;
+    // Check what sizing needs before using it; the full check follows.
+    for (const auto& [key, v] : {std::pair{"rail.young_modulus", sc.young_modulus},
+                                 {"rail.second_moment", sc.second_moment},
+                                 {"railpad.stiffness", sc.pad_stiffness},
+                                 {"ballast.stiffness", sc.ballast_stiffness},
+                                 {"sleepers.spacing", sc.sleeper_spacing},
+                                 {"simulation.end_time", sc.end_time}})
+      if (!(v > 0)) r.fail(key, "must be positive");
+    if (!(sc.speed >= 0)) r.fail("vehicle.speed_kmh", "must be zero or positive");
+    sc.size_track(x0_scene);
+  }
   sc.validate();
   return sc;
 }

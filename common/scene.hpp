@@ -38,7 +38,14 @@ struct Scene {
   // [sleepers]
   double sleeper_mass = 0;     // m_s, kg
   double sleeper_spacing = 0;  // l, m
-  int sleeper_count = 0;       // N
+  int sleeper_count = 0;       // N (computed when the length is automatic)
+  // count = "auto": the rail covers the wheel's path plus a margin on each
+  // side, chosen so that the truncation changes the deflection under the
+  // wheel by less than margin_tolerance (relative).
+  bool auto_length = false;
+  double margin_tolerance = 1e-4;
+  double margin = 0;      // m, when auto_length
+  double rail_start = 0;  // x of the rail's left end in the scene's frame, m
 
   // [ballast]
   double ballast_stiffness = 0;  // k_b, N/m
@@ -58,6 +65,12 @@ struct Scene {
   double amplification_threshold = 0.1;  // history error > threshold => amplified
 
   double track_length() const { return sleeper_count * sleeper_spacing; }
+  // The Winkler wavenumber beta = (k / 4EI)^(1/4) of the rail on its
+  // supports smeared along the track (pads and ballast in series), 1/m.
+  double winkler_beta() const;
+  // Sizes the track from the run (auto_length): sets sleeper_count,
+  // rail_start, margin, and moves initial_position into the rail's frame.
+  void size_track(double x0_in_scene_frame);
   double element_length() const { return sleeper_spacing / elements_per_span; }
   int rail_nodes() const { return sleeper_count * elements_per_span + 1; }
   double load() const { return vehicle_mass * gravity; }

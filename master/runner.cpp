@@ -16,7 +16,8 @@ using Clock = std::chrono::steady_clock;
 
 std::vector<double> rail_positions(const Scene& scene) {
   std::vector<double> x(static_cast<std::size_t>(scene.rail_nodes()));
-  for (std::size_t k = 0; k < x.size(); ++k) x[k] = static_cast<double>(k) * scene.element_length();
+  for (std::size_t k = 0; k < x.size(); ++k)
+    x[k] = scene.rail_start + static_cast<double>(k) * scene.element_length();
   return x;
 }
 

@@ -124,6 +124,7 @@ wire::SceneParams to_wire(const Scene& s) {
   p.set_tolerance(s.tolerance);
   p.set_divergence_factor(s.divergence_factor);
   p.set_amplification_threshold(s.amplification_threshold);
+  p.set_rail_start(s.rail_start);
   return p;
 }
 
@@ -154,6 +155,7 @@ Scene from_wire(const wire::SceneParams& p, const std::string& source) {
   s.tolerance = p.tolerance();
   s.divergence_factor = p.divergence_factor();
   s.amplification_threshold = p.amplification_threshold();
+  s.rail_start = p.rail_start();
   try {
     s.validate();
   } catch (const SceneError& e) {
