@@ -1,0 +1,150 @@
+// A small study end to end, as a user runs it: the master process, nodes over
+// TCP, every promised file; summary.csv against the per-run summary.json.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "evaluation.hpp"
+#include "runner.hpp"
+#include "test_support.hpp"
+
+namespace railcosim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Splits one CSV line; a field may be quoted (no quotes inside).
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+// The text of a scalar in our flat summary.json ("" for null).
+std::string json_value(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\": (\"([^\"]*)\"|[^,\\n}]*)");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) return "<missing>";
+  if (m[2].matched) return m[2];
+  return m[1] == "null" ? "" : std::string(m[1]);
+}
+
+class StudyTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("railcosim_study_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // The paper scene, cut short.
+    std::string scene = read_file(test::source_path("scenes/paper.toml"));
+    scene.replace(scene.find("end_time = 0.25"), 15, "end_time = 0.02");
+    std::ofstream(dir_ / "short.toml") << scene;
+    const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master study --scene " +
+                            (dir_ / "short.toml").string() + " --out " + (dir_ / "out").string() +
+                            " --jobs 2 --macro-steps 1e-4,5e-4 --tolerances 1e-6,1e-8 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    std::array<char, 4096> buf{};
+    while (p && fgets(buf.data(), buf.size(), p)) output_ += buf.data();
+    const int st = p ? pclose(p) : -1;
+    status_ = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  static inline fs::path dir_;
+  static inline std::string output_;
+  static inline int status_ = -1;
+};
+
+TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
+  ASSERT_EQ(status_, 0) << output_;
+  const fs::path out = dir_ / "out";
+  EXPECT_TRUE(fs::exists(out / "summary.csv"));
+  EXPECT_TRUE(fs::exists(out / "REPORT.md"));
+  for (const char* run :
+       {"monolithic", "wr-xx-jacobi", "wr-xt-jacobi", "wr-xt-jacobi-resolved", "rs-xt-gauss-seidel",
+        "sweep/H_0.0005/rs-xx-jacobi", "sweep/tol_1e-08/monolithic"})
+    for (const char* file : {"deflection.csv", "history.csv", "summary.json"})
+      EXPECT_TRUE(fs::exists(out / run / file)) << run << "/" << file;
+  const std::string report = read_file(out / "REPORT.md");
+  EXPECT_NE(report.find("## The paper's conclusions"), std::string::npos);
+  EXPECT_NE(report.find("## Stability map"), std::string::npos);
+  // Figures, where matplotlib is installed (the install script installs it);
+  // otherwise the report must say why there are none.
+  if (report.find("Figures were not drawn") == std::string::npos) {
+    for (const char* fig :
+         {"deflection", "errors", "speed_accuracy", "stability_map", "contact_force"}) {
+      EXPECT_TRUE(fs::exists(out / "figures" / (std::string(fig) + ".png"))) << fig;
+      EXPECT_NE(report.find(std::string("figures/") + fig + ".png"), std::string::npos) << fig;
+    }
+  }
+}
+
+TEST_F(StudyTest, SummaryCsvMatchesEveryRunsSummaryJson) {
+  ASSERT_EQ(status_, 0) << output_;
+  std::istringstream csv(read_file(dir_ / "out" / "summary.csv"));
+  std::string line;
+  std::getline(csv, line);
+  const std::vector<std::string> header = split_csv(line);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto f = split_csv(line);
+    ASSERT_EQ(f.size(), header.size()) << line;
+    const std::string json = read_file(dir_ / "out" / f[col["folder"]] / "summary.json");
+    for (const char* key : {"case", "status", "macro_step_s", "t_end_s", "wall_s", "macro_steps",
+                            "max_abs_error_m", "rel_l2_error", "history_error", "transport"})
+      EXPECT_EQ(f[col[key]], json_value(json, key)) << f[col["folder"]] << ": " << key;
+    if (!f[col["rel_l2_error"]].empty()) {
+      EXPECT_GE(std::stod(f[col["rel_l2_error"]]), 0.0);
+    }
+    ++rows;
+  }
+  // 10 methods x 2 macro steps, the monolithic case, 2 tolerances.
+  EXPECT_EQ(rows, 23);
+}
+
+TEST_F(StudyTest, StabilityMapAgreesWithADirectRunOfTheSameCell) {
+  ASSERT_EQ(status_, 0) << output_;
+  Scene scene = load_scene((dir_ / "short.toml").string());
+  for (const auto& [method, H] :
+       {std::pair{"wr-xt-jacobi", 5e-4}, std::pair{"rs-xx-jacobi", 5e-4}}) {
+    const std::string json =
+        read_file(dir_ / "out" / "sweep" / "H_0.0005" / method / "summary.json");
+    RunOptions o;
+    o.macro_step = H;
+    o.tolerance = scene.tolerance;
+    RunRecord direct = run_cosim(scene, parse_case(method), o, inproc_factory(scene), "inproc");
+    judge(direct, run_monolithic(scene, o), scene);
+    EXPECT_EQ(json_value(json, "status"), direct.status) << method;
+  }
+}
+
+}  // namespace
+}  // namespace railcosim
