@@ -1,16 +1,9 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the paper scene: the monolithic
-# reference and every co-simulation case (over TCP, with nodes the master
-# starts), into results/.
+# Installs what is missing, builds, and runs the study of the paper scene:
+# the monolithic reference, every co-simulation case over TCP (with nodes the
+# master starts), the macro-step sweeps, figures and results/REPORT.md.
+# Arguments: [OUT_DIR] [SCENE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh
-out=${1:-results}
-build/bin/master run --scene scenes/paper.toml --case monolithic --out "$out"
-for split in wr rs; do
-  for type in xx xt; do
-    for scheme in jacobi gauss-seidel; do
-      build/bin/master run --scene scenes/paper.toml --case "$split-$type-$scheme" --out "$out"
-    done
-  done
-done
+build/bin/master study --scene "${2:-scenes/paper.toml}" --out "${1:-results}"
