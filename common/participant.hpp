@@ -51,10 +51,17 @@ struct ParticipantState {
   bool operator==(const ParticipantState&) const = default;
 };
 
-// A call out of order, or inputs that do not fit: a bug in the caller.
+// A call out of order: a bug in the caller.
 class CallOrderError : public std::logic_error {
  public:
   using std::logic_error::logic_error;
+};
+
+// Inputs or a state that do not fit the participant (wrong count, a
+// non-finite value, a snapshot of another subsystem).
+class BadInputError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
 };
 
 // Call order (enforced; a call out of order throws CallOrderError):

@@ -103,11 +103,11 @@ void Subsystem::check_inputs(const CouplingData& in) const {
   auto expect = [&](const std::vector<double>& v, bool wanted, const char* what) {
     const std::size_t size = wanted ? N : 0;
     if (v.size() != size)
-      throw CallOrderError(name() + ": set_inputs() rejected: expected " + std::to_string(size) +
+      throw BadInputError(name() + ": set_inputs() rejected: expected " + std::to_string(size) +
                            " " + what + " value(s), got " + std::to_string(v.size()));
     for (double x : v)
       if (!std::isfinite(x))
-        throw CallOrderError(name() + ": set_inputs() rejected: non-finite " + what + " value");
+        throw BadInputError(name() + ": set_inputs() rejected: non-finite " + what + " value");
   };
   expect(in.displacement, !wants_force, "displacement");
   expect(in.velocity, wants_velocity, "velocity");
@@ -253,13 +253,13 @@ class Cursor {
   Cursor(const std::vector<double>& v, const std::string& who) : v_(v), who_(who) {}
   double next() {
     if (i_ >= v_.size())
-      throw CallOrderError(who_ + ": restore() rejected: the state is truncated");
+      throw BadInputError(who_ + ": restore() rejected: the state is truncated");
     return v_[i_++];
   }
   std::size_t count(std::size_t limit) {
     const double c = next();
     if (!(c >= 0 && c <= static_cast<double>(limit)))
-      throw CallOrderError(who_ + ": restore() rejected: the state does not fit this subsystem");
+      throw BadInputError(who_ + ": restore() rejected: the state does not fit this subsystem");
     return static_cast<std::size_t>(c);
   }
   std::vector<double> vec(std::size_t limit) {
@@ -315,7 +315,7 @@ void Subsystem::restore(const ParticipantState& state) {
   CouplingData held{c.vec(N), c.vec(N), c.vec(N)};
   if (!c.done() || u.size() != n || v.size() != n || a.size() != n || step < 0 || level < 0 ||
       level > Newmark::kMaxLevel)
-    throw CallOrderError(name() + ": restore() rejected: the state does not fit this subsystem");
+    throw BadInputError(name() + ": restore() rejected: the state does not fit this subsystem");
   apply_inputs(held);
   NewmarkState& s = newmark_->state();
   s.u = Eigen::Map<const Vector>(u.data(), static_cast<Eigen::Index>(n));

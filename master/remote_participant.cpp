@@ -1,5 +1,6 @@
 #include "remote_participant.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 #include "wire.hpp"
@@ -81,11 +82,19 @@ void RemoteParticipant::send(wire::Envelope request, bool expects_ack) {
   if (expects_ack) ++pending_acks_;
 }
 
-wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const char* what) {
+std::chrono::milliseconds RemoteParticipant::step_deadline() const {
+  if (slowest_step_.count() == 0) return timeouts_.step_max;
+  const auto scaled = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double>(slowest_step_) * timeouts_.step_factor);
+  return std::clamp(scaled, timeouts_.step_min, timeouts_.step_max);
+}
+
+wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const char* what,
+                                        std::chrono::milliseconds timeout) {
   while (true) {
     wire::Envelope reply;
     try {
-      reply = conn_->receive(timeouts_.reply);
+      reply = conn_->receive(timeout);
     } catch (const NetError& e) {
       fail(e.what());
     }
@@ -143,6 +152,7 @@ void RemoteParticipant::start_step(long n) {
   s->set_step(n);
   s->set_t(static_cast<double>(n) * config_.macro_step);
   s->set_h(config_.macro_step);
+  step_started_ = std::chrono::steady_clock::now();
   if (pending_inputs_) {
     *s->mutable_inputs() = to_wire(*pending_inputs_);
     pending_inputs_.reset();
@@ -151,7 +161,8 @@ void RemoteParticipant::start_step(long n) {
 }
 
 StepResult RemoteParticipant::finish_step() {
-  StepResult r = from_wire(await(wire::Envelope::kStepReport, "step").step_report());
+  StepResult r = from_wire(await(wire::Envelope::kStepReport, "step", step_deadline()).step_report());
+  slowest_step_ = std::max(slowest_step_, std::chrono::steady_clock::now() - step_started_);
   return r;
 }
 

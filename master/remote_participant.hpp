@@ -14,9 +14,15 @@
 
 namespace railcosim {
 
+// How long the master waits for a node. A step's deadline follows from the
+// cost of the steps seen so far: step_factor times the slowest one, within
+// [step_min, step_max]; before the first step is timed, step_max applies.
 struct RemoteTimeouts {
-  std::chrono::milliseconds connect{10000};  // a node may still be starting
-  std::chrono::milliseconds reply{60000};    // any reply, a step included
+  std::chrono::milliseconds connect{10000};  // with retries: a node may still be starting
+  std::chrono::milliseconds reply{10000};    // hello, configure and every other request
+  std::chrono::milliseconds step_min{2000};
+  std::chrono::milliseconds step_max{30000};
+  double step_factor = 50.0;
 };
 
 // A failure of a remote node, with its name, address, macro step and time.
@@ -48,7 +54,12 @@ class RemoteParticipant final : public Participant {
   void send(wire::Envelope request, bool expects_ack);
   // Reads replies until the one for the latest non-ack request; acks of
   // pipelined requests are consumed on the way.
-  wire::Envelope await(wire::Envelope::BodyCase expected, const char* what);
+  wire::Envelope await(wire::Envelope::BodyCase expected, const char* what,
+                       std::chrono::milliseconds timeout);
+  wire::Envelope await(wire::Envelope::BodyCase expected, const char* what) {
+    return await(expected, what, timeouts_.reply);
+  }
+  std::chrono::milliseconds step_deadline() const;
   [[noreturn]] void fail(const std::string& what) const;
   // Sends inputs held back by set_inputs() as a message of their own.
   void flush_inputs();
@@ -60,6 +71,8 @@ class RemoteParticipant final : public Participant {
   std::uint64_t next_id_ = 1;
   int pending_acks_ = 0;
   long step_ = 0;  // the macro step being done, for messages
+  std::chrono::steady_clock::time_point step_started_;
+  std::chrono::steady_clock::duration slowest_step_{0};
   // set_inputs() keeps its data here; the next step carries it.
   std::optional<CouplingData> pending_inputs_;
 };

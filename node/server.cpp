@@ -37,12 +37,14 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         peer_(endpoint_text(socket_)),
         decoder_(server.limits_.max_frame_bytes),
         session_(server.options_),
-        log_(logger(component(server.options_.role))) {}
+        log_(logger(component(server.options_.role))),
+        idle_(socket_.get_executor()) {}
 
   void start() {
     boost::system::error_code ec;
     socket_.set_option(tcp::no_delay(true), ec);
     log_->info("session {} from {} started", server_.sessions_, peer_);
+    arm_idle_timer(server_.limits_.handshake_timeout, "complete the hello");
     read();
   }
 
@@ -82,6 +84,9 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         return;
       }
       decoder_.feed(buf_.data(), n);
+      arm_idle_timer(session_.step() == -1 && !said_hello_ ? server_.limits_.handshake_timeout
+                                                           : server_.limits_.idle_timeout,
+                     "send anything");
       if (!drain()) return;
       read();
     });
@@ -105,6 +110,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
       }
       bool close = false;
       const wire::Envelope reply = session_.handle(req, close);
+      if (reply.has_hello_reply()) said_hello_ = true;
       if (reply.has_error())
         log_->warn("session from {}: {} rejected at macro step {}: {}", peer_, body_name(req),
                    session_.step(), reply.error().message());
@@ -122,6 +128,17 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
       queue(encode_frame(reply, server_.limits_.max_frame_bytes));
       if (close) return false;
     }
+  }
+
+  // (Re)starts the deadline by which the peer must have sent something.
+  void arm_idle_timer(std::chrono::milliseconds limit, const char* what) {
+    idle_.expires_after(limit);
+    auto self = shared_from_this();
+    idle_.async_wait([this, self, limit, what](boost::system::error_code ec) {
+      if (ec || finished_ || closing_) return;
+      fail(wire::Error::TIMEOUT, std::string("the peer did not ") + what + " within " +
+                                     std::to_string(limit.count()) + " ms; closing the session");
+    });
   }
 
   void fail(wire::Error::Code code, const std::string& message) {
@@ -159,6 +176,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   void finish() {
     if (finished_) return;
     finished_ = true;
+    idle_.cancel();
     close();
     server_.session_ended(this);
   }
@@ -174,6 +192,8 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   bool writing_ = false;
   bool closing_ = false;
   bool finished_ = false;
+  bool said_hello_ = false;
+  asio::steady_timer idle_;
 };
 
 NodeServer::NodeServer(NodeOptions options, const Address& listen, ServerLimits limits)
@@ -255,12 +275,17 @@ int node_main(wire::Role role, int argc, char** argv) {
   std::string scene_path;
   std::size_t max_frame = kDefaultMaxFrameBytes;
   std::string level = "info";
+  double idle_seconds = 60.0;
   app.add_option("--listen", listen, "HOST:PORT to listen on (port 0: the system chooses)")
       ->capture_default_str();
   app.add_option("--scene", scene_path,
                  "Scene file: when given, only a master running this very scene is accepted")
       ->check(CLI::ExistingFile);
   app.add_option("--max-frame-bytes", max_frame, "Largest frame accepted")->capture_default_str();
+  app.add_option("--idle-timeout", idle_seconds,
+                 "Seconds a session may stay silent before the node closes it")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--log-level", level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
@@ -275,7 +300,11 @@ int node_main(wire::Role role, int argc, char** argv) {
     options.role = role;
     options.name = who + "_node";
     if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
-    NodeServer server(options, parse_address(listen, "--listen"), ServerLimits{max_frame});
+    ServerLimits limits;
+    limits.max_frame_bytes = max_frame;
+    limits.idle_timeout = std::chrono::milliseconds(static_cast<long>(idle_seconds * 1000));
+    limits.handshake_timeout = std::min(limits.handshake_timeout, limits.idle_timeout);
+    NodeServer server(options, parse_address(listen, "--listen"), limits);
     std::printf("listening on %s\n", server.local_address().str().c_str());
     std::fflush(stdout);
     server.run(true);

@@ -15,6 +15,10 @@ namespace railcosim {
 
 struct ServerLimits {
   std::size_t max_frame_bytes = kDefaultMaxFrameBytes;
+  // A session that sends nothing for this long is closed (TIMEOUT).
+  std::chrono::milliseconds idle_timeout{60000};
+  // A peer that connects must complete the hello this fast.
+  std::chrono::milliseconds handshake_timeout{10000};
 };
 
 class NodeServer {

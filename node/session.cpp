@@ -26,6 +26,10 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     close = true;
     return error_envelope(request.id(), wire::Error::OUT_OF_ORDER, e.what(), step_,
                           step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  } catch (const BadInputError& e) {
+    close = true;
+    return error_envelope(request.id(), wire::Error::BAD_REQUEST, e.what(), step_,
+                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
   } catch (const std::exception& e) {
     close = true;
     return error_envelope(request.id(), wire::Error::INTERNAL,
@@ -86,6 +90,14 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       if (scene_fingerprint(scene) != fingerprint_)
         throw ProtocolError(wire::Error::SCENE_MISMATCH,
                             "the configured scene does not match the fingerprint of the hello");
+      // Resource limits: a session cannot make the node allocate without bound.
+      if (scene.sleeper_count > kMaxSleepers || scene.elements_per_span > kMaxElementsPerSpan)
+        throw ProtocolError(wire::Error::BAD_REQUEST,
+                            "configure: the mesh exceeds this node's limits (" +
+                                std::to_string(scene.sleeper_count) + " sleepers, " +
+                                std::to_string(scene.elements_per_span) +
+                                " elements per span; at most " + std::to_string(kMaxSleepers) +
+                                " and " + std::to_string(kMaxElementsPerSpan) + ")");
       if (!(c.macro_step() > 0) || !(c.tolerance() > 0))
         throw ProtocolError(wire::Error::BAD_REQUEST,
                             "configure: macro_step and tolerance must be positive");

@@ -19,6 +19,11 @@
 
 namespace railcosim {
 
+// The largest mesh a node accepts (about 100,000 DOFs; the band matrices and
+// their cached factorisations then take some hundreds of MB at most).
+inline constexpr int kMaxSleepers = 20000;
+inline constexpr int kMaxElementsPerSpan = 16;
+
 struct NodeOptions {
   wire::Role role = wire::ROLE_VEHICLE;  // which side this node serves
   std::optional<Scene> pinned_scene;     // when set, only this scene is accepted

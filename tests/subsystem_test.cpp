@@ -96,13 +96,13 @@ INSTANTIATE_TEST_SUITE_P(AllSides, SubsystemTest,
                                            Combo{Split::kRailSleepers, Side::kS2, Coupling::kXT}),
                          [](const auto& param_info) { return combo_name(param_info.param); });
 
-// Expects `call` to throw CallOrderError with `text` in its message.
-template <typename F>
+// Expects `call` to throw Error with `text` in its message.
+template <typename Error = CallOrderError, typename F>
 void expect_rejected(F&& call, const std::string& text) {
   try {
     call();
     ADD_FAILURE() << "not rejected; expected: " << text;
-  } catch (const CallOrderError& e) {
+  } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
   }
 }
@@ -141,13 +141,14 @@ TEST(SubsystemCallOrder, InputsThatDoNotFitAreRejected) {
   CouplingData wrong;
   wrong.displacement = {0.0, 0.0, 0.0};
   wrong.velocity.assign(50, 0.0);
-  expect_rejected([&] { sub.set_inputs(0, wrong); }, "expected 50 displacement value(s), got 3");
+  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); },
+                                 "expected 50 displacement value(s), got 3");
   wrong.displacement.assign(50, 0.0);
   wrong.displacement[7] = NAN;
-  expect_rejected([&] { sub.set_inputs(0, wrong); }, "non-finite displacement value");
+  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); }, "non-finite displacement value");
   wrong.displacement[7] = 0.0;
   wrong.force.assign(50, 1.0);
-  expect_rejected([&] { sub.set_inputs(0, wrong); }, "expected 0 force value(s), got 50");
+  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); }, "expected 0 force value(s), got 50");
 }
 
 }  // namespace
