@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "auth.hpp"
 #include "cosim_case.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
@@ -34,6 +35,7 @@ struct RunArgs {
   std::string transport = "tcp";
   std::string vehicle, track;
   std::string out = "results";
+  std::string token_file;
 };
 
 void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
@@ -80,8 +82,12 @@ Transport make_transport(const RunArgs& a, const Scene& scene) {
     vehicle = parse_address(a.vehicle, "--vehicle");
     track = parse_address(a.track, "--track");
   }
-  t.factory = [scene, vehicle, track](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? vehicle : track, scene, c);
+  std::optional<std::string> token;
+  if (!a.token_file.empty()) token = read_token_file(a.token_file);
+  t.factory = [scene, vehicle, track,
+               token](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? vehicle : track, scene, c,
+                                               RemoteTimeouts{}, token);
   };
   return t;
 }
@@ -257,6 +263,9 @@ int master_main(int argc, char** argv) {
   run->add_option("--track", ra.track, "HOST:PORT of a running track_node (S2)");
   run->add_option("--out", ra.out, "Output folder; the run writes OUT/CASE/")
       ->capture_default_str();
+  run->add_option("--token-file", ra.token_file,
+                  "Shared secret of nodes started with --token-file (with --vehicle/--track)")
+      ->check(CLI::ExistingFile);
 
   StudyArgs sa;
   auto* study = app.add_subcommand(

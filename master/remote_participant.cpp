@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "auth.hpp"
 #include "wire.hpp"
 
 namespace railcosim {
@@ -14,7 +15,8 @@ std::string node_label(Side side) {
 }  // namespace
 
 RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
-                                     const SubsystemConfig& config, RemoteTimeouts timeouts)
+                                     const SubsystemConfig& config, RemoteTimeouts timeouts,
+                                     std::optional<std::string> token)
     : address_(address), config_(config), timeouts_(timeouts) {
   try {
     conn_ = Connection::connect(address, timeouts.connect);
@@ -29,7 +31,25 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   h->set_scene_fingerprint(scene_fingerprint(scene));
   h->set_name("master");
   send(hello, false);
-  await(wire::Envelope::kHelloReply, "hello");
+  wire::Envelope reply;
+  try {
+    reply = conn_->receive(timeouts_.reply);
+  } catch (const NetError& e) {
+    fail(std::string("hello: ") + e.what());
+  }
+  if (reply.has_challenge()) {
+    if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
+    wire::Envelope auth;
+    auth.mutable_auth()->set_mac(
+        auth_answer(*token, role_of(config.side), reply.challenge().nonce()));
+    send(auth, false);
+    await(wire::Envelope::kHelloReply, "auth");
+  } else if (reply.has_error()) {
+    fail("hello failed: " + wire::Error::Code_Name(reply.error().code()) + ": " +
+         reply.error().message());
+  } else if (!reply.has_hello_reply()) {
+    fail("unexpected " + body_name(reply) + " in reply to hello");
+  }
 
   wire::Envelope configure;
   auto* c = configure.mutable_configure();
@@ -161,7 +181,8 @@ void RemoteParticipant::start_step(long n) {
 }
 
 StepResult RemoteParticipant::finish_step() {
-  StepResult r = from_wire(await(wire::Envelope::kStepReport, "step", step_deadline()).step_report());
+  StepResult r =
+      from_wire(await(wire::Envelope::kStepReport, "step", step_deadline()).step_report());
   slowest_step_ = std::max(slowest_step_, std::chrono::steady_clock::now() - step_started_);
   return r;
 }

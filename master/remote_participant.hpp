@@ -35,8 +35,9 @@ class RemoteParticipant final : public Participant {
  public:
   // Connects, says hello (checking the node's role and the scene) and
   // configures the node's subsystem. Throws NodeFailure.
+  // `token`: the shared secret, for nodes started with --token-file.
   RemoteParticipant(const Address& address, const Scene& scene, const SubsystemConfig& config,
-                    RemoteTimeouts timeouts = {});
+                    RemoteTimeouts timeouts = {}, std::optional<std::string> token = std::nullopt);
   ~RemoteParticipant() override;
 
   std::string name() const override;

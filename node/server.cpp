@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <deque>
 
+#include "auth.hpp"
 #include "log.hpp"
 
 namespace railcosim {
@@ -276,12 +277,17 @@ int node_main(wire::Role role, int argc, char** argv) {
   std::size_t max_frame = kDefaultMaxFrameBytes;
   std::string level = "info";
   double idle_seconds = 60.0;
+  std::string token_file;
   app.add_option("--listen", listen, "HOST:PORT to listen on (port 0: the system chooses)")
       ->capture_default_str();
   app.add_option("--scene", scene_path,
                  "Scene file: when given, only a master running this very scene is accepted")
       ->check(CLI::ExistingFile);
   app.add_option("--max-frame-bytes", max_frame, "Largest frame accepted")->capture_default_str();
+  app.add_option("--token-file", token_file,
+                 "File holding a shared secret (16+ characters): a master must prove it knows it "
+                 "before anything else. Required to listen on a non-loopback address")
+      ->check(CLI::ExistingFile);
   app.add_option("--idle-timeout", idle_seconds,
                  "Seconds a session may stay silent before the node closes it")
       ->check(CLI::PositiveNumber)
@@ -300,11 +306,18 @@ int node_main(wire::Role role, int argc, char** argv) {
     options.role = role;
     options.name = who + "_node";
     if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
+    const Address address = parse_address(listen, "--listen");
+    if (!token_file.empty()) options.token = read_token_file(token_file);
+    if (!options.token && !is_loopback(address.host))
+      throw std::runtime_error(
+          "refusing to listen on " + address.str() +
+          " without --token-file: any host that reaches this address could drive the node. "
+          "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
     ServerLimits limits;
     limits.max_frame_bytes = max_frame;
     limits.idle_timeout = std::chrono::milliseconds(static_cast<long>(idle_seconds * 1000));
     limits.handshake_timeout = std::min(limits.handshake_timeout, limits.idle_timeout);
-    NodeServer server(options, parse_address(listen, "--listen"), limits);
+    NodeServer server(options, address, limits);
     std::printf("listening on %s\n", server.local_address().str().c_str());
     std::fflush(stdout);
     server.run(true);

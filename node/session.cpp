@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "auth.hpp"
+
 namespace railcosim {
 namespace {
 
@@ -13,6 +15,16 @@ std::string hex(std::uint64_t v) {
 }
 
 }  // namespace
+
+wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
+  wire::Envelope reply;
+  reply.set_id(id);
+  auto* r = reply.mutable_hello_reply();
+  r->set_protocol_version(kProtocolVersion);
+  r->set_role(options_.role);
+  r->set_name(options_.name);
+  return reply;
+}
 
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
@@ -44,7 +56,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
   reply.set_id(req.id());
   const std::string what = body_name(req);
 
-  if (req.body_case() == E::kShutdown) {
+  // Before a master has proved it knows the secret, nothing but the answer counts.
+  if (req.body_case() == E::kShutdown && state_ != State::kAwaitAuth) {
     close = true;
     reply.mutable_ack();
     return reply;
@@ -74,12 +87,24 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                                   " (fingerprint " + hex(mine) + ")");
       }
       fingerprint_ = h.scene_fingerprint();
+      if (options_.token) {
+        nonce_ = random_nonce();
+        state_ = State::kAwaitAuth;
+        reply.mutable_challenge()->set_nonce(nonce_);
+        return reply;
+      }
       state_ = State::kAwaitConfigure;
-      auto* r = reply.mutable_hello_reply();
-      r->set_protocol_version(kProtocolVersion);
-      r->set_role(options_.role);
-      r->set_name(options_.name);
-      return reply;
+      return hello_reply(req.id());
+    }
+    case State::kAwaitAuth: {
+      const std::string expected = auth_answer(*options_.token, options_.role, nonce_);
+      nonce_.clear();  // one answer per challenge
+      if (req.body_case() != E::kAuth || !constant_time_equal(req.auth().mac(), expected))
+        throw ProtocolError(wire::Error::UNAUTHORIZED,
+                            "this node requires the shared secret of its --token-file; the answer "
+                            "to its challenge was missing or wrong");
+      state_ = State::kAwaitConfigure;
+      return hello_reply(req.id());
     }
     case State::kAwaitConfigure: {
       if (req.body_case() != E::kConfigure)

@@ -1,7 +1,7 @@
 // One co-simulation session on a node, independent of any socket: the
 // protocol's state machine around one Subsystem.
 //
-//   hello -> configure -> initialize -> { set_inputs, get_outputs, step,
+//   hello [-> challenge/auth] -> configure -> initialize -> { set_inputs, get_outputs, step,
 //                                          save, restore, get_results }* -> shutdown
 //
 // Every request gets exactly one reply. A request that breaks the protocol
@@ -27,6 +27,7 @@ inline constexpr int kMaxElementsPerSpan = 16;
 struct NodeOptions {
   wire::Role role = wire::ROLE_VEHICLE;  // which side this node serves
   std::optional<Scene> pinned_scene;     // when set, only this scene is accepted
+  std::optional<std::string> token;      // when set, a master must prove it knows it
   std::string name = "node";
 };
 
@@ -43,13 +44,15 @@ class NodeSession {
   const std::string& description() const { return description_; }
 
  private:
-  enum class State { kAwaitHello, kAwaitConfigure, kConfigured };
+  enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
+  wire::Envelope hello_reply(std::uint64_t id) const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
   Side side() const { return options_.role == wire::ROLE_VEHICLE ? Side::kS1 : Side::kS2; }
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
   std::uint64_t fingerprint_ = 0;
+  std::string nonce_;
   std::unique_ptr<Subsystem> subsystem_;
   double macro_step_ = 0;
   long step_ = -1;

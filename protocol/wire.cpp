@@ -80,6 +80,10 @@ std::string body_name(const wire::Envelope& e) {
       return "shutdown";
     case wire::Envelope::kError:
       return "error";
+    case wire::Envelope::kChallenge:
+      return "challenge";
+    case wire::Envelope::kAuth:
+      return "auth";
     case wire::Envelope::BODY_NOT_SET:
       break;
   }

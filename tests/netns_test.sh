@@ -45,8 +45,10 @@ if ! link "$ns_v" "rv${id}a" "rv${id}b" 10.231.1 || ! link "$ns_t" "rt${id}a" "r
   exit 77
 fi
 
+# Nodes off loopback require a shared secret.
+head -c 32 /dev/urandom | base64 >"$out/token"
 start_node() {  # ns program address logfile
-  ip netns exec "$1" "$bin/$2" --listen "$3" >"$4" 2>"$4.err" &
+  ip netns exec "$1" "$bin/$2" --listen "$3" --token-file "$out/token" >"$4" 2>"$4.err" &
   pids+=($!)
   for _ in $(seq 100); do
     grep -q "^listening on" "$4" 2>/dev/null && return 0
@@ -60,7 +62,13 @@ start_node "$ns_t" track_node 10.231.2.2:7002 "$out/track.log" || exit 1
 
 case=rs-xx-gauss-seidel
 "$bin/master" run --scene "$scene" --case $case --vehicle 10.231.1.2:7001 --track 10.231.2.2:7002 \
-  --out "$out/tcp" || { echo "FAIL: the run across hosts failed"; exit 1; }
+  --token-file "$out/token" --out "$out/tcp" || { echo "FAIL: the run across hosts failed"; exit 1; }
+# Without the secret, the master gets a refusal and nothing else.
+if "$bin/master" run --scene "$scene" --case $case --vehicle 10.231.1.2:7001 --track 10.231.2.2:7002 \
+  --out "$out/intruder" 2>"$out/intruder.err"; then
+  echo "FAIL: a master without the token was served"; exit 1
+fi
+grep -q -- "--token-file" "$out/intruder.err" || { echo "FAIL: no word of the token"; cat "$out/intruder.err"; exit 1; }
 "$bin/master" run --scene "$scene" --case $case --transport inproc --out "$out/inproc" >/dev/null || exit 1
 for f in deflection.csv history.csv; do
   if ! cmp -s "$out/tcp/$case/$f" "$out/inproc/$case/$f"; then
