@@ -1,8 +1,10 @@
 #include "cli.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -47,6 +49,22 @@ void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
   std::printf(" wall %.3f s\n", r.wall_s);
   if (!r.message.empty()) std::printf("  %s\n", r.message.c_str());
   std::printf("  results in %s\n", dir.string().c_str());
+}
+
+// Set by SIGINT/SIGTERM: runs stop at the next macro step and leave a
+// summary saying so.
+std::atomic<int> g_stop{0};
+
+void on_signal(int sig) {
+  g_stop.store(sig);
+}
+
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
 }
 
 // The participants of a co-simulation: in the master, or on nodes (started
@@ -154,6 +172,7 @@ int do_run(const RunArgs& a) {
   }
 
   RunWriter writer(a.out, spec.name());
+  o.stop = &g_stop;
   o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
   o.on_progress = [progress](long done, long total) { (*progress)(done, total); };
@@ -205,6 +224,7 @@ int do_study(const StudyArgs& a) {
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   o.macro_steps = a.macro_steps;
+  o.stop = &g_stop;
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<StudyRun> runs = run_study(scene, o);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -300,6 +320,7 @@ int master_main(int argc, char** argv) {
   }
 
   try {
+    catch_stop_signals();
     if (*run) return do_run(ra);
     if (*study) return do_study(sa);
   } catch (const SceneError& e) {

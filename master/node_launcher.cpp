@@ -22,7 +22,8 @@ std::string own_directory() {
   return exe.parent_path().string();
 }
 
-LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout)
+LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
+                           const std::string& listen)
     : program_(program) {
   const std::string path = own_directory() + "/" + program;
   if (::access(path.c_str(), X_OK) != 0)
@@ -39,7 +40,7 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(1);
     ::dup2(fds[1], STDOUT_FILENO);
-    const char* argv[] = {path.c_str(), "--listen", "127.0.0.1:0", "--log-level", "warn", nullptr};
+    const char* argv[] = {path.c_str(), "--listen", listen.c_str(), "--log-level", "warn", nullptr};
     ::execv(path.c_str(), const_cast<char* const*>(argv));
     ::_exit(127);
   }

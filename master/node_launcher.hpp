@@ -16,7 +16,8 @@ class LaunchedNode {
   // Starts `program` (vehicle_node or track_node, looked up next to the
   // running master) with --listen 127.0.0.1:0. Throws std::runtime_error if
   // it does not print its address within `timeout`.
-  LaunchedNode(const std::string& program, std::chrono::milliseconds timeout);
+  LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
+               const std::string& listen = "127.0.0.1:0");
   ~LaunchedNode();  // SIGTERM, then SIGKILL if it does not exit within 2 s
   LaunchedNode(const LaunchedNode&) = delete;
   LaunchedNode& operator=(const LaunchedNode&) = delete;

@@ -25,6 +25,15 @@ long steps_to(const Scene& scene, double H) {
   return std::lround(scene.end_time / H);
 }
 
+void check_stop(const RunOptions& o, long n) {
+  if (o.stop && o.stop->load() != 0) {
+    std::ostringstream s;
+    s << "interrupted by signal " << o.stop->load() << " at macro step " << n
+      << " (t = " << static_cast<double>(n) * o.macro_step << " s)";
+    throw std::runtime_error(s.str());
+  }
+}
+
 }  // namespace
 
 ParticipantFactory inproc_factory(const Scene& scene) {
@@ -66,6 +75,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   };
   record_row(model.history_row(0));
   for (long n = 0; n < N; ++n) {
+    check_stop(o, n);
     model.advance(n);
     record_row(model.history_row(n + 1));
     if (o.on_progress) o.on_progress(n + 1, N);
@@ -112,6 +122,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   const long N = steps_to(scene, o.macro_step);
   long n = 0;
   for (; n < N; ++n) {
+    check_stop(o, n);
     const MacroStepResult m = schedule->advance(n);
     record_row(m);
     if (o.on_progress) o.on_progress(n + 1, N);

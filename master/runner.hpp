@@ -2,6 +2,7 @@
 // co-simulation driven by a schedule over two participants.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 
@@ -20,6 +21,9 @@ struct RunOptions {
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;
+  // When set and non-zero (a signal number), the run stops at the next macro
+  // step with an error saying so.
+  const std::atomic<int>* stop = nullptr;
   // Called after every macro step with the steps done and the total.
   std::function<void(long done, long total)> on_progress;
 };

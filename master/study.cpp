@@ -188,6 +188,7 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
       try {
         RunWriter writer(opt.out, s.folder);
         RunOptions o = job.options;
+        o.stop = opt.stop;
         o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
         if (job.monolithic) {
           r = run_monolithic(scene, o);

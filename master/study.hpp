@@ -3,6 +3,7 @@
 // tolerances, then summary.csv, figures and REPORT.md.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -32,7 +33,8 @@ struct StudyOptions {
   std::vector<double> tolerances;      // of the monolithic reference curve
   double converged_tolerance = 1e-10;  // the reference all accuracies are measured against
   std::vector<Method> methods = all_methods();
-  std::string figure_script;  // empty: scripts/figures.py next to the sources
+  std::string figure_script;               // empty: scripts/figures.py next to the sources
+  const std::atomic<int>* stop = nullptr;  // a signal: the remaining runs fail at once
 };
 
 // One run of the study and where it stands.

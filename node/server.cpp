@@ -85,10 +85,9 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         return;
       }
       decoder_.feed(buf_.data(), n);
-      arm_idle_timer(session_.step() == -1 && !said_hello_ ? server_.limits_.handshake_timeout
-                                                           : server_.limits_.idle_timeout,
-                     "send anything");
       if (!drain()) return;
+      arm_idle_timer(said_hello_ ? server_.limits_.idle_timeout : server_.limits_.handshake_timeout,
+                     said_hello_ ? "send anything" : "complete the hello");
       read();
     });
   }

@@ -151,5 +151,86 @@ TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
   fs::remove_all(out);
 }
 
+TEST(MasterCli, AHungNodeIsReportedWithinSeconds) {
+  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  const fs::path out = temp_dir("cli_hang");
+  const fs::path history = out / "rs-xx-jacobi" / "history.csv";
+  Outcome o;
+  std::thread master([&] {
+    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                   " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " + vehicle.address().str() +
+                   " --track " + track.address().str() + " --out " + out.string());
+  });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < give_up) {
+    const std::string h = read_file(history);
+    if (std::count(h.begin(), h.end(), '\n') > 200) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  // The node stops answering but keeps its connection open.
+  const auto hung_at = std::chrono::steady_clock::now();
+  ::kill(track.pid(), SIGSTOP);
+  master.join();
+  const double seconds_to_exit =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - hung_at).count();
+  ::kill(track.pid(), SIGCONT);
+  EXPECT_NE(o.status, 0) << o.output;
+  EXPECT_LT(seconds_to_exit, 10.0);
+  EXPECT_NE(o.output.find("track node (S2) at " + track.address().str() + ": no reply within"),
+            std::string::npos)
+      << o.output;
+  EXPECT_NE(o.output.find("at macro step "), std::string::npos) << o.output;
+  fs::remove_all(out);
+}
+
+TEST(MasterCli, AnInterruptedRunLeavesAFailedSummary) {
+  const fs::path out = temp_dir("cli_sigint");
+  const fs::path history = out / "rs-xx-jacobi" / "history.csv";
+  Outcome o;
+  std::thread master([&] {
+    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                   " --case rs-xx-jacobi --macro-step 1e-5 --out " + out.string());
+  });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < give_up) {
+    const std::string h = read_file(history);
+    if (std::count(h.begin(), h.end(), '\n') > 100) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  // The out folder names this master process alone.
+  std::system(("pkill -INT -f -- '--out " + out.string() + "'").c_str());
+  master.join();
+  EXPECT_NE(o.status, 0) << o.output;
+  const std::string summary = read_file(out / "rs-xx-jacobi" / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("interrupted by signal 2 at macro step"), std::string::npos) << summary;
+  const std::string h = read_file(history);
+  EXPECT_GT(std::count(h.begin(), h.end(), '\n'), 100);
+  fs::remove_all(out);
+}
+
+TEST(MasterCli, ANodeThatStartsLateIsWaitedFor) {
+  // Find a free port, then start the track node on it a second after the master.
+  std::string port;
+  {
+    LaunchedNode probe("track_node", std::chrono::seconds(10));
+    port = std::to_string(probe.address().port);
+  }
+  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  const fs::path out = temp_dir("cli_late");
+  Outcome o;
+  std::thread master([&] {
+    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                   " --case wr-xx-gauss-seidel --vehicle " + vehicle.address().str() +
+                   " --track 127.0.0.1:" + port + " --out " + out.string());
+  });
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  LaunchedNode track("track_node", std::chrono::seconds(10), "127.0.0.1:" + port);
+  master.join();
+  EXPECT_EQ(o.status, 0) << o.output;
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace railcosim

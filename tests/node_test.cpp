@@ -20,7 +20,11 @@ class NodeTest : public ::testing::Test {
   void SetUp() override {
     NodeOptions o;
     o.role = wire::ROLE_TRACK;
-    server_ = std::make_unique<NodeServer>(o, Address{"127.0.0.1", 0}, ServerLimits{1 << 16});
+    ServerLimits limits;
+    limits.max_frame_bytes = 1 << 16;
+    limits.idle_timeout = milliseconds(1500);
+    limits.handshake_timeout = milliseconds(500);
+    server_ = std::make_unique<NodeServer>(o, Address{"127.0.0.1", 0}, limits);
     thread_ = std::thread([this] { server_->run(false); });
     address_ = server_->local_address();
     scene_ = test::paper_scene();
@@ -135,6 +139,63 @@ TEST_F(NodeTest, ASecondClientIsToldTheNodeIsBusy) {
   bye.mutable_shutdown();
   first->send(bye);
   EXPECT_TRUE(first->receive(milliseconds(5000)).has_ack());
+}
+
+TEST_F(NodeTest, APeerThatSaysNothingIsTimedOutAndTheNodeServesOn) {
+  auto c = connect();
+  const auto t0 = std::chrono::steady_clock::now();
+  expect_error_then_close(*c, wire::Error::TIMEOUT);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, milliseconds(3000));
+  expect_a_session_still_works();
+}
+
+TEST_F(NodeTest, ASessionThatFallsSilentIsTimedOut) {
+  auto c = connect();
+  c->send(hello());
+  ASSERT_TRUE(c->receive(milliseconds(5000)).has_hello_reply());
+  expect_error_then_close(*c, wire::Error::TIMEOUT);
+}
+
+TEST_F(NodeTest, NonFiniteInputsAreABadRequest) {
+  SubsystemConfig cfg{Split::kWheelRail, Side::kS2, Coupling::kXX, scene_.macro_step,
+                      scene_.tolerance};
+  auto c = connect();
+  c->send(hello());
+  ASSERT_TRUE(c->receive(milliseconds(5000)).has_hello_reply());
+  wire::Envelope conf;
+  auto* cf = conf.mutable_configure();
+  *cf->mutable_scene() = to_wire(scene_);
+  cf->set_split(to_wire(cfg.split));
+  cf->set_coupling(to_wire(cfg.coupling));
+  cf->set_macro_step(cfg.macro_step);
+  cf->set_tolerance(cfg.tolerance);
+  c->send(conf);
+  ASSERT_TRUE(c->receive(milliseconds(5000)).has_ack());
+  wire::Envelope init;
+  init.mutable_initialize();
+  c->send(init);
+  ASSERT_TRUE(c->receive(milliseconds(5000)).has_step_report());
+  wire::Envelope step;
+  step.mutable_step()->set_step(0);
+  step.mutable_step()->set_h(scene_.macro_step);
+  step.mutable_step()->mutable_inputs()->add_points()->set_displacement(NAN);
+  c->send(step);
+  expect_error_then_close(*c, wire::Error::BAD_REQUEST);
+  expect_a_session_still_works();
+}
+
+TEST_F(NodeTest, AnUnknownMessageTypeIsRefused) {
+  auto c = connect();
+  c->send(hello());
+  ASSERT_TRUE(c->receive(milliseconds(5000)).has_hello_reply());
+  // A field number this node does not know: to it, an envelope with no body.
+  wire::Envelope e;
+  e.set_id(5);
+  std::string bytes = e.SerializeAsString() + std::string("\xfa\x06\x00", 3);  // field 111, empty
+  std::string frame(4, '\0');
+  frame[3] = static_cast<char>(bytes.size());
+  c->send_raw(frame + bytes);
+  expect_error_then_close(*c, wire::Error::BAD_FRAME);
 }
 
 TEST_F(NodeTest, SessionsFollowOneAnother) {

@@ -98,7 +98,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "'simulation.end_time': the load reaches x = 43.6"},
         BadCase{"wrong_type", "count =", "count = \"fifty\"",
                 "'sleepers.count': must be a whole number of sleepers or \"auto\""},
-        BadCase{"fractional_count", "count =", "count = 50.5", "'sleepers.count': must be an integer"},
+        BadCase{"fractional_count", "count =", "count = 50.5",
+                "'sleepers.count': must be an integer"},
         BadCase{"unknown_soil", "model =", "model = \"elastic\"",
                 "'soil.model': unknown soil model"}),
     [](const auto& param_info) { return std::string(param_info.param.label); });

@@ -145,10 +145,12 @@ TEST(SubsystemCallOrder, InputsThatDoNotFitAreRejected) {
                                  "expected 50 displacement value(s), got 3");
   wrong.displacement.assign(50, 0.0);
   wrong.displacement[7] = NAN;
-  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); }, "non-finite displacement value");
+  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); },
+                                 "non-finite displacement value");
   wrong.displacement[7] = 0.0;
   wrong.force.assign(50, 1.0);
-  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); }, "expected 0 force value(s), got 50");
+  expect_rejected<BadInputError>([&] { sub.set_inputs(0, wrong); },
+                                 "expected 0 force value(s), got 50");
 }
 
 }  // namespace
