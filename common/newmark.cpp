@@ -131,7 +131,12 @@ void Newmark::advance(double t0, double t1) {
   // A level too coarse for the alignment at pos = 0 cannot happen (0 is
   // aligned with every level), so only levels are adjusted below.
   const double err_scale = std::abs(kBeta - 1.0 / 6.0);
+  long attempts = 0;
   while (pos < end) {
+    if (++attempts > kMaxStepsPerInterval)
+      throw StepFailure("the integrator needed more than " + std::to_string(kMaxStepsPerInterval) +
+                        " micro steps to cover [" + std::to_string(t0) + ", " + std::to_string(t1) +
+                        "] s: the solution is running away");
     const double h = std::ldexp(interval_, -level);
     const long long stride = 1LL << (kMaxLevel - level);
     const double t_next =

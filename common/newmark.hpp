@@ -23,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <stdexcept>
 #include <functional>
 #include <vector>
 
@@ -30,6 +31,13 @@
 #include "track_model.hpp"
 
 namespace railcosim {
+
+// The integrator could not cover an interval within its budget of micro
+// steps: the solution is running away (or the inputs are absurd).
+class StepFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 struct NewmarkState {
   Vector u, v, a;
@@ -44,6 +52,9 @@ class Newmark {
   static constexpr double kBeta = 0.25;
   static constexpr double kGamma = 0.5;
   static constexpr int kMaxLevel = 30;  // H / 2^30: ~1e-13 s for H = 1e-4 s
+  // Micro steps allowed in one interval; beyond, advance() throws StepFailure
+  // rather than grind on (a run that needs this many is running away).
+  static constexpr long kMaxStepsPerInterval = 1L << 16;
 
   // interval: the length H of the intervals advance() will be asked to cover.
   // A tolerance of 0 disables adaptivity (fixed step H / 2^fixed_level).

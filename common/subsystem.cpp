@@ -104,7 +104,7 @@ void Subsystem::check_inputs(const CouplingData& in) const {
     const std::size_t size = wanted ? N : 0;
     if (v.size() != size)
       throw BadInputError(name() + ": set_inputs() rejected: expected " + std::to_string(size) +
-                           " " + what + " value(s), got " + std::to_string(v.size()));
+                          " " + what + " value(s), got " + std::to_string(v.size()));
     for (double x : v)
       if (!std::isfinite(x))
         throw BadInputError(name() + ": set_inputs() rejected: non-finite " + what + " value");
@@ -200,7 +200,12 @@ void Subsystem::start_step(long n) {
   require(n == next_step_, "start_step(" + std::to_string(n) + ")",
           "the subsystem is at macro step " + std::to_string(next_step_));
   phase_ = Phase::kStepping;
-  newmark_->advance(time(n), time(n + 1));
+  try {
+    newmark_->advance(time(n), time(n + 1));
+  } catch (const StepFailure&) {
+    phase_ = Phase::kAwaitingInputs;  // results() still answers, with the state reached
+    throw;
+  }
   ++next_step_;
 }
 
@@ -252,8 +257,7 @@ class Cursor {
  public:
   Cursor(const std::vector<double>& v, const std::string& who) : v_(v), who_(who) {}
   double next() {
-    if (i_ >= v_.size())
-      throw BadInputError(who_ + ": restore() rejected: the state is truncated");
+    if (i_ >= v_.size()) throw BadInputError(who_ + ": restore() rejected: the state is truncated");
     return v_[i_++];
   }
   std::size_t count(std::size_t limit) {

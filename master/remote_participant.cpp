@@ -118,6 +118,11 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
     } catch (const NetError& e) {
       fail(e.what());
     }
+    if (reply.has_error() && reply.error().code() == wire::Error::STEP_FAILED) {
+      std::ostringstream s;
+      s << name() << ": " << reply.error().message() << " at macro step " << step_;
+      throw StepFailure(s.str());
+    }
     if (reply.has_error()) {
       const auto& err = reply.error();
       fail(std::string(what) + " failed: " + wire::Error::Code_Name(err.code()) + ": " +

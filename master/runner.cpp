@@ -123,7 +123,20 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   long n = 0;
   for (; n < N; ++n) {
     check_stop(o, n);
-    const MacroStepResult m = schedule->advance(n);
+    MacroStepResult m;
+    try {
+      m = schedule->advance(n);
+    } catch (const StepFailure& e) {
+      // A subsystem whose micro steps run away: the co-simulation diverges.
+      std::ostringstream s;
+      s << "diverged at macro step " << n + 1
+        << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): " << e.what();
+      r.status = "diverged";
+      r.message = s.str();
+      log->warn("{}: {}", r.case_name, r.message);
+      ++n;
+      break;
+    }
     record_row(m);
     if (o.on_progress) o.on_progress(n + 1, N);
     const bool finite = m.s1.finite && m.s2.finite;
@@ -145,8 +158,15 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
   }
   r.macro_steps = n;
-  const ParticipantResults p1 = s1->results();
-  const ParticipantResults p2 = s2->results();
+  ParticipantResults p1, p2;
+  try {
+    p1 = s1->results();
+    p2 = s2->results();
+  } catch (const std::exception& e) {
+    // A node that gave up on a diverging step has ended its session.
+    if (r.status != "diverged") throw;
+    log->warn("{}: no final results after the divergence: {}", r.case_name, e.what());
+  }
   r.micro_steps["s1"] = p1.micro_steps;
   r.micro_steps["s2"] = p2.micro_steps;
   r.x = rail_positions(scene);

@@ -38,6 +38,10 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     close = true;
     return error_envelope(request.id(), wire::Error::OUT_OF_ORDER, e.what(), step_,
                           step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  } catch (const StepFailure& e) {
+    close = true;
+    return error_envelope(request.id(), wire::Error::STEP_FAILED, e.what(), step_,
+                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
   } catch (const BadInputError& e) {
     close = true;
     return error_envelope(request.id(), wire::Error::BAD_REQUEST, e.what(), step_,

@@ -131,5 +131,20 @@ TEST(Divergence, AnUnstableRunStopsEarlyAndSaysWhen) {
   EXPECT_FALSE(r.rel_l2_error.has_value());
 }
 
+TEST(Divergence, MicroStepsThatRunAwayEndTheRunAsDiverged) {
+  // A tolerance no step can meet: the integrator refines until its budget of
+  // micro steps per macro step is spent, then gives up instead of grinding.
+  Scene scene = test::paper_scene();
+  scene.end_time = 0.001;
+  RunOptions o;
+  o.macro_step = scene.macro_step;
+  o.tolerance = 1e-30;
+  const RunRecord r =
+      run_cosim(scene, parse_case("wr-xx-jacobi"), o, inproc_factory(scene), "inproc");
+  EXPECT_EQ(r.status, "diverged");
+  EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
+  EXPECT_EQ(r.macro_steps, 1);
+}
+
 }  // namespace
 }  // namespace railcosim

@@ -72,6 +72,24 @@ INSTANTIATE_TEST_SUITE_P(AllCases, TcpIntegration,
                            return n;
                          });
 
+TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
+  Scene scene = test::paper_scene();
+  scene.end_time = 0.001;
+  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  RunOptions o;
+  o.macro_step = scene.macro_step;
+  o.tolerance = 1e-30;  // no step can meet it
+  const Address va = vehicle.address(), ta = track.address();
+  const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? va : ta, scene, c);
+  };
+  const RunRecord r = run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o, tcp, "tcp");
+  EXPECT_EQ(r.status, "diverged");
+  EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;
+}
+
 TEST(TcpNodes, ANodeOfTheWrongRoleIsNamedInTheError) {
   const Scene scene = test::paper_scene();
   LaunchedNode track("track_node", std::chrono::seconds(10));
