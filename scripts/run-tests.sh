@@ -1,7 +1,31 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite.
+# Installs what is missing, builds, and runs the whole test suite:
+#  1. the Release build (g++, warnings as errors) and every test;
+#  2. a clang build with AddressSanitizer and UndefinedBehaviorSanitizer, the
+#     unit and loopback integration tests under it, and the protocol fuzzer
+#     for a bounded time (RAILCOSIM_FUZZ_SECONDS, default 60).
+# RAILCOSIM_QUICK=1 stops after stage 1.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
 scripts/build.sh
-cd build
-ctest --output-on-failure -j "$(nproc)"
+(cd build && ctest --output-on-failure -j "$(nproc)")
+
+[[ "${RAILCOSIM_QUICK:-0}" == 1 ]] && exit 0
+
+echo "== sanitizer build (AddressSanitizer, UndefinedBehaviorSanitizer) and fuzzer"
+CXX=clang++ cmake -S . -B build-san -DCMAKE_BUILD_TYPE= -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" \
+  -DRAILCOSIM_WERROR=ON \
+  -DRAILCOSIM_SANITIZE=ON -DRAILCOSIM_FUZZ=ON -DRAILCOSIM_BUILD_BENCH=OFF >/dev/null
+unit_and_loopback=(banded_matrix_test beam_element_test scene_test statics_test newmark_test
+  subsystem_test schedule_test protocol_test node_test auth_test tcp_integration_test)
+cmake --build build-san -j "$(nproc)" --target "${unit_and_loopback[@]}" vehicle_node track_node \
+  session_fuzz
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
+(cd build-san && ctest --output-on-failure -j "$(nproc)" -L sanitized)
+
+corpus=$(mktemp -d)
+trap 'rm -rf "$corpus"' EXIT
+build-san/bin/session_fuzz -max_total_time="${RAILCOSIM_FUZZ_SECONDS:-60}" -timeout=10 \
+  -rss_limit_mb=2048 -print_final_stats=1 "$corpus" tests/fuzz/corpus 2>&1 | tail -n 6
+echo "fuzzer: no crash, leak or timeout in ${RAILCOSIM_FUZZ_SECONDS:-60} s"
