@@ -6,11 +6,13 @@
 
 namespace railcosim {
 
-Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed_level)
+Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed_level,
+                 long max_steps_per_interval)
     : sys_(system),
       interval_(interval),
       tol_(tolerance),
       fixed_level_(fixed_level),
+      max_steps_(max_steps_per_interval),
       keff_(kMaxLevel + 1),
       responses_(kMaxLevel + 1),
       mass_(system.M) {
@@ -133,8 +135,8 @@ void Newmark::advance(double t0, double t1) {
   const double err_scale = std::abs(kBeta - 1.0 / 6.0);
   long attempts = 0;
   while (pos < end) {
-    if (++attempts > kMaxStepsPerInterval)
-      throw StepFailure("the integrator needed more than " + std::to_string(kMaxStepsPerInterval) +
+    if (++attempts > max_steps_)
+      throw StepFailure("the integrator needed more than " + std::to_string(max_steps_) +
                         " micro steps to cover [" + std::to_string(t0) + ", " + std::to_string(t1) +
                         "] s: the solution is running away");
     const double h = std::ldexp(interval_, -level);
@@ -145,33 +147,26 @@ void Newmark::advance(double t0, double t1) {
             : t0 + interval_ * std::ldexp(static_cast<double>(pos + stride), -kMaxLevel);
     step(t_next, h, level, trial_);
 
-    if (tol_ > 0.0) {
-      const double err = err_scale * h * h *
-                         (trial_.a - state_.a).cwiseAbs().cwiseProduct(error_weight_).maxCoeff() /
-                         tol_;
-      if (err > 1.0 && level < kMaxLevel) {
-        ++level;
-        ++state_.rejected_steps;
-        continue;
-      }
-      pos += stride;
-      std::swap(state_.u, trial_.u);
-      std::swap(state_.v, trial_.v);
-      std::swap(state_.a, trial_.a);
-      state_.contact_force = trial_.force;
-      ++state_.micro_steps;
-      if (observer_) observer_(t_next, level);
-      // Coarsen when the error is small and the next step stays aligned.
-      if (err < 1.0 / 16.0 && level > 0 && (pos % (2 * stride)) == 0) --level;
-    } else {
-      pos += stride;
-      std::swap(state_.u, trial_.u);
-      std::swap(state_.v, trial_.v);
-      std::swap(state_.a, trial_.a);
-      state_.contact_force = trial_.force;
-      ++state_.micro_steps;
-      if (observer_) observer_(t_next, level);
+    // Without a tolerance every step is accepted (fixed step).
+    const double err =
+        tol_ > 0.0
+            ? err_scale * h * h *
+                  (trial_.a - state_.a).cwiseAbs().cwiseProduct(error_weight_).maxCoeff() / tol_
+            : 0.0;
+    if (err > 1.0 && level < kMaxLevel) {
+      ++level;
+      ++state_.rejected_steps;
+      continue;
     }
+    pos += stride;
+    std::swap(state_.u, trial_.u);
+    std::swap(state_.v, trial_.v);
+    std::swap(state_.a, trial_.a);
+    state_.contact_force = trial_.force;
+    ++state_.micro_steps;
+    if (observer_) observer_(t_next, level);
+    // Coarsen when the error is small and the next step stays aligned.
+    if (tol_ > 0.0 && err < 1.0 / 16.0 && level > 0 && (pos % (2 * stride)) == 0) --level;
   }
   if (tol_ > 0.0) state_.level = level;
 }

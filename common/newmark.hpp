@@ -23,8 +23,8 @@
 #pragma once
 
 #include <array>
-#include <stdexcept>
 #include <functional>
+#include <stdexcept>
 #include <vector>
 
 #include "banded_matrix.hpp"
@@ -52,13 +52,15 @@ class Newmark {
   static constexpr double kBeta = 0.25;
   static constexpr double kGamma = 0.5;
   static constexpr int kMaxLevel = 30;  // H / 2^30: ~1e-13 s for H = 1e-4 s
-  // Micro steps allowed in one interval; beyond, advance() throws StepFailure
-  // rather than grind on (a run that needs this many is running away).
+  // Default budget of micro steps (accepted or rejected) in one interval;
+  // beyond it advance() throws StepFailure rather than grind on: a run that
+  // needs this many is running away.
   static constexpr long kMaxStepsPerInterval = 1L << 16;
 
   // interval: the length H of the intervals advance() will be asked to cover.
   // A tolerance of 0 disables adaptivity (fixed step H / 2^fixed_level).
-  Newmark(Structure& system, double interval, double tolerance, int fixed_level = 0);
+  Newmark(Structure& system, double interval, double tolerance, int fixed_level = 0,
+          long max_steps_per_interval = kMaxStepsPerInterval);
 
   NewmarkState& state() { return state_; }
   const NewmarkState& state() const { return state_; }
@@ -105,6 +107,7 @@ class Newmark {
   double interval_;
   double tol_;
   int fixed_level_;
+  long max_steps_;
   NewmarkState state_;
   std::vector<BandCholesky> keff_;        // per level, made on first use
   std::vector<ResponseCache> responses_;  // per level

@@ -38,7 +38,8 @@ Subsystem::Subsystem(const Scene& scene, const SubsystemConfig& config)
     sys_.contact = c;
   }
   base_load_ = sys_.load;
-  newmark_ = std::make_unique<Newmark>(sys_, config.macro_step, config.tolerance);
+  newmark_ = std::make_unique<Newmark>(sys_, config.macro_step, config.tolerance, 0,
+                                       config.max_micro_steps);
 }
 
 std::string Subsystem::name() const {

@@ -27,8 +27,9 @@ struct SubsystemConfig {
   Split split = Split::kWheelRail;
   Side side = Side::kS1;
   Coupling coupling = Coupling::kXX;
-  double macro_step = 0;  // H, s
-  double tolerance = 0;   // local error bound of the micro steps, m
+  double macro_step = 0;                                 // H, s
+  double tolerance = 0;                                  // local error bound of the micro steps, m
+  long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step, see Newmark
 };
 
 class Subsystem final : public Participant {

@@ -276,6 +276,7 @@ int node_main(wire::Role role, int argc, char** argv) {
   std::size_t max_frame = kDefaultMaxFrameBytes;
   std::string level = "info";
   double idle_seconds = 60.0;
+  long max_micro_steps = Newmark::kMaxStepsPerInterval;
   std::string token_file;
   app.add_option("--listen", listen, "HOST:PORT to listen on (port 0: the system chooses)")
       ->capture_default_str();
@@ -287,6 +288,11 @@ int node_main(wire::Role role, int argc, char** argv) {
                  "File holding a shared secret (16+ characters): a master must prove it knows it "
                  "before anything else. Required to listen on a non-loopback address")
       ->check(CLI::ExistingFile);
+  app.add_option("--max-micro-steps", max_micro_steps,
+                 "Micro steps a subsystem may take in one macro step before it gives up "
+                 "(STEP_FAILED: the run diverges)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--idle-timeout", idle_seconds,
                  "Seconds a session may stay silent before the node closes it")
       ->check(CLI::PositiveNumber)
@@ -304,6 +310,7 @@ int node_main(wire::Role role, int argc, char** argv) {
     NodeOptions options;
     options.role = role;
     options.name = who + "_node";
+    options.max_micro_steps = max_micro_steps;
     if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
     const Address address = parse_address(listen, "--listen");
     if (!token_file.empty()) options.token = read_token_file(token_file);

@@ -28,30 +28,29 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
 
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
+  wire::Error::Code code = wire::Error::INTERNAL;
+  std::string message;
   try {
     return dispatch(request, close);
   } catch (const ProtocolError& e) {
-    close = true;
-    return error_envelope(request.id(), e.code(), e.what(), step_,
-                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+    code = e.code();
+    message = e.what();
   } catch (const CallOrderError& e) {
-    close = true;
-    return error_envelope(request.id(), wire::Error::OUT_OF_ORDER, e.what(), step_,
-                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+    code = wire::Error::OUT_OF_ORDER;
+    message = e.what();
   } catch (const StepFailure& e) {
-    close = true;
-    return error_envelope(request.id(), wire::Error::STEP_FAILED, e.what(), step_,
-                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+    code = wire::Error::STEP_FAILED;
+    message = e.what();
   } catch (const BadInputError& e) {
-    close = true;
-    return error_envelope(request.id(), wire::Error::BAD_REQUEST, e.what(), step_,
-                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+    code = wire::Error::BAD_REQUEST;
+    message = e.what();
   } catch (const std::exception& e) {
-    close = true;
-    return error_envelope(request.id(), wire::Error::INTERNAL,
-                          std::string("internal error: ") + e.what(), step_,
-                          step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+    message = std::string("internal error: ") + e.what();
   }
+  // Any error ends the session.
+  close = true;
+  return error_envelope(request.id(), code, message, step_,
+                        step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
 }
 
 wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
@@ -130,8 +129,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       if (!(c.macro_step() > 0) || !(c.tolerance() > 0))
         throw ProtocolError(wire::Error::BAD_REQUEST,
                             "configure: macro_step and tolerance must be positive");
-      SubsystemConfig cfg{from_wire(c.split()), side(), from_wire(c.coupling()), c.macro_step(),
-                          c.tolerance()};
+      SubsystemConfig cfg{from_wire(c.split()), side(),        from_wire(c.coupling()),
+                          c.macro_step(),       c.tolerance(), options_.max_micro_steps};
       subsystem_ = std::make_unique<Subsystem>(scene, cfg);
       macro_step_ = c.macro_step();
       description_ = subsystem_->name();

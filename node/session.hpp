@@ -28,6 +28,7 @@ struct NodeOptions {
   wire::Role role = wire::ROLE_VEHICLE;  // which side this node serves
   std::optional<Scene> pinned_scene;     // when set, only this scene is accepted
   std::optional<std::string> token;      // when set, a master must prove it knows it
+  long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step
   std::string name = "node";
 };
 

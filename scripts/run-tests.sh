@@ -26,6 +26,15 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktra
 
 corpus=$(mktemp -d)
 trap 'rm -rf "$corpus"' EXIT
-build-san/bin/session_fuzz -max_total_time="${RAILCOSIM_FUZZ_SECONDS:-60}" -timeout=10 \
-  -rss_limit_mb=2048 -print_final_stats=1 "$corpus" tests/fuzz/corpus 2>&1 | tail -n 6
+# New corpus entries go to a temporary folder; a failing input is kept in
+# build-san/fuzz-artifacts/ and the fuzzer's report is printed in full.
+mkdir -p build-san/fuzz-artifacts
+if ! build-san/bin/session_fuzz -max_total_time="${RAILCOSIM_FUZZ_SECONDS:-60}" -timeout=25 \
+  -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=build-san/fuzz-artifacts/ \
+  "$corpus" tests/fuzz/corpus >build-san/fuzz.log 2>&1; then
+  cat build-san/fuzz.log
+  echo "fuzzer: FAILED (input kept in build-san/fuzz-artifacts/)"
+  exit 1
+fi
+tail -n 6 build-san/fuzz.log
 echo "fuzzer: no crash, leak or timeout in ${RAILCOSIM_FUZZ_SECONDS:-60} s"

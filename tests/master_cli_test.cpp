@@ -53,6 +53,20 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
+// Starts `master ARGS` in a thread and returns once `history` holds more
+// than `rows` lines (or after a minute); join() the thread for the outcome.
+std::thread start_master_until(const std::string& args, const fs::path& history, long rows,
+                               Outcome& outcome) {
+  std::thread t([args, &outcome] { outcome = run_master(args); });
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < give_up) {
+    const std::string h = read_file(history);
+    if (std::count(h.begin(), h.end(), '\n') > rows) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return t;
+}
+
 TEST(MasterCli, MonolithicRunWritesTheThreeFiles) {
   const fs::path out = temp_dir("cli_mono");
   const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
@@ -118,18 +132,11 @@ TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
   const fs::path history = out / "rs-xx-jacobi" / "history.csv";
   // A fine macro step makes the run long enough to be caught in the middle.
   Outcome o;
-  std::thread master([&] {
-    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
-                   " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " + vehicle.address().str() +
-                   " --track " + track.address().str() + " --out " + out.string());
-  });
-  // Wait until the run is well under way, then kill the track node.
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < give_up) {
-    const std::string h = read_file(history);
-    if (std::count(h.begin(), h.end(), '\n') > 200) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  std::thread master = start_master_until("run --scene " + test::source_path("scenes/paper.toml") +
+                                              " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " +
+                                              vehicle.address().str() + " --track " +
+                                              track.address().str() + " --out " + out.string(),
+                                          history, 200, o);
   const auto killed_at = std::chrono::steady_clock::now();
   ::kill(track.pid(), SIGKILL);
   master.join();
@@ -157,17 +164,11 @@ TEST(MasterCli, AHungNodeIsReportedWithinSeconds) {
   const fs::path out = temp_dir("cli_hang");
   const fs::path history = out / "rs-xx-jacobi" / "history.csv";
   Outcome o;
-  std::thread master([&] {
-    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
-                   " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " + vehicle.address().str() +
-                   " --track " + track.address().str() + " --out " + out.string());
-  });
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < give_up) {
-    const std::string h = read_file(history);
-    if (std::count(h.begin(), h.end(), '\n') > 200) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  std::thread master = start_master_until("run --scene " + test::source_path("scenes/paper.toml") +
+                                              " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " +
+                                              vehicle.address().str() + " --track " +
+                                              track.address().str() + " --out " + out.string(),
+                                          history, 200, o);
   // The node stops answering but keeps its connection open.
   const auto hung_at = std::chrono::steady_clock::now();
   ::kill(track.pid(), SIGSTOP);
@@ -188,16 +189,10 @@ TEST(MasterCli, AnInterruptedRunLeavesAFailedSummary) {
   const fs::path out = temp_dir("cli_sigint");
   const fs::path history = out / "rs-xx-jacobi" / "history.csv";
   Outcome o;
-  std::thread master([&] {
-    o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
-                   " --case rs-xx-jacobi --macro-step 1e-5 --out " + out.string());
-  });
-  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < give_up) {
-    const std::string h = read_file(history);
-    if (std::count(h.begin(), h.end(), '\n') > 100) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  std::thread master =
+      start_master_until("run --scene " + test::source_path("scenes/paper.toml") +
+                             " --case rs-xx-jacobi --macro-step 1e-5 --out " + out.string(),
+                         history, 100, o);
   // The out folder names this master process alone.
   std::system(("pkill -INT -f -- '--out " + out.string() + "'").c_str());
   master.join();

@@ -30,10 +30,10 @@ int main(int argc, char** argv) {
     h->set_scene_fingerprint(scene_fingerprint(scene));
   });
   int n = 0;
-  for (const auto& [split, coupling] : {std::pair{Split::kWheelRail, Coupling::kXX},
-                                        std::pair{Split::kWheelRail, Coupling::kXT},
-                                        std::pair{Split::kRailSleepers, Coupling::kXX},
-                                        std::pair{Split::kRailSleepers, Coupling::kXT}}) {
+  for (const auto& [split, coupling] :
+       {std::pair{Split::kWheelRail, Coupling::kXX}, std::pair{Split::kWheelRail, Coupling::kXT},
+        std::pair{Split::kRailSleepers, Coupling::kXX},
+        std::pair{Split::kRailSleepers, Coupling::kXT}}) {
     std::string s = hello;
     s += frame([&](wire::Envelope& e) {
       auto* c = e.mutable_configure();

@@ -16,6 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)quiet;
   NodeOptions options;
   options.role = wire::ROLE_TRACK;
+  // A small budget keeps every unit fast: what is fuzzed is the decoding and
+  // the state machine, not how long a runaway step may grind.
+  options.max_micro_steps = 256;
   NodeSession session(options);
   FrameDecoder decoder(1 << 20);
   decoder.feed(reinterpret_cast<const char*>(data), size);
