@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <thread>
 
 #include "evaluation.hpp"
 #include "node_launcher.hpp"
@@ -88,6 +89,72 @@ TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
   EXPECT_EQ(r.status, "diverged");
   EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;
+}
+
+// A fake node: accepts one connection, reads whatever comes, and answers
+// with `reply` (nothing at all if empty), then keeps the connection open.
+class FakeNode {
+ public:
+  explicit FakeNode(std::string reply) : reply_(std::move(reply)), acceptor_(io_) {
+    using boost::asio::ip::tcp;
+    acceptor_.open(tcp::v4());
+    acceptor_.bind({boost::asio::ip::make_address("127.0.0.1"), 0});
+    acceptor_.listen();
+    thread_ = std::thread([this] {
+      boost::system::error_code ec;
+      tcp::socket s(io_);
+      acceptor_.accept(s, ec);
+      if (ec) return;
+      char buf[4096];
+      s.read_some(boost::asio::buffer(buf), ec);  // the hello
+      if (!reply_.empty()) boost::asio::write(s, boost::asio::buffer(reply_), ec);
+      while (!ec) s.read_some(boost::asio::buffer(buf), ec);  // until the master hangs up
+    });
+  }
+  ~FakeNode() {
+    boost::system::error_code ec;
+    acceptor_.close(ec);
+    thread_.join();
+  }
+  Address address() const { return {"127.0.0.1", acceptor_.local_endpoint().port()}; }
+
+ private:
+  std::string reply_;
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  std::thread thread_;
+};
+
+TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {
+  const Scene scene = test::paper_scene();
+  FakeNode fake(std::string("\0\0\0\6garbag", 10));
+  try {
+    RemoteParticipant p(
+        fake.address(), scene,
+        {Split::kWheelRail, Side::kS2, Coupling::kXX, scene.macro_step, scene.tolerance});
+    FAIL() << "accepted garbage as a hello reply";
+  } catch (const NodeFailure& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("track node (S2) at " + fake.address().str()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("not a message"), std::string::npos) << msg;
+  }
+}
+
+TEST(TcpNodes, ANodeThatNeverAnswersTheHelloTimesOut) {
+  const Scene scene = test::paper_scene();
+  FakeNode fake("");
+  RemoteTimeouts t;
+  t.reply = std::chrono::milliseconds(300);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    RemoteParticipant p(
+        fake.address(), scene,
+        {Split::kWheelRail, Side::kS1, Coupling::kXX, scene.macro_step, scene.tolerance}, t);
+    FAIL() << "no timeout";
+  } catch (const NodeFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("no reply within 300 ms"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
 }
 
 TEST(TcpNodes, ANodeOfTheWrongRoleIsNamedInTheError) {
