@@ -80,9 +80,10 @@ std::string figure_script(const StudyOptions& o) {
 std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
   const auto c = cases_of(runs);
   std::vector<Finding> f;
-  const bool have_all = std::all_of(
-      all_methods().begin(), all_methods().end(),
-      [&](const Method& m) { return c.count(m.label()) && c.at(m.label())->status != "failed"; });
+  const std::vector<Method> methods = all_methods();
+  const bool have_all = std::all_of(methods.begin(), methods.end(), [&](const Method& m) {
+    return c.count(m.label()) && c.at(m.label())->status != "failed";
+  });
   if (!have_all) {
     f.push_back({"The paper's comparison of the eight cases", "not checked",
                  "the study did not run every case (or some failed)"});

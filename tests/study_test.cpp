@@ -94,6 +94,12 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   const std::string report = read_file(out / "REPORT.md");
   EXPECT_NE(report.find("## The paper's conclusions"), std::string::npos);
   EXPECT_NE(report.find("## Stability map"), std::string::npos);
+  // Every case ran, so every conclusion of the paper gets a verdict.
+  EXPECT_EQ(report.find("not checked"), std::string::npos) << report.substr(0, 3000);
+  for (const char* claim :
+       {"abnormally amplified", "divides the error of Jacobi", "Resolved feedthrough removes"}) {
+    EXPECT_NE(report.find(claim), std::string::npos) << claim;
+  }
   // Figures, where matplotlib is installed (the install script installs it);
   // otherwise the report must say why there are none.
   if (report.find("Figures were not drawn") == std::string::npos) {
