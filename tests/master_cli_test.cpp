@@ -125,64 +125,60 @@ TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
   fs::remove_all(out);
 }
 
-TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
-  LaunchedNode track("track_node", std::chrono::seconds(10));
-  const fs::path out = temp_dir("cli_kill");
-  const fs::path history = out / "rs-xx-jacobi" / "history.csv";
-  // A fine macro step makes the run long enough to be caught in the middle.
-  Outcome o;
-  std::thread master = start_master_until("run --scene " + test::source_path("scenes/paper.toml") +
-                                              " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " +
-                                              vehicle.address().str() + " --track " +
-                                              track.address().str() + " --out " + out.string(),
-                                          history, 200, o);
-  const auto killed_at = std::chrono::steady_clock::now();
-  ::kill(track.pid(), SIGKILL);
-  master.join();
-  const double seconds_to_exit =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - killed_at).count();
+// A long TCP run of rs-xx-jacobi against nodes started here, in the middle
+// of which `signal` is sent to the track node.
+struct FaultedRun {
+  LaunchedNode vehicle{"vehicle_node", std::chrono::seconds(10)};
+  LaunchedNode track{"track_node", std::chrono::seconds(10)};
+  fs::path out;
+  fs::path history;
+  Outcome outcome;
+  double seconds_to_exit = 0;
 
+  FaultedRun(const std::string& name, int signal)
+      : out(temp_dir(name)), history(out / "rs-xx-jacobi" / "history.csv") {
+    // A fine macro step makes the run long enough to be caught in the middle.
+    std::thread master = start_master_until(
+        "run --scene " + test::source_path("scenes/paper.toml") +
+            " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " + vehicle.address().str() +
+            " --track " + track.address().str() + " --out " + out.string(),
+        history, 200, outcome);
+    const auto at = std::chrono::steady_clock::now();
+    ::kill(track.pid(), signal);
+    master.join();
+    seconds_to_exit = std::chrono::duration<double>(std::chrono::steady_clock::now() - at).count();
+    if (signal == SIGSTOP) ::kill(track.pid(), SIGCONT);
+  }
+  ~FaultedRun() { fs::remove_all(out); }
+};
+
+TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
+  const FaultedRun run("cli_kill", SIGKILL);
+  const Outcome& o = run.outcome;
   EXPECT_NE(o.status, 0) << o.output;
-  EXPECT_LT(seconds_to_exit, 5.0);
-  EXPECT_NE(o.output.find("track node (S2) at " + track.address().str()), std::string::npos)
+  EXPECT_LT(run.seconds_to_exit, 5.0);
+  EXPECT_NE(o.output.find("track node (S2) at " + run.track.address().str()), std::string::npos)
       << o.output;
   EXPECT_NE(o.output.find("at macro step "), std::string::npos) << o.output;
   // The history up to the failure is on disk, and the summary says why.
-  const std::string h = read_file(history);
+  const std::string h = read_file(run.history);
   EXPECT_GT(std::count(h.begin(), h.end(), '\n'), 200);
   EXPECT_LT(std::count(h.begin(), h.end(), '\n'), 25002);
-  const std::string summary = read_file(out / "rs-xx-jacobi" / "summary.json");
+  const std::string summary = read_file(run.out / "rs-xx-jacobi" / "summary.json");
   EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("track node (S2)"), std::string::npos) << summary;
-  fs::remove_all(out);
 }
 
 TEST(MasterCli, AHungNodeIsReportedWithinSeconds) {
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
-  LaunchedNode track("track_node", std::chrono::seconds(10));
-  const fs::path out = temp_dir("cli_hang");
-  const fs::path history = out / "rs-xx-jacobi" / "history.csv";
-  Outcome o;
-  std::thread master = start_master_until("run --scene " + test::source_path("scenes/paper.toml") +
-                                              " --case rs-xx-jacobi --macro-step 1e-5 --vehicle " +
-                                              vehicle.address().str() + " --track " +
-                                              track.address().str() + " --out " + out.string(),
-                                          history, 200, o);
   // The node stops answering but keeps its connection open.
-  const auto hung_at = std::chrono::steady_clock::now();
-  ::kill(track.pid(), SIGSTOP);
-  master.join();
-  const double seconds_to_exit =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - hung_at).count();
-  ::kill(track.pid(), SIGCONT);
+  const FaultedRun run("cli_hang", SIGSTOP);
+  const Outcome& o = run.outcome;
   EXPECT_NE(o.status, 0) << o.output;
-  EXPECT_LT(seconds_to_exit, 10.0);
-  EXPECT_NE(o.output.find("track node (S2) at " + track.address().str() + ": no reply within"),
+  EXPECT_LT(run.seconds_to_exit, 10.0);
+  EXPECT_NE(o.output.find("track node (S2) at " + run.track.address().str() + ": no reply within"),
             std::string::npos)
       << o.output;
   EXPECT_NE(o.output.find("at macro step "), std::string::npos) << o.output;
-  fs::remove_all(out);
 }
 
 TEST(MasterCli, AnInterruptedRunLeavesAFailedSummary) {
