@@ -23,14 +23,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   } catch (const NetError& e) {
     throw NodeFailure(node_label(config.side) + ": " + e.what());
   }
-  wire::Envelope hello;
-  auto* h = hello.mutable_hello();
-  h->set_protocol_version(kProtocolVersion);
-  h->set_role(wire::ROLE_MASTER);
-  h->set_expected_peer(role_of(config.side));
-  h->set_scene_fingerprint(scene_fingerprint(scene));
-  h->set_name("master");
-  send(hello, false);
+  send(hello_envelope(role_of(config.side), scene_fingerprint(scene)), false);
   wire::Envelope reply;
   try {
     reply = conn_->receive(timeouts_.reply);
@@ -51,28 +44,21 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
     fail("unexpected " + body_name(reply) + " in reply to hello");
   }
 
-  wire::Envelope configure;
-  auto* c = configure.mutable_configure();
-  *c->mutable_scene() = to_wire(scene);
-  c->set_split(to_wire(config.split));
-  c->set_coupling(to_wire(config.coupling));
-  c->set_macro_step(config.macro_step);
-  c->set_tolerance(config.tolerance);
-  send(configure, false);
+  send(
+      configure_envelope(scene, config.split, config.coupling, config.macro_step, config.tolerance),
+      false);
   await(wire::Envelope::kAck, "configure");
 }
 
 RemoteParticipant::~RemoteParticipant() {
   if (!conn_) return;
   try {
+    // Wait (briefly) for the node to end the session, so that the next
+    // session can start on it at once; acks still in flight come first.
     wire::Envelope bye;
-    bye.set_id(next_id_++);
     bye.mutable_shutdown();
-    conn_->send(bye, std::chrono::milliseconds(1000));
-    // Wait for the node to end the session, so that the next session can
-    // start on it at once. Replies still in flight come first.
-    for (int i = 0; i < 8; ++i)
-      if (conn_->receive(std::chrono::milliseconds(2000)).has_ack() && pending_acks_-- <= 0) break;
+    send(bye, true);
+    await(wire::Envelope::kAck, "shutdown", std::chrono::milliseconds(2000));
   } catch (const std::exception&) {
     // The node is gone already: nothing to end.
   }
@@ -163,11 +149,9 @@ void RemoteParticipant::flush_inputs() {
 }
 
 CouplingData RemoteParticipant::outputs() {
-  flush_inputs();
   wire::Envelope e;
   e.mutable_get_outputs()->set_step(step_);
-  send(e, false);
-  return from_wire(await(wire::Envelope::kOutputs, "get_outputs").outputs().data());
+  return from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
 }
 
 void RemoteParticipant::start_step(long n) {
@@ -192,12 +176,17 @@ StepResult RemoteParticipant::finish_step() {
   return r;
 }
 
-ParticipantResults RemoteParticipant::results() {
+wire::Envelope RemoteParticipant::request(wire::Envelope e, wire::Envelope::BodyCase expected) {
   flush_inputs();
+  const std::string what = body_name(e);
+  send(std::move(e), false);
+  return await(expected, what.c_str());
+}
+
+ParticipantResults RemoteParticipant::results() {
   wire::Envelope e;
   e.mutable_get_results();
-  send(e, false);
-  const wire::Results w = await(wire::Envelope::kResults, "get_results").results();
+  const wire::Results w = request(std::move(e), wire::Envelope::kResults).results();
   ParticipantResults r;
   r.rail_deflection.assign(w.rail_deflection().begin(), w.rail_deflection().end());
   r.micro_steps = w.micro_steps();
@@ -205,11 +194,9 @@ ParticipantResults RemoteParticipant::results() {
 }
 
 ParticipantState RemoteParticipant::save() {
-  flush_inputs();
   wire::Envelope e;
   e.mutable_save();
-  send(e, false);
-  const wire::State w = await(wire::Envelope::kState, "save").state();
+  const wire::State w = request(std::move(e), wire::Envelope::kState).state();
   return ParticipantState{{w.values().begin(), w.values().end()}};
 }
 

@@ -62,6 +62,8 @@ class RemoteParticipant final : public Participant {
   }
   std::chrono::milliseconds step_deadline() const;
   [[noreturn]] void fail(const std::string& what) const;
+  // Flushes held inputs, sends `e`, returns its reply of the expected kind.
+  wire::Envelope request(wire::Envelope e, wire::Envelope::BodyCase expected);
   // Sends inputs held back by set_inputs() as a message of their own.
   void flush_inputs();
 

@@ -90,6 +90,30 @@ std::string body_name(const wire::Envelope& e) {
   return "empty";
 }
 
+wire::Envelope hello_envelope(wire::Role expected_peer, std::uint64_t scene_fingerprint,
+                              std::uint32_t protocol_version) {
+  wire::Envelope e;
+  auto* h = e.mutable_hello();
+  h->set_protocol_version(protocol_version);
+  h->set_role(wire::ROLE_MASTER);
+  h->set_expected_peer(expected_peer);
+  h->set_scene_fingerprint(scene_fingerprint);
+  h->set_name("master");
+  return e;
+}
+
+wire::Envelope configure_envelope(const Scene& scene, Split split, Coupling coupling,
+                                  double macro_step, double tolerance) {
+  wire::Envelope e;
+  auto* c = e.mutable_configure();
+  *c->mutable_scene() = to_wire(scene);
+  c->set_split(to_wire(split));
+  c->set_coupling(to_wire(coupling));
+  c->set_macro_step(macro_step);
+  c->set_tolerance(tolerance);
+  return e;
+}
+
 wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const std::string& message,
                               long step, double t) {
   wire::Envelope e;

@@ -64,6 +64,12 @@ class FrameDecoder {
 // Name of the message an envelope carries ("hello", "step", ...), for logs.
 std::string body_name(const wire::Envelope& envelope);
 
+// The opening messages of a session, as a master sends them.
+wire::Envelope hello_envelope(wire::Role expected_peer, std::uint64_t scene_fingerprint,
+                              std::uint32_t protocol_version = kProtocolVersion);
+wire::Envelope configure_envelope(const Scene& scene, Split split, Coupling coupling,
+                                  double macro_step, double tolerance);
+
 wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const std::string& message,
                               long step = -1, double t = 0.0);
 

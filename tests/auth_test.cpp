@@ -81,13 +81,7 @@ class TokenNodeTest : public ::testing::Test {
   }
   // Sends a hello, returns the challenge's nonce.
   std::string hello(Connection& c) {
-    wire::Envelope e;
-    auto* h = e.mutable_hello();
-    h->set_protocol_version(kProtocolVersion);
-    h->set_role(wire::ROLE_MASTER);
-    h->set_expected_peer(wire::ROLE_VEHICLE);
-    h->set_scene_fingerprint(scene_fingerprint(scene_));
-    c.send(e);
+    c.send(hello_envelope(wire::ROLE_VEHICLE, scene_fingerprint(scene_)));
     const wire::Envelope r = c.receive(milliseconds(5000));
     EXPECT_TRUE(r.has_challenge()) << body_name(r);
     return r.challenge().nonce();

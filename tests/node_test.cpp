@@ -40,14 +40,7 @@ class NodeTest : public ::testing::Test {
 
   wire::Envelope hello(wire::Role expected = wire::ROLE_TRACK,
                        std::uint32_t version = kProtocolVersion) {
-    wire::Envelope e;
-    e.set_id(1);
-    auto* h = e.mutable_hello();
-    h->set_protocol_version(version);
-    h->set_role(wire::ROLE_MASTER);
-    h->set_expected_peer(expected);
-    h->set_scene_fingerprint(scene_fingerprint(scene_));
-    return e;
+    return hello_envelope(expected, scene_fingerprint(scene_), version);
   }
 
   // Expects the next frame to be an error with `code`, then the end of the session.
@@ -162,13 +155,8 @@ TEST_F(NodeTest, NonFiniteInputsAreABadRequest) {
   auto c = connect();
   c->send(hello());
   ASSERT_TRUE(c->receive(milliseconds(5000)).has_hello_reply());
-  wire::Envelope conf;
-  auto* cf = conf.mutable_configure();
-  *cf->mutable_scene() = to_wire(scene_);
-  cf->set_split(to_wire(cfg.split));
-  cf->set_coupling(to_wire(cfg.coupling));
-  cf->set_macro_step(cfg.macro_step);
-  cf->set_tolerance(cfg.tolerance);
+  const wire::Envelope conf =
+      configure_envelope(scene_, cfg.split, cfg.coupling, cfg.macro_step, cfg.tolerance);
   c->send(conf);
   ASSERT_TRUE(c->receive(milliseconds(5000)).has_ack());
   wire::Envelope init;

@@ -16,33 +16,23 @@ int main(int argc, char** argv) {
   const std::filesystem::path dir = argv[2];
   std::filesystem::create_directories(dir);
   std::uint64_t id = 1;
-  auto frame = [&](auto fill) {
-    wire::Envelope e;
+  auto frame_of = [&](wire::Envelope e) {
     e.set_id(id++);
-    fill(e);
     return encode_frame(e);
   };
-  const std::string hello = frame([&](wire::Envelope& e) {
-    auto* h = e.mutable_hello();
-    h->set_protocol_version(kProtocolVersion);
-    h->set_role(wire::ROLE_MASTER);
-    h->set_expected_peer(wire::ROLE_TRACK);
-    h->set_scene_fingerprint(scene_fingerprint(scene));
-  });
+  auto frame = [&](auto fill) {
+    wire::Envelope e;
+    fill(e);
+    return frame_of(e);
+  };
+  const std::string hello = frame_of(hello_envelope(wire::ROLE_TRACK, scene_fingerprint(scene)));
   int n = 0;
   for (const auto& [split, coupling] :
        {std::pair{Split::kWheelRail, Coupling::kXX}, std::pair{Split::kWheelRail, Coupling::kXT},
         std::pair{Split::kRailSleepers, Coupling::kXX},
         std::pair{Split::kRailSleepers, Coupling::kXT}}) {
     std::string s = hello;
-    s += frame([&](wire::Envelope& e) {
-      auto* c = e.mutable_configure();
-      *c->mutable_scene() = to_wire(scene);
-      c->set_split(to_wire(split));
-      c->set_coupling(to_wire(coupling));
-      c->set_macro_step(scene.macro_step);
-      c->set_tolerance(scene.tolerance);
-    });
+    s += frame_of(configure_envelope(scene, split, coupling, scene.macro_step, scene.tolerance));
     s += frame([](wire::Envelope& e) { e.mutable_initialize(); });
     // The inputs S2 takes, from a real S1.
     Subsystem s1(scene, {split, Side::kS1, coupling, scene.macro_step, scene.tolerance});
