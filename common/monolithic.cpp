@@ -1,29 +1,29 @@
 #include "monolithic.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "statics.hpp"
+
 namespace railcosim {
 
-MonolithicModel::MonolithicModel(const Scene& scene, double output_step, double tolerance)
-    : sys_(assemble(scene, {true, true, true}, CutPads::kNone)),
-      dt_(output_step),
-      newmark_(sys_, output_step, tolerance) {
-  ContactTerm c;
-  c.law = ContactTerm::Law::kHertz;
-  c.hertz_constant = scene.hertz_constant;
-  c.has_wheel = true;
-  c.has_rail = true;
-  c.path = contact_path(scene);
-  sys_.contact = c;
+namespace {
 
-  const StaticState st = solve_statics(scene);
-  const DofLayout& l = sys_.layout;
-  Vector u = Vector::Zero(l.size);
-  u[l.wheel] = st.wheel;
-  for (std::size_t k = 0; k < l.rail_w.size(); ++k) {
-    u[l.rail_w[k]] = st.rail_w[k];
-    u[l.rail_theta[k]] = st.rail_theta[k];
-  }
-  for (std::size_t i = 0; i < l.sleeper.size(); ++i) u[l.sleeper[i]] = st.sleeper[i];
-  newmark_.set_state(u, Vector::Zero(l.size), 0.0);
+ParticipantSpec whole_model(const Scene& scene) {
+  ParticipantSpec p;
+  p.role = "monolithic";
+  p.parts = Parts::all(scene);
+  return p;
+}
+
+}  // namespace
+
+MonolithicModel::MonolithicModel(const Scene& scene, double output_step, double tolerance)
+    : sys_(assemble(scene, whole_model(scene))),
+      dt_(output_step),
+      newmark_(sys_, output_step, tolerance, 0, Newmark::kMaxStepsPerInterval, scene.micro_steps) {
+  const Vector u = solve_static(sys_, Vector::Zero(sys_.layout.size), 0.0);
+  newmark_.set_state(u, Vector::Zero(sys_.layout.size), 0.0);
 }
 
 void MonolithicModel::advance(long n) {
@@ -31,8 +31,21 @@ void MonolithicModel::advance(long n) {
 }
 
 HistoryRow MonolithicModel::history_row(long n) const {
-  return {static_cast<double>(n) * dt_, newmark_.state().u[sys_.layout.wheel],
-          newmark_.state().contact_force};
+  const Vector& u = newmark_.state().u;
+  HistoryRow row{
+      static_cast<double>(n) * dt_, u[sys_.layout.wheel], newmark_.state().contact_force, {}};
+  if (!sys_.layout.soil.empty()) {
+    double peak = 0;
+    for (int dof : sys_.layout.soil) peak = std::max(peak, std::abs(u[dof]));
+    row.extra.push_back(peak);
+  }
+  return row;
+}
+
+std::vector<double> MonolithicModel::soil_deflection() const {
+  std::vector<double> s;
+  for (int dof : sys_.layout.soil) s.push_back(newmark_.state().u[dof]);
+  return s;
 }
 
 double MonolithicModel::rail_under_wheel(double t) const {

@@ -26,6 +26,8 @@ class MonolithicModel {
 
   // Rail node displacements w_k (rotations left out).
   std::vector<double> rail_deflection() const;
+  // Soil mass displacements (empty without a lumped soil).
+  std::vector<double> soil_deflection() const;
   const Structure& structure() const { return sys_; }
   const Newmark& integrator() const { return newmark_; }
   double output_step() const { return dt_; }

@@ -7,14 +7,15 @@
 namespace railcosim {
 
 Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed_level,
-                 long max_steps_per_interval)
+                 long max_steps_per_interval, int fixed_steps)
     : sys_(system),
       interval_(interval),
       tol_(tolerance),
       fixed_level_(fixed_level),
       max_steps_(max_steps_per_interval),
-      keff_(kMaxLevel + 1),
-      responses_(kMaxLevel + 1),
+      fixed_steps_(fixed_steps),
+      keff_(kMaxLevel + 2),
+      responses_(kMaxLevel + 2),
       mass_(system.M) {
   const int n = sys_.layout.size;
   state_.u = Vector::Zero(n);
@@ -30,7 +31,7 @@ Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed
 const BandCholesky& Newmark::factor(int level) {
   BandCholesky& f = keff_[level];
   if (f.empty()) {
-    const double h = std::ldexp(interval_, -level);
+    const double h = step_length(level);
     f = BandCholesky(SymmetricBandMatrix::combine(1.0, sys_.K, kGamma / (kBeta * h), sys_.C,
                                                   1.0 / (kBeta * h * h), sys_.M));
   }
@@ -125,7 +126,29 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
   out.force = force;
 }
 
+double Newmark::step_length(int level) const {
+  return level <= kMaxLevel ? std::ldexp(interval_, -level) : interval_ / fixed_steps_;
+}
+
+void Newmark::advance_fixed(double t0, double t1) {
+  const double h = step_length(kMaxLevel + 1);
+  for (int j = 1; j <= fixed_steps_; ++j) {
+    const double t_next = j == fixed_steps_ ? t1 : t0 + (t1 - t0) * j / fixed_steps_;
+    step(t_next, h, kMaxLevel + 1, trial_);
+    std::swap(state_.u, trial_.u);
+    std::swap(state_.v, trial_.v);
+    std::swap(state_.a, trial_.a);
+    state_.contact_force = trial_.force;
+    ++state_.micro_steps;
+    if (observer_) observer_(t_next, kMaxLevel + 1);
+  }
+}
+
 void Newmark::advance(double t0, double t1) {
+  if (fixed_steps_ > 0) {
+    advance_fixed(t0, t1);
+    return;
+  }
   // Position inside [t, t + H] in units of H / 2^kMaxLevel.
   const long long end = 1LL << kMaxLevel;
   long long pos = 0;

@@ -59,8 +59,11 @@ class Newmark {
 
   // interval: the length H of the intervals advance() will be asked to cover.
   // A tolerance of 0 disables adaptivity (fixed step H / 2^fixed_level).
+  // fixed_steps > 0: every interval is covered in exactly that many equal
+  // steps, whatever the tolerance (for comparisons with solvers that do not
+  // adapt).
   Newmark(Structure& system, double interval, double tolerance, int fixed_level = 0,
-          long max_steps_per_interval = kMaxStepsPerInterval);
+          long max_steps_per_interval = kMaxStepsPerInterval, int fixed_steps = 0);
 
   NewmarkState& state() { return state_; }
   const NewmarkState& state() const { return state_; }
@@ -90,6 +93,10 @@ class Newmark {
     double force = 0;
   };
   void step(double t_end, double h, int level, Trial& out);
+  // The step length of a cache slot: H / 2^level, or H / fixed_steps in the
+  // extra slot kMaxLevel + 1.
+  double step_length(int level) const;
+  void advance_fixed(double t0, double t1);
   const BandCholesky& factor(int level);
   // Column `dof` of K_eff(level)^-1. The contact moves through one rail
   // element in dozens of steps, so a few cached columns serve them all.
@@ -108,6 +115,7 @@ class Newmark {
   double tol_;
   int fixed_level_;
   long max_steps_;
+  int fixed_steps_;
   NewmarkState state_;
   std::vector<BandCholesky> keff_;        // per level, made on first use
   std::vector<ResponseCache> responses_;  // per level

@@ -12,23 +12,29 @@
 
 namespace railcosim {
 
-// Values exchanged at a communication point, one entry per coupling point
-// (1 for the wheel/rail cut, N railpads for the rail/sleepers cut). A
-// quantity a side does not exchange is left empty.
-struct CouplingData {
+// The values of one interface at a communication point, one entry per
+// coupling point (1 at the wheel/rail cut, one per sleeper at rs and ss), as
+// packed arrays per quantity. A quantity the interface does not carry in
+// that direction is left empty.
+struct InterfaceData {
   std::vector<double> displacement;  // m, positive down
   std::vector<double> velocity;      // m/s
-  std::vector<double> force;         // N, on S2's side of the cut, positive down
+  std::vector<double> force;         // N, on the lower side of the cut, positive down
 
-  bool operator==(const CouplingData&) const = default;
+  bool operator==(const InterfaceData&) const = default;
 };
 
-// One row of a run's history: the wheel at a communication point, reported by
-// the side that holds it.
+// What a participant receives or sends: one entry per interface, in the
+// order of its ParticipantSpec (the cut above it first).
+using CouplingData = std::vector<InterfaceData>;
+
+// One row of a run's history: the wheel's channels, which every scene has,
+// and the values of any further declared channels (RunRecord names them).
 struct HistoryRow {
   double t = 0;
   double wheel = 0;          // q, m (down)
   double contact_force = 0;  // N
+  std::vector<double> extra;
 };
 
 // What one macro step left behind (or, from initialize(), the state at t = 0).
@@ -36,12 +42,19 @@ struct StepResult {
   CouplingData outputs;             // at the end of the step, with the inputs held over it
   double max_abs_displacement = 0;  // over every DOF, for the divergence check
   bool finite = true;               // false if any state value is NaN or infinite
-  std::optional<HistoryRow> row;    // from the side that holds the wheel
+  std::vector<double> history;      // the values of the declared history channels
 };
 
-// The final results a participant holds.
+// The outputs a participant declares: history channels (one value per
+// communication point) and end-of-run result fields (one vector each).
+struct Channels {
+  std::vector<std::string> history;  // e.g. "wheel_m", "contact_force_N", "soil_peak_m"
+  std::vector<std::string> results;  // e.g. "rail_w_m", "soil_m"
+};
+
+// The final results a participant holds: one vector per declared field.
 struct ParticipantResults {
-  std::vector<double> rail_deflection;  // w_k at the last time (empty if no rail)
+  std::vector<std::vector<double>> fields;  // in the order of Channels::results
   long micro_steps = 0;
 };
 
@@ -65,7 +78,10 @@ class BadInputError : public std::invalid_argument {
 };
 
 // Call order (enforced; a call out of order throws CallOrderError):
-//   initialize()                       once, first; returns the outputs at t = 0
+//   statics(inputs)                    any number of times first: the participant's own static
+//                                      equilibrium for these held values; returns its outputs
+//   initialize(inputs)                 once: start from the static state for these inputs;
+//                                      returns the outputs at t = 0
 //   then for each macro step n = 0, 1, 2, ... in turn:
 //     set_inputs(n, data)              at least once: the inputs held over [nH, (n+1)H]
 //     outputs()                        any number of times: outputs now, with the held inputs
@@ -78,7 +94,9 @@ class Participant {
   virtual ~Participant() = default;
 
   virtual std::string name() const = 0;
-  virtual StepResult initialize() = 0;
+  virtual Channels channels() const = 0;
+  virtual CouplingData statics(const CouplingData& inputs) = 0;
+  virtual StepResult initialize(const CouplingData& inputs) = 0;
   virtual void set_inputs(long n, const CouplingData& inputs) = 0;
   virtual CouplingData outputs() = 0;
   virtual void start_step(long n) = 0;

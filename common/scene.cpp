@@ -139,8 +139,17 @@ void Scene::validate() const {
   if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
   positive("ballast.stiffness", ballast_stiffness);
   non_negative("ballast.damping", ballast_damping);
-  if (soil_model != "fixed")
-    fail("soil.model", "unknown soil model '" + soil_model + "' (known: fixed)");
+  if (soil_model != "fixed" && soil_model != "lumped" && soil_model != "external")
+    fail("soil.model", "unknown soil model '" + soil_model + "' (known: fixed, lumped, external)");
+  if (soil_model == "lumped") {
+    positive("soil.mass", soil_mass);
+    positive("soil.stiffness", soil_stiffness);
+    non_negative("soil.damping", soil_damping);
+    non_negative("soil.coupling_stiffness", soil_coupling_stiffness);
+    non_negative("soil.coupling_damping", soil_coupling_damping);
+  }
+  if (micro_steps < 0 || micro_steps > 65536)
+    fail("simulation.micro_steps", "must lie between 1 and 65536, or be left out (adaptive)");
   positive("simulation.gravity", gravity);
   positive("simulation.end_time", end_time);
   positive("simulation.macro_step", macro_step);
@@ -219,11 +228,30 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.ballast_damping = r.number("ballast", "damping");
 
   sc.soil_model = r.string_or("soil", "model", "fixed");
+  // The lumped model's keys; with "external" they may be given for the
+  // outside participant to read, and the product does not use them.
+  if (sc.soil_model != "fixed") {
+    const bool need = sc.soil_model == "lumped";
+    auto soil_key = [&](const char* key) {
+      return need ? r.number("soil", key) : r.number_or("soil", key, 0.0);
+    };
+    sc.soil_mass = soil_key("mass");
+    sc.soil_stiffness = soil_key("stiffness");
+    sc.soil_damping = soil_key("damping");
+    sc.soil_coupling_stiffness = soil_key("coupling_stiffness");
+    sc.soil_coupling_damping = soil_key("coupling_damping");
+  }
 
   sc.gravity = r.number("simulation", "gravity");
   sc.end_time = r.number("simulation", "end_time");
   sc.macro_step = r.number("simulation", "macro_step");
   sc.tolerance = r.number("simulation", "tolerance");
+  if (r.find("simulation", "micro_steps", false)) {
+    const long m = r.integer("simulation", "micro_steps");
+    if (m < 1 || m > 65536)
+      r.fail("simulation.micro_steps", "must lie between 1 and 65536, or be left out (adaptive)");
+    sc.micro_steps = static_cast<int>(m);
+  }
 
   sc.divergence_factor = r.number_or("cosim", "divergence_factor", sc.divergence_factor);
   sc.amplification_threshold =

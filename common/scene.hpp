@@ -51,14 +51,24 @@ struct Scene {
   double ballast_stiffness = 0;  // k_b, N/m
   double ballast_damping = 0;    // d_b, N s/m
 
-  // [soil]
+  // [soil] (see the shared model, "Soil"): "fixed" (the ballast rests on the
+  // ground), "lumped" (a soil mass under each sleeper) or "external" (a
+  // participant the product does not model serves it, through the ss cut).
   std::string soil_model = "fixed";
+  double soil_mass = 0;                // m_f, kg per sleeper
+  double soil_stiffness = 0;           // k_f, N/m: soil mass to the ground
+  double soil_damping = 0;             // c_f, N s/m
+  double soil_coupling_stiffness = 0;  // k_c, N/m: between neighbouring soil masses
+  double soil_coupling_damping = 0;    // c_c, N s/m
+  bool has_soil() const { return soil_model != "fixed"; }
+  bool builtin_soil() const { return soil_model == "lumped"; }
 
   // [simulation]
   double gravity = 0;     // g, m/s^2
   double end_time = 0;    // t_end, s
   double macro_step = 0;  // H, s
   double tolerance = 0;   // bound on the local error of one micro step, m (and rad)
+  int micro_steps = 0;    // > 0: that many equal micro steps per macro step (no adaptivity)
 
   // [cosim]: how a co-simulation run is judged.
   double divergence_factor = 50.0;       // |displacement| > factor * static max => diverged

@@ -2,139 +2,109 @@
 
 #include <cmath>
 
+#include "statics.hpp"
+
 namespace railcosim {
-namespace {
 
-Parts parts_of(Split split, Side side) {
-  if (split == Split::kWheelRail)
-    return side == Side::kS1 ? Parts{true, false, false} : Parts{false, true, true};
-  return side == Side::kS1 ? Parts{true, true, false} : Parts{false, false, true};
+int interface_points(const Scene& scene, const InterfaceSpec& i) {
+  return i.kind().moving ? 1 : scene.sleeper_count;
 }
 
-// The railpad appears as a spring/damper to held values on every side that
-// receives a displacement; S2 of an X-T rail/sleepers cut receives the force.
-CutPads cut_pads_of(const SubsystemConfig& c) {
-  if (c.split != Split::kRailSleepers) return CutPads::kNone;
-  if (c.side == Side::kS2 && c.coupling == Coupling::kXT) return CutPads::kNone;
-  return CutPads::kSprings;
+Channels channels_of(const Parts& parts) {
+  Channels c;
+  if (parts.has(Component::kVehicle)) c.history = {"wheel_m", "contact_force_N"};
+  if (parts.has(Component::kSoil)) c.history.push_back("soil_peak_m");
+  if (parts.has(Component::kRail)) c.results.push_back("rail_w_m");
+  if (parts.has(Component::kSoil)) c.results.push_back("soil_m");
+  return c;
 }
-
-}  // namespace
 
 Subsystem::Subsystem(const Scene& scene, const SubsystemConfig& config)
-    : scene_(scene),
-      config_(config),
-      points_(config.split == Split::kWheelRail ? 1 : scene.sleeper_count),
-      sys_(assemble(scene, parts_of(config.split, config.side), cut_pads_of(config))) {
-  const Parts parts = parts_of(config.split, config.side);
-  if (config.split == Split::kWheelRail || parts.wheel) {
-    ContactTerm c;
-    c.hertz_constant = scene.hertz_constant;
-    c.has_wheel = parts.wheel;
-    c.has_rail = parts.rail;
-    c.path = contact_path(scene);
-    if (config.side == Side::kS2 && config.coupling == Coupling::kXT)
-      c.law = ContactTerm::Law::kPrescribed;
-    sys_.contact = c;
+    : scene_(scene), config_(config), sys_(assemble(scene, config.participant)) {
+  for (const InterfaceSpec& i : config_.participant.interfaces) {
+    points_.push_back(interface_points(scene, i));
+    dofs_.push_back(layer_dofs(sys_.layout, i.cut, i.side));
+    elements_.push_back(layer_element(scene, i.cut));
   }
   base_load_ = sys_.load;
+  static_u_ = Vector::Zero(sys_.layout.size);
   newmark_ = std::make_unique<Newmark>(sys_, config.macro_step, config.tolerance, 0,
-                                       config.max_micro_steps);
+                                       config.max_micro_steps, config.micro_steps);
 }
 
 std::string Subsystem::name() const {
-  return to_string(config_.side) + " of " + to_string(config_.split) + "-" +
-         to_string(config_.coupling);
+  std::string cuts;
+  for (const InterfaceSpec& i : config_.participant.interfaces)
+    cuts += std::string(cuts.empty() ? "" : ", ") + i.kind().name + "-" + to_string(i.coupling) +
+            (i.side == CutSide::kUpper ? " upper" : " lower");
+  return config_.participant.role + " (" + cuts + ")";
 }
 
 void Subsystem::require(bool ok, const std::string& call, const std::string& why) const {
   if (!ok) throw CallOrderError(name() + ": " + call + " rejected: " + why);
 }
 
-StepResult Subsystem::initialize() {
-  require(phase_ == Phase::kCreated, "initialize()", "initialize() may only be called once");
-  // Start from the static equilibrium of the whole model, and hold the other
-  // side's static values as the first inputs.
-  const StaticState st = solve_statics(scene_);
-  const DofLayout& l = sys_.layout;
-  Vector u = Vector::Zero(l.size);
-  if (l.wheel >= 0) u[l.wheel] = st.wheel;
-  for (std::size_t k = 0; k < l.rail_w.size(); ++k) {
-    u[l.rail_w[k]] = st.rail_w[k];
-    u[l.rail_theta[k]] = st.rail_theta[k];
-  }
-  for (std::size_t i = 0; i < l.sleeper.size(); ++i) u[l.sleeper[i]] = st.sleeper[i];
-  newmark_->state().u = u;
+CouplingData Subsystem::statics(const CouplingData& inputs) {
+  require(phase_ == Phase::kCreated, "statics()", "the statics come before initialize()");
+  apply_inputs(inputs);
+  static_u_ = solve_static(sys_, static_u_, 0.0);
+  return compute_outputs(static_u_, Vector::Zero(sys_.layout.size), 0.0);
+}
 
-  CouplingData in;
-  const auto N = static_cast<std::size_t>(points_);
-  const bool xt = config_.coupling == Coupling::kXT;
-  const ContactPath path = contact_path(scene_);
-  if (config_.split == Split::kWheelRail) {
-    if (config_.side == Side::kS1)
-      in.displacement = {rail_displacement_at(path, 0.0, st.rail_w, st.rail_theta)};
-    else if (xt)
-      in.force = {st.contact_force};
-    else
-      in.displacement = {st.wheel};
-  } else {
-    if (config_.side == Side::kS1) {
-      in.displacement = st.sleeper;
-      in.velocity.assign(N, 0.0);
-    } else if (xt) {
-      for (std::size_t i = 0; i < N; ++i)
-        in.force.push_back(scene_.pad_stiffness *
-                           (st.rail_w[l.pad_node(static_cast<int>(i))] - st.sleeper[i]));
-    } else {
-      for (std::size_t i = 0; i < N; ++i)
-        in.displacement.push_back(st.rail_w[l.pad_node(static_cast<int>(i))]);
-      in.velocity.assign(N, 0.0);
-    }
-  }
-  apply_inputs(in);
-  newmark_->set_state(u, Vector::Zero(l.size), 0.0);
+StepResult Subsystem::initialize(const CouplingData& inputs) {
+  require(phase_ == Phase::kCreated, "initialize()", "initialize() may only be called once");
+  statics(inputs);
+  newmark_->set_state(static_u_, Vector::Zero(sys_.layout.size), 0.0);
   phase_ = Phase::kAwaitingInputs;
   return report();
 }
 
 void Subsystem::check_inputs(const CouplingData& in) const {
-  const auto N = static_cast<std::size_t>(points_);
-  const bool wants_force = config_.side == Side::kS2 && config_.coupling == Coupling::kXT;
-  const bool wants_velocity = config_.split == Split::kRailSleepers && !wants_force;
-  auto expect = [&](const std::vector<double>& v, bool wanted, const char* what) {
-    const std::size_t size = wanted ? N : 0;
-    if (v.size() != size)
-      throw BadInputError(name() + ": set_inputs() rejected: expected " + std::to_string(size) +
-                          " " + what + " value(s), got " + std::to_string(v.size()));
-    for (double x : v)
-      if (!std::isfinite(x))
-        throw BadInputError(name() + ": set_inputs() rejected: non-finite " + what + " value");
-  };
-  expect(in.displacement, !wants_force, "displacement");
-  expect(in.velocity, wants_velocity, "velocity");
-  expect(in.force, wants_force, "force");
+  const auto& ifs = config_.participant.interfaces;
+  if (in.size() != ifs.size())
+    throw BadInputError(name() + ": inputs rejected: expected values for " +
+                        std::to_string(ifs.size()) + " interface(s), got " +
+                        std::to_string(in.size()));
+  for (std::size_t j = 0; j < ifs.size(); ++j) {
+    bool want[3] = {false, false, false};
+    for (Quantity q : ifs[j].receives()) want[static_cast<int>(q)] = true;
+    const std::vector<double>* got[3] = {&in[j].displacement, &in[j].velocity, &in[j].force};
+    for (int q = 0; q < 3; ++q) {
+      const std::size_t size = want[q] ? static_cast<std::size_t>(points_[j]) : 0;
+      const std::string what =
+          std::string(ifs[j].kind().name) + " " + to_string(static_cast<Quantity>(q));
+      if (got[q]->size() != size)
+        throw BadInputError(name() + ": inputs rejected: expected " + std::to_string(size) + " " +
+                            what + " value(s), got " + std::to_string(got[q]->size()));
+      for (double x : *got[q])
+        if (!std::isfinite(x))
+          throw BadInputError(name() + ": inputs rejected: non-finite " + what + " value");
+    }
+  }
 }
 
 void Subsystem::apply_inputs(const CouplingData& in) {
   check_inputs(in);
   held_ = in;
-  const DofLayout& l = sys_.layout;
   sys_.load = base_load_;
-  if (config_.split == Split::kWheelRail) {
-    ContactTerm& c = *sys_.contact;
-    if (config_.side == Side::kS1)
-      c.held_rail = in.displacement[0];
-    else if (config_.coupling == Coupling::kXT)
-      c.prescribed_force = in.force[0];
-    else
-      c.held_wheel = in.displacement[0];
-  } else {
-    const double kp = scene_.pad_stiffness, dp = scene_.pad_damping;
-    for (int i = 0; i < points_; ++i) {
-      const int dof = config_.side == Side::kS1 ? l.rail_w[l.pad_node(i)] : l.sleeper[i];
-      sys_.load[dof] +=
-          in.force.empty() ? kp * in.displacement[i] + dp * in.velocity[i] : in.force[i];
+  const auto& ifs = config_.participant.interfaces;
+  for (std::size_t j = 0; j < ifs.size(); ++j) {
+    const InterfaceSpec& i = ifs[j];
+    if (i.kind().moving) {
+      ContactTerm& c = *sys_.contact;
+      if (i.side == CutSide::kUpper)
+        c.held_rail = in[j].displacement[0];
+      else if (i.receives_force())
+        c.prescribed_force = in[j].force[0];
+      else
+        c.held_wheel = in[j].displacement[0];
+      continue;
     }
+    const SpringDamper e = elements_[j];
+    for (std::size_t p = 0; p < dofs_[j].size(); ++p)
+      sys_.load[dofs_[j][p]] += i.receives_force()
+                                    ? in[j].force[p]
+                                    : e.k * in[j].displacement[p] + e.c * in[j].velocity[p];
   }
 }
 
@@ -153,39 +123,39 @@ void Subsystem::set_inputs(long n, const CouplingData& inputs) {
 CouplingData Subsystem::outputs() {
   require(phase_ == Phase::kAwaitingInputs || phase_ == Phase::kInputsSet, "outputs()",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
-  return compute_outputs();
+  return compute_outputs(newmark_->state().u, newmark_->state().v, time(next_step_));
 }
 
-CouplingData Subsystem::compute_outputs() const {
-  const Vector& u = newmark_->state().u;
-  const Vector& v = newmark_->state().v;
+CouplingData Subsystem::compute_outputs(const Vector& u, const Vector& v, double t) const {
   const DofLayout& l = sys_.layout;
-  const double t = time(next_step_);
-  const bool xt = config_.coupling == Coupling::kXT;
-  CouplingData out;
-  if (config_.split == Split::kWheelRail) {
-    if (config_.side == Side::kS1) {
-      if (xt)
-        out.force = {newmark_->contact_force(u, t)};
-      else
-        out.displacement = {u[l.wheel]};
-    } else {
-      const ContactPoint p = sys_.contact->path.at(t);
-      const int e = p.element;
-      out.displacement = {p.shape[0] * u[l.rail_w[e]] + p.shape[1] * u[l.rail_theta[e]] +
+  const auto& ifs = config_.participant.interfaces;
+  CouplingData out(ifs.size());
+  for (std::size_t j = 0; j < ifs.size(); ++j) {
+    const InterfaceSpec& i = ifs[j];
+    InterfaceData& o = out[j];
+    if (i.kind().moving) {
+      if (i.side == CutSide::kLower) {
+        const ContactPoint p = sys_.contact->path.at(t);
+        const auto e = static_cast<std::size_t>(p.element);
+        o.displacement = {p.shape[0] * u[l.rail_w[e]] + p.shape[1] * u[l.rail_theta[e]] +
                           p.shape[2] * u[l.rail_w[e + 1]] + p.shape[3] * u[l.rail_theta[e + 1]]};
+      } else if (i.sends_force()) {
+        o.force = {newmark_->contact_force(u, t)};
+      } else {
+        o.displacement = {u[l.wheel]};
+      }
+      continue;
     }
-    return out;
-  }
-  const double kp = scene_.pad_stiffness, dp = scene_.pad_damping;
-  for (int i = 0; i < points_; ++i) {
-    const int dof = config_.side == Side::kS1 ? l.rail_w[l.pad_node(i)] : l.sleeper[i];
-    if (config_.side == Side::kS1 && xt) {
-      out.force.push_back(kp * (u[dof] - held_.displacement[i]) +
-                          dp * (v[dof] - held_.velocity[i]));
-    } else {
-      out.displacement.push_back(u[dof]);
-      out.velocity.push_back(v[dof]);
+    const SpringDamper e = elements_[j];
+    for (std::size_t p = 0; p < dofs_[j].size(); ++p) {
+      const int dof = dofs_[j][p];
+      if (i.sends_force()) {
+        o.force.push_back(e.k * (u[dof] - held_[j].displacement[p]) +
+                          e.c * (v[dof] - held_[j].velocity[p]));
+      } else {
+        o.displacement.push_back(u[dof]);
+        o.velocity.push_back(v[dof]);
+      }
     }
   }
   return out;
@@ -225,12 +195,13 @@ StepResult Subsystem::report() const {
   if (l.wheel >= 0) m = std::abs(s.u[l.wheel]);
   for (int dof : l.rail_w) m = std::max(m, std::abs(s.u[dof]));
   for (int dof : l.sleeper) m = std::max(m, std::abs(s.u[dof]));
-  r.max_abs_displacement = m;
-  if (l.wheel >= 0) {
-    const double t = time(next_step_);
-    r.row = HistoryRow{t, s.u[l.wheel], newmark_->contact_force(s.u, t)};
-  }
-  r.outputs = compute_outputs();
+  double soil = 0;
+  for (int dof : l.soil) soil = std::max(soil, std::abs(s.u[dof]));
+  r.max_abs_displacement = std::max(m, soil);
+  const double t = time(next_step_);
+  if (l.wheel >= 0) r.history = {s.u[l.wheel], newmark_->contact_force(s.u, t)};
+  if (!l.soil.empty()) r.history.push_back(soil);
+  r.outputs = compute_outputs(s.u, s.v, t);
   return r;
 }
 
@@ -238,7 +209,13 @@ ParticipantResults Subsystem::results() {
   require(phase_ != Phase::kCreated && phase_ != Phase::kStepping, "results()",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
   ParticipantResults r;
-  for (int dof : sys_.layout.rail_w) r.rail_deflection.push_back(newmark_->state().u[dof]);
+  const Vector& u = newmark_->state().u;
+  for (const auto* dofs : {&sys_.layout.rail_w, &sys_.layout.soil}) {
+    if (dofs->empty()) continue;
+    std::vector<double> f;
+    for (int dof : *dofs) f.push_back(u[dof]);
+    r.fields.push_back(std::move(f));
+  }
   r.micro_steps = newmark_->state().micro_steps;
   return r;
 }
@@ -298,9 +275,11 @@ ParticipantState Subsystem::save() {
   put(o, s.u);
   put(o, s.v);
   put(o, s.a);
-  put(o, held_.displacement);
-  put(o, held_.velocity);
-  put(o, held_.force);
+  for (const InterfaceData& h : held_) {
+    put(o, h.displacement);
+    put(o, h.velocity);
+    put(o, h.force);
+  }
   return st;
 }
 
@@ -315,9 +294,12 @@ void Subsystem::restore(const ParticipantState& state) {
   const long rejected = static_cast<long>(c.next());
   const double force = c.next();
   const auto n = static_cast<std::size_t>(sys_.layout.size);
-  const auto N = static_cast<std::size_t>(points_);
   const std::vector<double> u = c.vec(n), v = c.vec(n), a = c.vec(n);
-  CouplingData held{c.vec(N), c.vec(N), c.vec(N)};
+  CouplingData held(points_.size());
+  for (std::size_t j = 0; j < points_.size(); ++j) {
+    const auto N = static_cast<std::size_t>(points_[j]);
+    held[j] = {c.vec(N), c.vec(N), c.vec(N)};
+  }
   if (!c.done() || u.size() != n || v.size() != n || a.size() != n || step < 0 || level < 0 ||
       level > Newmark::kMaxLevel)
     throw BadInputError(name() + ": restore() rejected: the state does not fit this subsystem");

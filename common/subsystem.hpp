@@ -1,21 +1,19 @@
-// A co-simulation subsystem: the part of the wheel/track model on one side of
-// a cut, integrated with its own adaptive micro steps between communication
-// points.
+// A co-simulation subsystem: the components of the model one participant
+// holds (see model.hpp), integrated with its own adaptive micro steps between
+// communication points.
 //
-//   split  side  holds                        receives (held over a macro step)
-//   W/R    S1    wheel                        rail displacement under the wheel
-//   W/R    S2    rail, pads, sleepers         X-X: wheel displacement; X-T: contact force
-//   R/S    S1    wheel, contact, rail         sleeper displacements and velocities
-//   R/S    S2    sleepers, ballast            X-X: rail displacements and velocities
-//                                             at the pads; X-T: pad forces
-//
-// A side that receives a displacement computes the coupling force itself from
-// its own state and the held value. Outputs are what the other side receives.
+// Per interface (one side of a cut), following the shared model's rules:
+//   upper side   receives the lower side's displacements (and velocities
+//                through a damped layer) and computes the layer's force;
+//                sends its own displacements (X-X) or that force (X-T)
+//   lower side   receives displacements (X-X) or the force (X-T); sends its
+//                own displacements (and velocities through a damped layer)
+// A received value is held constant over the macro step.
 #pragma once
 
 #include <memory>
 
-#include "cosim_case.hpp"
+#include "model.hpp"
 #include "newmark.hpp"
 #include "participant.hpp"
 #include "scene.hpp"
@@ -24,13 +22,20 @@
 namespace railcosim {
 
 struct SubsystemConfig {
-  Split split = Split::kWheelRail;
-  Side side = Side::kS1;
-  Coupling coupling = Coupling::kXX;
+  ParticipantSpec participant;
   double macro_step = 0;                                 // H, s
   double tolerance = 0;                                  // local error bound of the micro steps, m
+  int micro_steps = 0;                                   // > 0: fixed micro steps per macro step
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step, see Newmark
 };
+
+// The number of coupling points of an interface (1 at the contact, one per
+// sleeper otherwise).
+int interface_points(const Scene& scene, const InterfaceSpec& i);
+
+// The history channels and result fields a participant holding these parts
+// declares.
+Channels channels_of(const Parts& parts);
 
 class Subsystem final : public Participant {
  public:
@@ -39,7 +44,9 @@ class Subsystem final : public Participant {
   Subsystem& operator=(const Subsystem&) = delete;
 
   std::string name() const override;
-  StepResult initialize() override;
+  Channels channels() const override { return channels_of(config_.participant.parts); }
+  CouplingData statics(const CouplingData& inputs) override;
+  StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
   CouplingData outputs() override;
   void start_step(long n) override;
@@ -60,13 +67,16 @@ class Subsystem final : public Participant {
   void check_inputs(const CouplingData& in) const;
   double time(long n) const { return static_cast<double>(n) * config_.macro_step; }
   StepResult report() const;
-  CouplingData compute_outputs() const;
+  CouplingData compute_outputs(const Vector& u, const Vector& v, double t) const;
 
   Scene scene_;
   SubsystemConfig config_;
-  int points_ = 0;  // coupling points
+  std::vector<int> points_;             // per interface
+  std::vector<std::vector<int>> dofs_;  // per interface: own DOFs of a linear layer
+  std::vector<SpringDamper> elements_;  // per interface: the layer's element
   Structure sys_;
   Vector base_load_;
+  Vector static_u_;  // the last static solution, the next one's starting guess
   std::unique_ptr<Newmark> newmark_;
   Phase phase_ = Phase::kCreated;
   long next_step_ = 0;  // the macro step the subsystem is at the start of

@@ -4,35 +4,62 @@
 #include <cassert>
 #include <cmath>
 
-#include "hertz.hpp"
-
 namespace railcosim {
 
-DofLayout make_layout(const Scene& scene, Parts parts) {
+DofLayout make_layout(const Scene& scene, const Parts& parts) {
   DofLayout l;
   l.elements_per_span = scene.elements_per_span;
   l.element_length = scene.element_length();
+  const bool rail = parts.has(Component::kRail), sleepers = parts.has(Component::kSleepers),
+             soil = parts.has(Component::kSoil);
   int next = 0;
-  if (parts.wheel) l.wheel = next++;
-  if (parts.sleepers) l.sleeper.assign(scene.sleeper_count, -1);
-  if (parts.rail) {
+  if (parts.has(Component::kVehicle)) l.wheel = next++;
+  if (sleepers) l.sleeper.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
+  if (soil) l.soil.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
+  // The sleeper and soil of support i, numbered next to each other.
+  auto support = [&](int i) {
+    if (sleepers) l.sleeper[static_cast<std::size_t>(i)] = next++;
+    if (soil) l.soil[static_cast<std::size_t>(i)] = next++;
+  };
+  if (rail) {
     const int nodes = scene.rail_nodes();
-    l.rail_w.resize(nodes);
-    l.rail_theta.resize(nodes);
+    l.rail_w.resize(static_cast<std::size_t>(nodes));
+    l.rail_theta.resize(static_cast<std::size_t>(nodes));
     for (int k = 0; k < nodes; ++k) {
-      l.rail_w[k] = next++;
-      l.rail_theta[k] = next++;
+      l.rail_w[static_cast<std::size_t>(k)] = next++;
+      l.rail_theta[static_cast<std::size_t>(k)] = next++;
       const int half = scene.elements_per_span / 2;
-      if (parts.sleepers && k % scene.elements_per_span == half) {
+      if (k % scene.elements_per_span == half) {
         const int i = k / scene.elements_per_span;
-        if (i < scene.sleeper_count) l.sleeper[i] = next++;
+        if (i < scene.sleeper_count) support(i);
       }
     }
-  } else if (parts.sleepers) {
-    for (int i = 0; i < scene.sleeper_count; ++i) l.sleeper[i] = next++;
+  } else {
+    for (int i = 0; i < scene.sleeper_count; ++i) support(i);
   }
   l.size = next;
   return l;
+}
+
+std::vector<int> layer_dofs(const DofLayout& l, int cut, CutSide side) {
+  const std::string name = cut_kinds()[static_cast<std::size_t>(cut)].name;
+  std::vector<int> out;
+  if (name == "rs") {
+    if (side == CutSide::kLower) return l.sleeper;
+    const int sleepers = (static_cast<int>(l.rail_w.size()) - 1) / l.elements_per_span;
+    for (int i = 0; i < sleepers; ++i)
+      out.push_back(l.rail_w[static_cast<std::size_t>(l.pad_node(i))]);
+    return out;
+  }
+  if (name == "ss") return side == CutSide::kUpper ? l.sleeper : l.soil;
+  return out;  // the contact has no fixed DOFs
+}
+
+SpringDamper layer_element(const Scene& scene, int cut) {
+  const std::string name = cut_kinds()[static_cast<std::size_t>(cut)].name;
+  if (name == "rs") return {scene.pad_stiffness, scene.pad_damping};
+  if (name == "ss") return {scene.ballast_stiffness, scene.ballast_damping};
+  return {};
 }
 
 ContactPoint ContactPath::at(double t) const {
@@ -78,40 +105,68 @@ struct Triplet {
 
 }  // namespace
 
-Structure assemble(const Scene& scene, Parts parts, CutPads cut) {
+Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
+  const Parts& parts = participant.parts;
   Structure s;
   s.layout = make_layout(scene, parts);
   const DofLayout& l = s.layout;
   std::vector<Triplet> t;  // lower or upper; symmetric add
 
-  if (parts.wheel) t.push_back({l.wheel, l.wheel, scene.vehicle_mass, 0, 0});
+  if (parts.has(Component::kVehicle)) t.push_back({l.wheel, l.wheel, scene.vehicle_mass, 0, 0});
 
-  if (parts.rail) {
+  if (parts.has(Component::kRail)) {
     const double L = scene.element_length();
     const Matrix4 ke = beam_stiffness(scene.young_modulus * scene.second_moment, L);
     const Matrix4 me = beam_consistent_mass(scene.density * scene.area, L);
-    for (int e = 0; e + 1 < static_cast<int>(l.rail_w.size()); ++e) {
+    for (std::size_t e = 0; e + 1 < l.rail_w.size(); ++e) {
       const int dofs[4] = {l.rail_w[e], l.rail_theta[e], l.rail_w[e + 1], l.rail_theta[e + 1]};
       for (int a = 0; a < 4; ++a)
         for (int b = 0; b <= a; ++b) t.push_back({dofs[a], dofs[b], me(a, b), 0, ke(a, b)});
     }
   }
 
-  for (int i = 0; i < scene.sleeper_count; ++i) {
-    const int rail = parts.rail ? l.rail_w[l.pad_node(i)] : -1;
-    const int sl = parts.sleepers ? l.sleeper[i] : -1;
-    const double kp = scene.pad_stiffness, dp = scene.pad_damping;
-    if (sl >= 0) {
-      t.push_back({sl, sl, scene.sleeper_mass, scene.ballast_damping, scene.ballast_stiffness});
+  const auto n = static_cast<std::size_t>(scene.sleeper_count);
+  if (parts.has(Component::kSleepers)) {
+    // With a fixed soil the ballast ties each sleeper to the ground.
+    const SpringDamper ground = scene.has_soil()
+                                    ? SpringDamper{}
+                                    : SpringDamper{scene.ballast_stiffness, scene.ballast_damping};
+    for (std::size_t i = 0; i < n; ++i)
+      t.push_back({l.sleeper[i], l.sleeper[i], scene.sleeper_mass, ground.c, ground.k});
+  }
+  if (parts.has(Component::kSoil)) {
+    for (std::size_t i = 0; i < n; ++i) {
+      t.push_back(
+          {l.soil[i], l.soil[i], scene.soil_mass, scene.soil_damping, scene.soil_stiffness});
+      if (i + 1 < n) {
+        const double kc = scene.soil_coupling_stiffness, cc = scene.soil_coupling_damping;
+        t.push_back({l.soil[i], l.soil[i], 0, cc, kc});
+        t.push_back({l.soil[i + 1], l.soil[i + 1], 0, cc, kc});
+        t.push_back({l.soil[i + 1], l.soil[i], 0, -cc, -kc});
+      }
     }
-    if (rail >= 0 && sl >= 0) {
-      t.push_back({rail, rail, 0, dp, kp});
-      t.push_back({sl, sl, 0, dp, kp});
-      t.push_back({sl, rail, 0, -dp, -kp});
-    } else if (cut == CutPads::kSprings) {
-      const int own = rail >= 0 ? rail : sl;
-      if (own >= 0) t.push_back({own, own, 0, dp, kp});
+  }
+
+  // The linear layers: whole where both ends are held, a spring to held
+  // values on a side that receives displacements.
+  for (int cut = 0; cut < static_cast<int>(cut_kinds().size()); ++cut) {
+    const CutKind& kind = cut_kinds()[static_cast<std::size_t>(cut)];
+    if (kind.moving) continue;
+    if (kind.lower == Component::kSoil && !scene.has_soil()) continue;
+    const SpringDamper e = layer_element(scene, cut);
+    if (parts.has(kind.upper) && parts.has(kind.lower)) {
+      const std::vector<int> up = layer_dofs(l, cut, CutSide::kUpper),
+                             lo = layer_dofs(l, cut, CutSide::kLower);
+      for (std::size_t i = 0; i < up.size(); ++i) {
+        t.push_back({up[i], up[i], 0, e.c, e.k});
+        t.push_back({lo[i], lo[i], 0, e.c, e.k});
+        t.push_back({lo[i], up[i], 0, -e.c, -e.k});
+      }
+      continue;
     }
+    for (const InterfaceSpec& i : participant.interfaces)
+      if (i.cut == cut && !i.receives_force())
+        for (int dof : layer_dofs(l, cut, i.side)) t.push_back({dof, dof, 0, e.c, e.k});
   }
 
   int kd = 0;
@@ -127,7 +182,20 @@ Structure assemble(const Scene& scene, Parts parts, CutPads cut) {
     s.K.add(e.i, e.j, e.k);
   }
   s.load = Vector::Zero(l.size);
-  if (parts.wheel) s.load[l.wheel] = scene.load();
+  if (parts.has(Component::kVehicle)) s.load[l.wheel] = scene.load();
+
+  // The wheel/rail contact, where either of its ends is held.
+  const bool wheel = parts.has(Component::kVehicle), rail = parts.has(Component::kRail);
+  if (wheel || rail) {
+    ContactTerm c;
+    c.hertz_constant = scene.hertz_constant;
+    c.has_wheel = wheel;
+    c.has_rail = rail;
+    c.path = contact_path(scene);
+    for (const InterfaceSpec& i : participant.interfaces)
+      if (i.kind().moving && i.receives_force()) c.law = ContactTerm::Law::kPrescribed;
+    if (wheel || rail) s.contact = c;
+  }
   return s;
 }
 
@@ -137,34 +205,6 @@ double rail_displacement_at(const ContactPath& path, double t, const std::vector
   const int e = p.element;
   return p.shape[0] * w[e] + p.shape[1] * theta[e] + p.shape[2] * w[e + 1] +
          p.shape[3] * theta[e + 1];
-}
-
-StaticState solve_statics(const Scene& scene) {
-  // The wheel is carried by the contact alone, so F = m_tot g exactly; the
-  // track (rail, pads, sleepers, ballast) is linear: K w = N(x_0)^T F.
-  Structure track = assemble(scene, {false, true, true}, CutPads::kNone);
-  const DofLayout& l = track.layout;
-  const ContactPath path = contact_path(scene);
-  const ContactPoint p = path.at(0.0);
-  const double F = scene.load();
-  Vector f = Vector::Zero(l.size);
-  const int e = p.element;
-  f[l.rail_w[e]] += p.shape[0] * F;
-  f[l.rail_theta[e]] += p.shape[1] * F;
-  f[l.rail_w[e + 1]] += p.shape[2] * F;
-  f[l.rail_theta[e + 1]] += p.shape[3] * F;
-  BandCholesky(track.K).solve_in_place(f);
-
-  StaticState st;
-  st.contact_force = F;
-  for (std::size_t k = 0; k < l.rail_w.size(); ++k) {
-    st.rail_w.push_back(f[l.rail_w[k]]);
-    st.rail_theta.push_back(f[l.rail_theta[k]]);
-  }
-  for (int dof : l.sleeper) st.sleeper.push_back(f[dof]);
-  st.wheel = rail_displacement_at(path, 0.0, st.rail_w, st.rail_theta) +
-             hertz_penetration(scene.hertz_constant, F);
-  return st;
 }
 
 }  // namespace railcosim

@@ -10,30 +10,20 @@
 
 #include "banded_matrix.hpp"
 #include "beam_element.hpp"
+#include "model.hpp"
 #include "scene.hpp"
 
 namespace railcosim {
 
-// Which bodies a (sub)system holds.
-struct Parts {
-  bool wheel = false;
-  bool rail = false;
-  bool sleepers = false;
-};
-
-// How the railpads appear in a system that holds only one of their ends.
-enum class CutPads {
-  kNone,     // no railpad term (the pad force arrives as an input load)
-  kSprings,  // the pad spring/damper to a held displacement/velocity of the far end
-};
-
 // Global numbering of the degrees of freedom. Each sleeper is numbered right
-// after the rail node above it, which keeps the half-bandwidth at 4.
+// after the rail node above it, and its soil mass right after it, which keeps
+// the half-bandwidth at 4 (2 N_r + 2 with a lumped soil).
 struct DofLayout {
   int wheel = -1;
   std::vector<int> rail_w;      // per rail node: vertical displacement
   std::vector<int> rail_theta;  // per rail node: rotation
   std::vector<int> sleeper;     // per sleeper
+  std::vector<int> soil;        // per sleeper: the soil mass under it
   int size = 0;
   int elements_per_span = 0;
   double element_length = 0;  // rail element length, m
@@ -42,7 +32,17 @@ struct DofLayout {
   int pad_node(int i) const { return elements_per_span * i + elements_per_span / 2; }
 };
 
-DofLayout make_layout(const Scene& scene, Parts parts);
+DofLayout make_layout(const Scene& scene, const Parts& parts);
+
+// The DOFs of one side of a linear layer (rs, ss), one per coupling point.
+std::vector<int> layer_dofs(const DofLayout& layout, int cut, CutSide side);
+
+// Stiffness and damping of one element of a linear layer (rs: a railpad, ss:
+// the ballast under one sleeper).
+struct SpringDamper {
+  double k = 0, c = 0;
+};
+SpringDamper layer_element(const Scene& scene, int cut);
 
 // Where the moving wheel meets the rail: element and Hermite weights.
 struct ContactPoint {
@@ -94,19 +94,13 @@ struct Structure {
   std::optional<ContactTerm> contact;
 };
 
-// Assembles M, C, K and the gravity load on the wheel for the given parts.
-Structure assemble(const Scene& scene, Parts parts, CutPads cut);
-
-// The static equilibrium of the whole model with the wheel at x_0 (no
-// self-weight): the starting state of every run.
-struct StaticState {
-  double wheel = 0;            // q
-  std::vector<double> rail_w;  // per rail node
-  std::vector<double> rail_theta;
-  std::vector<double> sleeper;  // per sleeper
-  double contact_force = 0;
-};
-StaticState solve_statics(const Scene& scene);
+// Assembles M, C, K, the gravity load on the wheel and the contact term of a
+// participant (or of the whole model: Parts::all and no interfaces). A layer
+// whose both ends are held is a full element; a layer cut at an interface
+// appears on a side that receives displacements as a spring/damper to held
+// values (their contribution to the load is added per step), and not at all
+// on a side that receives the force.
+Structure assemble(const Scene& scene, const ParticipantSpec& participant);
 
 // Rail displacement under the wheel at time t from the rail node values.
 double rail_displacement_at(const ContactPath& path, double t, const std::vector<double>& w,

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "cosim_case.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
+#include "model.hpp"
 #include "node_launcher.hpp"
 #include "remote_participant.hpp"
 #include "report.hpp"
@@ -24,6 +26,7 @@
 #include "runner.hpp"
 #include "scene.hpp"
 #include "study.hpp"
+#include "transport.hpp"
 
 namespace railcosim {
 namespace {
@@ -36,6 +39,7 @@ struct RunArgs {
   std::string feedthrough = "lagged";
   std::string transport = "tcp";
   std::string vehicle, track;
+  std::vector<std::string> nodes;  // ROLE=HOST:PORT
   std::string out = "results";
   std::string token_file;
 };
@@ -67,47 +71,39 @@ void catch_stop_signals() {
   sigaction(SIGTERM, &sa, nullptr);
 }
 
-// The participants of a co-simulation: in the master, or on nodes (started
-// here on loopback, or already running where --vehicle/--track say).
-struct Transport {
-  std::string name;
-  ParticipantFactory factory;
-  std::vector<std::unique_ptr<LaunchedNode>> nodes;
-};
-
-Transport make_transport(const RunArgs& a, const Scene& scene) {
-  Transport t;
-  t.name = a.transport;
-  if (a.transport == "inproc") {
-    if (!a.vehicle.empty() || !a.track.empty())
-      throw std::invalid_argument("--vehicle and --track need --transport tcp");
-    t.factory = inproc_factory(scene);
-    return t;
+// The addresses the user gave for the participants of a case: --node
+// ROLE=HOST:PORT, and --vehicle/--track for the vehicle and track roles.
+std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
+                                           const CaseSpec& spec) {
+  std::map<std::string, Address> given;
+  if (!a.vehicle.empty()) given["vehicle"] = parse_address(a.vehicle, "--vehicle");
+  if (!a.track.empty()) given["track"] = parse_address(a.track, "--track");
+  for (const std::string& n : a.nodes) {
+    const auto eq = n.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--node " + n +
+                                  ": expected ROLE=HOST:PORT, e.g. soil=127.0.0.1:7003");
+    given[n.substr(0, eq)] = parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
   }
-  if (a.vehicle.empty() != a.track.empty())
+  if (given.empty()) return given;
+  if (spec.monolithic)
     throw std::invalid_argument(
-        "give both --vehicle and --track, or neither (the master then "
-        "starts both nodes on loopback)");
-  Address vehicle, track;
-  if (a.vehicle.empty()) {
-    auto log = logger("master");
-    t.nodes.push_back(std::make_unique<LaunchedNode>("vehicle_node", std::chrono::seconds(10)));
-    t.nodes.push_back(std::make_unique<LaunchedNode>("track_node", std::chrono::seconds(10)));
-    vehicle = t.nodes[0]->address();
-    track = t.nodes[1]->address();
-    log->info("started vehicle_node on {} and track_node on {}", vehicle.str(), track.str());
-  } else {
-    vehicle = parse_address(a.vehicle, "--vehicle");
-    track = parse_address(a.track, "--track");
+        "the monolithic case runs inside the master: it uses no nodes, so --node, --vehicle and "
+        "--track do not apply");
+  if (a.transport == "inproc")
+    throw std::invalid_argument("--node, --vehicle and --track need --transport tcp");
+  std::string roles;
+  const auto parts = partition(scene, spec);
+  for (const auto& p : parts) roles += (roles.empty() ? "" : ", ") + p.role;
+  for (const auto& [role, address] : given) {
+    bool found = false;
+    for (const auto& p : parts) found = found || p.role == role;
+    if (!found)
+      throw std::invalid_argument("a node was given for the " + role + " participant (" +
+                                  address.str() + "), but case " + spec.name() +
+                                  " has none (its participants: " + roles + ")");
   }
-  std::optional<std::string> token;
-  if (!a.token_file.empty()) token = read_token_file(a.token_file);
-  t.factory = [scene, vehicle, track,
-               token](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? vehicle : track, scene, c,
-                                               RemoteTimeouts{}, token);
-  };
-  return t;
+  return given;
 }
 
 // A progress line on stderr, redrawn at most five times a second, when stderr
@@ -156,16 +152,14 @@ int do_run(const RunArgs& a) {
                                   " does not divide the end time " +
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
-  if (spec.monolithic && (!a.vehicle.empty() || !a.track.empty()))
-    throw std::invalid_argument(
-        "the monolithic case runs inside the master: it uses no nodes, "
-        "so --vehicle/--track do not apply");
+  check_case_for_scene(spec, scene);
+  const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
 
   RunRecord reference;
-  if (!spec.monolithic) {
+  if (!spec.monolithic && scene.soil_model != "external") {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
     reference = run_monolithic(scene, o);
@@ -181,9 +175,14 @@ int do_run(const RunArgs& a) {
     if (spec.monolithic) {
       record = run_monolithic(scene, o);
     } else {
-      Transport transport = make_transport(a, scene);
+      NodePool pool;
+      std::optional<std::string> token;
+      if (!a.token_file.empty()) token = read_token_file(a.token_file);
+      const Transport transport = a.transport == "inproc"
+                                      ? inproc_transport(scene)
+                                      : tcp_transport(scene, given, pool, token);
       record = run_cosim(scene, spec, o, transport.factory, transport.name);
-      judge(record, reference, scene);
+      if (scene.soil_model != "external") judge(record, reference, scene);
     }
   } catch (const std::exception& e) {
     const RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
@@ -259,10 +258,11 @@ int master_main(int argc, char** argv) {
   run->add_option("--scene", ra.scene_path, "Scene file (TOML), e.g. scenes/paper.toml")
       ->required()
       ->check(CLI::ExistingFile);
-  std::string cases;
-  for (const char* const* n = all_case_names(); *n; ++n)
-    cases += std::string(cases.empty() ? "" : ", ") + *n;
-  run->add_option("--case", ra.case_name, "Case to run: " + cases)->required();
+  run->add_option("--case", ra.case_name,
+                  "Case to run: monolithic, or CUT-TYPE[+CUT-TYPE...]-SCHEME with CUT wr "
+                  "(wheel/rail), rs (rail/sleepers) or ss (sleepers/soil), TYPE xx or xt, SCHEME "
+                  "jacobi or gauss-seidel; e.g. rs-xx-jacobi, wr-xt+ss-xx-gauss-seidel")
+      ->required();
   run->add_option("--macro-step", ra.macro_step,
                   "Macro step H in seconds (default: simulation.macro_step of the scene)")
       ->check(CLI::PositiveNumber);
@@ -279,12 +279,16 @@ int master_main(int argc, char** argv) {
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
       ->check(CLI::IsMember({"inproc", "tcp"}))
       ->capture_default_str();
-  run->add_option("--vehicle", ra.vehicle, "HOST:PORT of a running vehicle_node (S1)");
-  run->add_option("--track", ra.track, "HOST:PORT of a running track_node (S2)");
+  run->add_option("--node", ra.nodes,
+                  "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "
+                  "rail, soil); repeatable. Participants without one get a node started here")
+      ->take_all();
+  run->add_option("--vehicle", ra.vehicle,
+                  "HOST:PORT of a running vehicle_node (= --node vehicle=...)");
+  run->add_option("--track", ra.track, "HOST:PORT of a running track_node (= --node track=...)");
   run->add_option("--out", ra.out, "Output folder; the run writes OUT/CASE/")
       ->capture_default_str();
-  run->add_option("--token-file", ra.token_file,
-                  "Shared secret of nodes started with --token-file (with --vehicle/--track)")
+  run->add_option("--token-file", ra.token_file, "Shared secret of nodes started with --token-file")
       ->check(CLI::ExistingFile);
 
   StudyArgs sa;

@@ -24,7 +24,7 @@ double history_error(const std::vector<HistoryRow>& h, const std::vector<History
 
 // The bound beyond which a displacement means divergence:
 // divergence_factor times the largest static displacement.
-double divergence_bound(const Scene& scene);
+double divergence_bound(const Scene& scene, double largest_static_displacement);
 
 // Fills the errors and the status (ok / amplified) of a finished run.
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);

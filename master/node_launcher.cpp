@@ -23,12 +23,13 @@ std::string own_directory() {
 }
 
 LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
-                           const std::string& listen)
+                           const std::string& listen, const std::string& role)
     : program_(program) {
   const std::string path = own_directory() + "/" + program;
   if (::access(path.c_str(), X_OK) != 0)
-    throw std::runtime_error("cannot start " + path + ": " + std::strerror(errno) +
-                             " (build it, or start the nodes yourself and pass --vehicle/--track)");
+    throw std::runtime_error(
+        "cannot start " + path + ": " + std::strerror(errno) +
+        " (build it, or start the nodes yourself and pass --node ROLE=HOST:PORT)");
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
@@ -40,7 +41,9 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(1);
     ::dup2(fds[1], STDOUT_FILENO);
-    const char* argv[] = {path.c_str(), "--listen", listen.c_str(), "--log-level", "warn", nullptr};
+    const char* argv[] = {path.c_str(),  "--listen", listen.c_str(),
+                          "--log-level", "warn",     role.empty() ? nullptr : "--role",
+                          role.c_str(),  nullptr};
     ::execv(path.c_str(), const_cast<char* const*>(argv));
     ::_exit(127);
   }

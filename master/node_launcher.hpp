@@ -13,11 +13,11 @@ namespace railcosim {
 
 class LaunchedNode {
  public:
-  // Starts `program` (vehicle_node or track_node, looked up next to the
-  // running master) with --listen 127.0.0.1:0. Throws std::runtime_error if
-  // it does not print its address within `timeout`.
+  // Starts `program` (a node program, looked up next to the running master)
+  // with --listen 127.0.0.1:0 (and --role ROLE when a role is given). Throws
+  // std::runtime_error if it does not print its address within `timeout`.
   LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
-               const std::string& listen = "127.0.0.1:0");
+               const std::string& listen = "127.0.0.1:0", const std::string& role = "");
   ~LaunchedNode();  // SIGTERM, then SIGKILL if it does not exit within 2 s
   LaunchedNode(const LaunchedNode&) = delete;
   LaunchedNode& operator=(const LaunchedNode&) = delete;

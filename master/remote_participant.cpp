@@ -9,8 +9,8 @@
 namespace railcosim {
 
 namespace {
-std::string node_label(Side side) {
-  return side == Side::kS1 ? "vehicle node (S1)" : "track node (S2)";
+std::string node_label(const SubsystemConfig& c) {
+  return c.participant.role + " node";
 }
 }  // namespace
 
@@ -21,9 +21,9 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   try {
     conn_ = Connection::connect(address, timeouts.connect);
   } catch (const NetError& e) {
-    throw NodeFailure(node_label(config.side) + ": " + e.what());
+    throw NodeFailure(node_label(config) + ": " + e.what());
   }
-  send(hello_envelope(role_of(config.side), scene_fingerprint(scene)), false);
+  send(hello_envelope(config.participant.role, scene_fingerprint(scene)), false);
   wire::Envelope reply;
   try {
     reply = conn_->receive(timeouts_.reply);
@@ -34,7 +34,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
     if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
     wire::Envelope auth;
     auth.mutable_auth()->set_mac(
-        auth_answer(*token, role_of(config.side), reply.challenge().nonce()));
+        auth_answer(*token, config.participant.role, reply.challenge().nonce()));
     send(auth, false);
     await(wire::Envelope::kHelloReply, "auth");
   } else if (reply.has_error()) {
@@ -44,10 +44,10 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
     fail("unexpected " + body_name(reply) + " in reply to hello");
   }
 
-  send(
-      configure_envelope(scene, config.split, config.coupling, config.macro_step, config.tolerance),
-      false);
-  await(wire::Envelope::kAck, "configure");
+  send(configure_envelope(scene, config), false);
+  const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
+  channels_.history.assign(declared.history().begin(), declared.history().end());
+  channels_.results.assign(declared.results().begin(), declared.results().end());
 }
 
 RemoteParticipant::~RemoteParticipant() {
@@ -66,7 +66,7 @@ RemoteParticipant::~RemoteParticipant() {
 }
 
 std::string RemoteParticipant::name() const {
-  return node_label(config_.side) + " at " + address_.str();
+  return node_label(config_) + " at " + address_.str();
 }
 
 void RemoteParticipant::fail(const std::string& what) const {
@@ -125,9 +125,15 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
   }
 }
 
-StepResult RemoteParticipant::initialize() {
+CouplingData RemoteParticipant::statics(const CouplingData& inputs) {
   wire::Envelope e;
-  e.mutable_initialize();
+  *e.mutable_statics()->mutable_inputs() = to_wire(inputs);
+  return from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+}
+
+StepResult RemoteParticipant::initialize(const CouplingData& inputs) {
+  wire::Envelope e;
+  *e.mutable_initialize()->mutable_inputs() = to_wire(inputs);
   send(e, false);
   return from_wire(await(wire::Envelope::kStepReport, "initialize").step_report());
 }
@@ -188,7 +194,7 @@ ParticipantResults RemoteParticipant::results() {
   e.mutable_get_results();
   const wire::Results w = request(std::move(e), wire::Envelope::kResults).results();
   ParticipantResults r;
-  r.rail_deflection.assign(w.rail_deflection().begin(), w.rail_deflection().end());
+  for (const auto& f : w.fields()) r.fields.emplace_back(f.values().begin(), f.values().end());
   r.micro_steps = w.micro_steps();
   return r;
 }

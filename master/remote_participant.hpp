@@ -41,7 +41,9 @@ class RemoteParticipant final : public Participant {
   ~RemoteParticipant() override;
 
   std::string name() const override;
-  StepResult initialize() override;
+  Channels channels() const override { return channels_; }
+  CouplingData statics(const CouplingData& inputs) override;
+  StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
   CouplingData outputs() override;
   void start_step(long n) override;
@@ -78,6 +80,7 @@ class RemoteParticipant final : public Participant {
   std::chrono::steady_clock::duration slowest_step_{0};
   // set_inputs() keeps its data here; the next step carries it.
   std::optional<CouplingData> pending_inputs_;
+  Channels channels_;  // as the node declared them
 };
 
 }  // namespace railcosim

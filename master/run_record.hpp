@@ -17,10 +17,11 @@ struct RunRecord {
   double macro_step = 0;
   double t_end = 0;  // the end time asked for
   double wall_s = 0;
-  long macro_steps = 0;                     // done
-  std::map<std::string, long> micro_steps;  // per subsystem ("monolithic", or "s1", "s2")
-  std::string status = "ok";                // ok, amplified, diverged, failed
-  std::string message;                      // why, when not ok
+  long macro_steps = 0;  // done
+  std::map<std::string, long>
+      micro_steps;            // per subsystem ("monolithic", or "s1", "s2", ... in load order)
+  std::string status = "ok";  // ok, amplified, diverged, failed
+  std::string message;        // why, when not ok
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
   std::optional<double> history_error;
   std::string transport = "inproc";
@@ -28,6 +29,8 @@ struct RunRecord {
   std::vector<double> x;           // rail node positions
   std::vector<double> deflection;  // rail node displacements at the last time
   std::vector<HistoryRow> history;
+  std::vector<std::string> extra_channels;  // names of HistoryRow::extra, e.g. "soil_peak_m"
+  std::vector<double> soil;                 // soil mass displacements at the last time, if any
 };
 
 }  // namespace railcosim

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "coupled_statics.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
 #include "monolithic.hpp"
@@ -47,8 +48,8 @@ RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptio
   RunRecord r;
   r.case_name = spec.name();
   if (!spec.monolithic) {
-    r.split = to_string(spec.split);
-    r.coupling = to_string(spec.coupling);
+    r.split = spec.split_name();
+    r.coupling = spec.coupling_name();
     r.scheme = to_string(spec.scheme);
     r.feedthrough = to_string(o.feedthrough);
     r.transport = transport;
@@ -67,6 +68,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.case_name = "monolithic";
   r.macro_step = o.macro_step;
   r.t_end = scene.end_time;
+  if (scene.builtin_soil()) r.extra_channels = {"soil_peak_m"};
   const long N = steps_to(scene, o.macro_step);
   r.history.reserve(static_cast<std::size_t>(N + 1));
   auto record_row = [&](const HistoryRow& row) {
@@ -84,6 +86,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.micro_steps["monolithic"] = model.integrator().state().micro_steps;
   r.x = rail_positions(scene);
   r.deflection = model.rail_deflection();
+  r.soil = model.soil_deflection();
   r.max_abs_error_m = 0.0;
   r.rel_l2_error = 0.0;
   r.history_error = 0.0;
@@ -91,39 +94,109 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   return r;
 }
 
+namespace {
+
+// Maps the participants' declared history channels onto the history rows:
+// the wheel's two channels into their fields, every other one into extra.
+class HistoryAssembler {
+ public:
+  explicit HistoryAssembler(const std::vector<Participant*>& ps) {
+    for (std::size_t p = 0; p < ps.size(); ++p) {
+      const Channels c = ps[p]->channels();
+      for (std::size_t k = 0; k < c.history.size(); ++k) {
+        const std::string& name = c.history[k];
+        int slot = -1;
+        if (name == "wheel_m")
+          slot = -2;
+        else if (name == "contact_force_N")
+          slot = -3;
+        else {
+          slot = static_cast<int>(extra_.size());
+          extra_.push_back(name);
+        }
+        map_.push_back({p, k, slot});
+      }
+    }
+  }
+  const std::vector<std::string>& extra_names() const { return extra_; }
+
+  HistoryRow row(double t, const std::vector<StepResult>& r,
+                 const std::vector<Participant*>& ps) const {
+    HistoryRow row;
+    row.t = t;
+    row.extra.assign(extra_.size(), 0.0);
+    for (const auto& m : map_) {
+      const auto& h = r[m.participant].history;
+      if (m.index >= h.size())
+        throw std::runtime_error(ps[m.participant]->name() + " reported " +
+                                 std::to_string(h.size()) + " history value(s), fewer than the " +
+                                 "channels it declared");
+      const double v = h[m.index];
+      if (m.slot == -2)
+        row.wheel = v;
+      else if (m.slot == -3)
+        row.contact_force = v;
+      else
+        row.extra[static_cast<std::size_t>(m.slot)] = v;
+    }
+    return row;
+  }
+
+ private:
+  struct Map {
+    std::size_t participant, index;
+    int slot;
+  };
+  std::vector<Map> map_;
+  std::vector<std::string> extra_;
+};
+
+}  // namespace
+
 RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
                     const ParticipantFactory& make, const std::string& transport) {
   const auto t0 = Clock::now();
   auto log = logger("master");
-  RunRecord r;
-  r.case_name = spec.name();
-  r.split = to_string(spec.split);
-  r.coupling = to_string(spec.coupling);
-  r.scheme = to_string(spec.scheme);
-  r.feedthrough = to_string(o.feedthrough);
-  r.macro_step = o.macro_step;
-  r.t_end = scene.end_time;
-  r.transport = transport;
+  RunRecord r = failed_record(scene, spec, o, transport, "");
+  r.status = "ok";
 
-  SubsystemConfig c1{spec.split, Side::kS1, spec.coupling, o.macro_step, o.tolerance};
-  SubsystemConfig c2 = c1;
-  c2.side = Side::kS2;
-  auto s1 = make(c1);
-  auto s2 = make(c2);
-  auto schedule = make_schedule(spec.scheme, o.feedthrough, *s1, *s2);
-  auto record_row = [&](const MacroStepResult& m) {
-    if (!m.s1.row) throw std::runtime_error(s1->name() + " reported no wheel history row");
-    r.history.push_back(*m.s1.row);
-    if (o.on_row) o.on_row(*m.s1.row);
+  const std::vector<ParticipantSpec> specs = partition(scene, spec);
+  std::vector<std::unique_ptr<Participant>> owned;
+  std::vector<Participant*> ps;
+  for (const ParticipantSpec& p : specs) {
+    SubsystemConfig c;
+    c.participant = p;
+    c.macro_step = o.macro_step;
+    c.tolerance = o.tolerance;
+    c.micro_steps = scene.micro_steps;
+    owned.push_back(make(c));
+    ps.push_back(owned.back().get());
+  }
+  Routing routing = make_routing(specs);
+  std::vector<CouplingData> zero;
+  for (const ParticipantSpec& p : specs) zero.push_back(zero_inputs(scene, p));
+  const StaticsOutcome statics = find_static_state(ps, routing, zero);
+  log->debug("{}: static state after {} interface iterations (residual {})", r.case_name,
+             statics.iterations, statics.residual);
+
+  HistoryAssembler history(ps);
+  r.extra_channels = history.extra_names();
+  auto schedule = make_schedule(spec.scheme, o.feedthrough, ps, routing);
+  auto record_row = [&](long n, const std::vector<StepResult>& m) {
+    HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
+    r.history.push_back(row);
+    if (o.on_row) o.on_row(row);
   };
-  record_row(schedule->initialize());
-
-  const double bound = divergence_bound(scene);
+  const std::vector<StepResult> initial = schedule->initialize(statics.inputs);
+  record_row(0, initial);
+  double static_max = 0;
+  for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
+  const double bound = divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
   long n = 0;
   for (; n < N; ++n) {
     check_stop(o, n);
-    MacroStepResult m;
+    std::vector<StepResult> m;
     try {
       m = schedule->advance(n);
     } catch (const StepFailure& e) {
@@ -137,10 +210,14 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
       ++n;
       break;
     }
-    record_row(m);
+    record_row(n + 1, m);
     if (o.on_progress) o.on_progress(n + 1, N);
-    const bool finite = m.s1.finite && m.s2.finite;
-    const double umax = std::max(m.s1.max_abs_displacement, m.s2.max_abs_displacement);
+    bool finite = true;
+    double umax = 0;
+    for (const StepResult& x : m) {
+      finite = finite && x.finite;
+      umax = std::max(umax, x.max_abs_displacement);
+    }
     if (!finite || umax > bound) {
       std::ostringstream s;
       s << "diverged at macro step " << n + 1
@@ -158,19 +235,23 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
   }
   r.macro_steps = n;
-  ParticipantResults p1, p2;
-  try {
-    p1 = s1->results();
-    p2 = s2->results();
-  } catch (const std::exception& e) {
-    // A node that gave up on a diverging step has ended its session.
-    if (r.status != "diverged") throw;
-    log->warn("{}: no final results after the divergence: {}", r.case_name, e.what());
+  for (std::size_t p = 0; p < ps.size(); ++p) {
+    ParticipantResults res;
+    try {
+      res = ps[p]->results();
+    } catch (const std::exception& e) {
+      // A node that gave up on a diverging step has ended its session.
+      if (r.status != "diverged") throw;
+      log->warn("{}: no final results after the divergence: {}", r.case_name, e.what());
+    }
+    r.micro_steps["s" + std::to_string(p + 1)] = res.micro_steps;
+    const Channels c = ps[p]->channels();
+    for (std::size_t k = 0; k < c.results.size() && k < res.fields.size(); ++k) {
+      if (c.results[k] == "rail_w_m") r.deflection = res.fields[k];
+      if (c.results[k] == "soil_m") r.soil = res.fields[k];
+    }
   }
-  r.micro_steps["s1"] = p1.micro_steps;
-  r.micro_steps["s2"] = p2.micro_steps;
   r.x = rail_positions(scene);
-  r.deflection = spec.split == Split::kWheelRail ? p2.rail_deflection : p1.rail_deflection;
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
 }

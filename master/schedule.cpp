@@ -4,44 +4,100 @@
 
 namespace railcosim {
 
-MacroStepResult Schedule::initialize() {
-  MacroStepResult r{s1_.initialize(), s2_.initialize()};
-  out1_ = r.s1.outputs;
-  out2_ = r.s2.outputs;
+Routing make_routing(const std::vector<ParticipantSpec>& ps) {
+  Routing r(ps.size());
+  for (std::size_t p = 0; p < ps.size(); ++p) {
+    for (const InterfaceSpec& i : ps[p].interfaces) {
+      Route route;
+      const auto& peer = ps.at(static_cast<std::size_t>(i.peer));
+      for (std::size_t k = 0; k < peer.interfaces.size(); ++k)
+        if (peer.interfaces[k].cut == i.cut) route = {i.peer, static_cast<int>(k)};
+      if (route.participant < 0)
+        throw std::logic_error("make_routing: no peer interface for cut " +
+                               std::string(i.kind().name));
+      r[p].push_back(route);
+    }
+  }
   return r;
 }
 
-MacroStepResult JacobiSchedule::advance(long n) {
-  s1_.set_inputs(n, out2_);
-  if (feedthrough_ == Feedthrough::kResolved) out1_ = s1_.outputs();
-  s2_.set_inputs(n, out1_);
-  s1_.start_step(n);
-  s2_.start_step(n);
-  MacroStepResult r{s1_.finish_step(), s2_.finish_step()};
-  out1_ = r.s1.outputs;
-  out2_ = r.s2.outputs;
+std::vector<StepResult> Schedule::initialize(const std::vector<CouplingData>& inputs) {
+  std::vector<StepResult> r;
+  for (std::size_t p = 0; p < ps_.size(); ++p) r.push_back(ps_[p]->initialize(inputs[p]));
+  keep_outputs(r);
   return r;
 }
 
-MacroStepResult GaussSeidelSchedule::advance(long n) {
-  s1_.set_inputs(n, out2_);
-  MacroStepResult r;
-  r.s1 = s1_.step(n);
-  out1_ = r.s1.outputs;
-  s2_.set_inputs(n, out1_);
-  r.s2 = s2_.step(n);
-  out2_ = r.s2.outputs;
+CouplingData Schedule::inputs_for(std::size_t p) const {
+  CouplingData in;
+  in.reserve(routing_[p].size());
+  for (const Route& r : routing_[p])
+    in.push_back(
+        out_[static_cast<std::size_t>(r.participant)][static_cast<std::size_t>(r.interface)]);
+  return in;
+}
+
+void Schedule::keep_outputs(const std::vector<StepResult>& r) {
+  out_.resize(r.size());
+  for (std::size_t p = 0; p < r.size(); ++p) out_[p] = r[p].outputs;
+}
+
+namespace {
+
+bool sends_force(const CouplingData& outputs) {
+  for (const InterfaceData& d : outputs)
+    if (!d.force.empty()) return true;
+  return false;
+}
+
+}  // namespace
+
+std::vector<StepResult> JacobiSchedule::advance(long n) {
+  const std::size_t P = ps_.size();
+  for (std::size_t p = 0; p < P; ++p) ps_[p]->set_inputs(n, inputs_for(p));
+  if (feedthrough_ == Feedthrough::kResolved) {
+    std::vector<bool> fresh(P, false);
+    for (std::size_t p = 0; p < P; ++p)
+      if (sends_force(out_[p])) {
+        out_[p] = ps_[p]->outputs();
+        fresh[p] = true;
+      }
+    for (std::size_t p = 0; p < P; ++p)
+      for (const Route& r : routing_[p])
+        if (fresh[static_cast<std::size_t>(r.participant)]) {
+          ps_[p]->set_inputs(n, inputs_for(p));
+          break;
+        }
+  }
+  for (Participant* p : ps_) p->start_step(n);
+  std::vector<StepResult> r;
+  r.reserve(P);
+  for (Participant* p : ps_) r.push_back(p->finish_step());
+  keep_outputs(r);
   return r;
 }
 
-std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough, Participant& s1,
-                                        Participant& s2) {
-  if (scheme == Scheme::kJacobi) return std::make_unique<JacobiSchedule>(s1, s2, feedthrough);
+std::vector<StepResult> GaussSeidelSchedule::advance(long n) {
+  std::vector<StepResult> r;
+  r.reserve(ps_.size());
+  for (std::size_t p = 0; p < ps_.size(); ++p) {
+    ps_[p]->set_inputs(n, inputs_for(p));
+    r.push_back(ps_[p]->step(n));
+    out_[p] = r.back().outputs;
+  }
+  return r;
+}
+
+std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
+                                        std::vector<Participant*> participants, Routing routing) {
+  if (scheme == Scheme::kJacobi)
+    return std::make_unique<JacobiSchedule>(std::move(participants), std::move(routing),
+                                            feedthrough);
   if (feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(
-        "--feedthrough resolved exists only for Jacobi schedules: under Gauss–Seidel, S1's "
-        "force at the end of its step necessarily uses the input it held");
-  return std::make_unique<GaussSeidelSchedule>(s1, s2);
+        "--feedthrough resolved exists only for Jacobi schedules: under Gauss–Seidel, a force "
+        "sent at the end of a step necessarily uses the input held over it");
+  return std::make_unique<GaussSeidelSchedule>(std::move(participants), std::move(routing));
 }
 
 }  // namespace railcosim

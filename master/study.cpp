@@ -18,6 +18,7 @@
 #include "report.hpp"
 #include "run_output.hpp"
 #include "runner.hpp"
+#include "transport.hpp"
 
 namespace railcosim {
 namespace {
@@ -42,15 +43,28 @@ std::string Method::label() const {
   return spec.name() + (feedthrough == Feedthrough::kResolved ? "-resolved" : "");
 }
 
-std::vector<Method> all_methods() {
+namespace {
+
+std::vector<Method> methods_of(const std::vector<std::string>& names) {
   std::vector<Method> m;
-  for (const char* const* n = all_case_names() + 1; *n; ++n) {
-    const CaseSpec c = parse_case(*n);
+  for (const std::string& n : names) {
+    if (n == "monolithic") continue;
+    const CaseSpec c = parse_case(n);
     m.push_back({c, Feedthrough::kLagged});
-    if (c.scheme == Scheme::kJacobi && c.coupling == Coupling::kXT)
+    if (c.scheme == Scheme::kJacobi && c.has_force_feedthrough())
       m.push_back({c, Feedthrough::kResolved});
   }
   return m;
+}
+
+}  // namespace
+
+std::vector<Method> all_methods() {
+  return methods_of(paper_case_names());
+}
+
+std::vector<Method> methods_for(const Scene& scene) {
+  return methods_of(case_names(scene));
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {
@@ -105,6 +119,7 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
       opt.macro_steps.empty() ? default_macro_steps(scene) : opt.macro_steps;
 
   // The plan: runs at the scene's H (the cases), the sweep, the tolerances.
+  const std::vector<Method> methods = opt.methods.empty() ? methods_for(scene) : opt.methods;
   std::vector<StudyRun> runs;
   std::vector<Job> jobs;
   auto add = [&](const std::string& group, const std::string& folder, bool mono, const Method& m,
@@ -122,11 +137,11 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
     runs.push_back(std::move(s));
   };
   add("case", "monolithic", true, {}, scene.macro_step, scene.tolerance);
-  for (const Method& m : opt.methods)
+  for (const Method& m : methods)
     add("case", m.label(), false, m, scene.macro_step, scene.tolerance);
   for (double H : sweep) {
     if (H == scene.macro_step) continue;  // the cases are that column of the sweep
-    for (const Method& m : opt.methods)
+    for (const Method& m : methods)
       add("sweep", "sweep/H_" + short_number(H) + "/" + m.label(), false, m, H, scene.tolerance);
   }
   for (double tol : opt.tolerances)
@@ -158,14 +173,10 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   conv.tolerance = opt.converged_tolerance;
   const RunRecord converged = run_monolithic(scene, conv);
 
-  // Workers: each owns a pair of nodes that serves its runs one after another.
+  // Workers: each owns a node per participant role, serving its runs one
+  // after another.
   const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(jobs.size())));
-  std::vector<std::unique_ptr<LaunchedNode>> nodes;
-  if (opt.transport == "tcp")
-    for (int w = 0; w < workers; ++w) {
-      nodes.push_back(std::make_unique<LaunchedNode>("vehicle_node", std::chrono::seconds(10)));
-      nodes.push_back(std::make_unique<LaunchedNode>("track_node", std::chrono::seconds(10)));
-    }
+  std::vector<NodePool> pools(static_cast<std::size_t>(workers));
   log->info("study of {}: {} runs on {} worker(s), transport {}", scene.source, jobs.size(),
             workers, opt.transport);
 
@@ -173,13 +184,10 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   std::mutex out_mutex;
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   auto work = [&](int w) {
-    ParticipantFactory factory = inproc_factory(scene);
-    if (opt.transport == "tcp") {
-      const Address va = nodes[2 * w]->address(), ta = nodes[2 * w + 1]->address();
-      factory = [&scene, va, ta](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-        return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? va : ta, scene, c);
-      };
-    }
+    const Transport transport = opt.transport == "tcp"
+                                    ? tcp_transport(scene, {}, pools[static_cast<std::size_t>(w)])
+                                    : inproc_transport(scene);
+    const ParticipantFactory& factory = transport.factory;
     for (std::size_t j; (j = next++) < jobs.size();) {
       const Job& job = jobs[j];
       StudyRun& s = runs[job.index];

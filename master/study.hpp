@@ -21,18 +21,20 @@ struct Method {
   std::string label() const;  // case name, "-resolved" appended for the resolved variant
 };
 
-// Every case, and the resolved variant of each Jacobi X-T case (the only
-// ones where the feedthrough changes anything).
+// Every case of the paper, and the resolved variant of each Jacobi X-T case
+// (the only ones where the feedthrough changes anything).
 std::vector<Method> all_methods();
+// The same for every case a scene can run (case_names(scene)).
+std::vector<Method> methods_for(const Scene& scene);
 
 struct StudyOptions {
   std::filesystem::path out = "results";
   int jobs = 1;
-  std::string transport = "tcp";       // for the co-simulation runs
-  std::vector<double> macro_steps;     // the sweep (each must divide t_end)
-  std::vector<double> tolerances;      // of the monolithic reference curve
-  double converged_tolerance = 1e-10;  // the reference all accuracies are measured against
-  std::vector<Method> methods = all_methods();
+  std::string transport = "tcp";           // for the co-simulation runs
+  std::vector<double> macro_steps;         // the sweep (each must divide t_end)
+  std::vector<double> tolerances;          // of the monolithic reference curve
+  double converged_tolerance = 1e-10;      // the reference all accuracies are measured against
+  std::vector<Method> methods;             // empty: methods_for(scene)
   std::string figure_script;               // empty: scripts/figures.py next to the sources
   const std::atomic<int>* stop = nullptr;  // a signal: the remaining runs fail at once
 };

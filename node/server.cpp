@@ -22,8 +22,8 @@ std::string endpoint_text(const tcp::socket& s) {
   return ep.address().to_string() + ":" + std::to_string(ep.port());
 }
 
-std::string component(wire::Role role) {
-  return role == wire::ROLE_VEHICLE ? "vehicle" : "track";
+const std::string& component(const std::string& role) {
+  return role;
 }
 
 }  // namespace
@@ -267,11 +267,17 @@ void NodeServer::stop() {
   });
 }
 
-int node_main(wire::Role role, int argc, char** argv) {
-  const std::string who = component(role);
-  CLI::App app{"Serves the " + role_name(role) +
-               " subsystem of a vehicle/track co-simulation to a master, one session at a time."};
+int node_main(const std::string& default_role, int argc, char** argv) {
+  std::string role = default_role;
+  CLI::App app{"Serves the " + default_role +
+               " participant of a vehicle/track/soil co-simulation to a master, one session at a "
+               "time."};
   std::string listen = "127.0.0.1:0";
+  app.add_option("--role", role,
+                 "The participant this node serves: vehicle, track, rail, soil, or any (whatever "
+                 "the master asks for)")
+      ->check(CLI::IsMember({"vehicle", "track", "rail", "soil", "any"}))
+      ->capture_default_str();
   std::string scene_path;
   std::size_t max_frame = kDefaultMaxFrameBytes;
   std::string level = "info";
@@ -306,6 +312,7 @@ int node_main(wire::Role role, int argc, char** argv) {
     return app.exit(e);
   }
   spdlog::set_level(spdlog::level::from_str(level));
+  const std::string who = default_role;
   try {
     NodeOptions options;
     options.role = role;

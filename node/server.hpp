@@ -52,6 +52,6 @@ class NodeServer {
 
 // The whole program of a node: parses the command line, prints
 // "listening on HOST:PORT" on stdout, serves until SIGINT/SIGTERM.
-int node_main(wire::Role role, int argc, char** argv);
+int node_main(const std::string& default_role, int argc, char** argv);
 
 }  // namespace railcosim

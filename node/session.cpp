@@ -21,7 +21,7 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
   reply.set_id(id);
   auto* r = reply.mutable_hello_reply();
   r->set_protocol_version(kProtocolVersion);
-  r->set_role(options_.role);
+  r->set_participant(participant_);
   r->set_name(options_.name);
   return reply;
 }
@@ -77,10 +77,14 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                             "protocol version " + std::to_string(h.protocol_version()) +
                                 " is not supported; this node speaks version " +
                                 std::to_string(kProtocolVersion));
-      if (h.expected_peer() != options_.role)
-        throw ProtocolError(wire::Error::WRONG_ROLE, "this node serves the " +
-                                                         role_name(options_.role) + ", not the " +
-                                                         role_name(h.expected_peer()));
+      if (options_.role != "any" && h.participant() != options_.role)
+        throw ProtocolError(wire::Error::WRONG_ROLE,
+                            "this node serves the " + options_.role + " participant, not the " +
+                                (h.participant().empty() ? "unnamed" : h.participant()) +
+                                " participant");
+      if (h.participant().empty())
+        throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
+      participant_ = h.participant();
       if (options_.pinned_scene) {
         const std::uint64_t mine = scene_fingerprint(*options_.pinned_scene);
         if (h.scene_fingerprint() != mine)
@@ -100,7 +104,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       return hello_reply(req.id());
     }
     case State::kAwaitAuth: {
-      const std::string expected = auth_answer(*options_.token, options_.role, nonce_);
+      const std::string expected = auth_answer(*options_.token, participant_, nonce_);
       nonce_.clear();  // one answer per challenge
       if (req.body_case() != E::kAuth || !constant_time_equal(req.auth().mac(), expected))
         throw ProtocolError(wire::Error::UNAUTHORIZED,
@@ -114,7 +118,14 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
         throw ProtocolError(wire::Error::OUT_OF_ORDER,
                             "expected configure after hello, got " + what);
       const wire::Configure& c = req.configure();
-      const Scene scene = from_wire(c.scene(), "the master's scene");
+      if (c.participant() != participant_)
+        throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
+                                                         " participant, the hello the " +
+                                                         participant_);
+      if (!c.has_model())
+        throw ProtocolError(wire::Error::BAD_REQUEST,
+                            "configure: this built-in node needs the model section");
+      const Scene scene = from_wire(c.model(), "the master's scene");
       if (scene_fingerprint(scene) != fingerprint_)
         throw ProtocolError(wire::Error::SCENE_MISMATCH,
                             "the configured scene does not match the fingerprint of the hello");
@@ -126,16 +137,42 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                                 std::to_string(scene.elements_per_span) +
                                 " elements per span; at most " + std::to_string(kMaxSleepers) +
                                 " and " + std::to_string(kMaxElementsPerSpan) + ")");
-      if (!(c.macro_step() > 0) || !(c.tolerance() > 0))
+      if (!(c.macro_step() > 0) || !(c.tolerance() > 0) || c.micro_steps() < 0 ||
+          c.micro_steps() > 65536)
         throw ProtocolError(wire::Error::BAD_REQUEST,
-                            "configure: macro_step and tolerance must be positive");
-      SubsystemConfig cfg{from_wire(c.split()), side(),        from_wire(c.coupling()),
-                          c.macro_step(),       c.tolerance(), options_.max_micro_steps};
+                            "configure: macro_step and tolerance must be positive, micro_steps "
+                            "between 0 and 65536");
+      std::vector<InterfaceSpec> interfaces;
+      for (const auto& w : c.interfaces()) interfaces.push_back(from_wire(w));
+      SubsystemConfig cfg;
+      try {
+        cfg.participant = participant_from_interfaces(scene, participant_, interfaces);
+      } catch (const std::invalid_argument& e) {
+        throw ProtocolError(wire::Error::BAD_INTERFACE,
+                            "participant " + participant_ + ": " + e.what());
+      }
+      for (std::size_t k = 0; k < interfaces.size(); ++k)
+        if (c.interfaces(static_cast<int>(k)).x_size() != interface_points(scene, interfaces[k]))
+          throw ProtocolError(wire::Error::BAD_INTERFACE,
+                              "participant " + participant_ + ": interface " +
+                                  c.interfaces(static_cast<int>(k)).cut() + " has " +
+                                  std::to_string(c.interfaces(static_cast<int>(k)).x_size()) +
+                                  " coupling points, the model " +
+                                  std::to_string(interface_points(scene, interfaces[k])));
+      cfg.macro_step = c.macro_step();
+      cfg.tolerance = c.tolerance();
+      cfg.micro_steps = c.micro_steps();
+      cfg.max_micro_steps = c.max_micro_steps() > 0
+                                ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
+                                : options_.max_micro_steps;
       subsystem_ = std::make_unique<Subsystem>(scene, cfg);
       macro_step_ = c.macro_step();
       description_ = subsystem_->name();
       state_ = State::kConfigured;
-      reply.mutable_ack();
+      const Channels ch = subsystem_->channels();
+      auto* w = reply.mutable_configured();
+      for (const auto& h : ch.history) w->add_history(h);
+      for (const auto& r : ch.results) w->add_results(r);
       return reply;
     }
     case State::kConfigured:
@@ -144,8 +181,15 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
 
   Subsystem& sub = *subsystem_;
   switch (req.body_case()) {
+    case E::kStatics: {
+      auto* o = reply.mutable_outputs();
+      *o->mutable_data() = to_wire(sub.statics(from_wire(req.statics().inputs())));
+      o->set_step(0);
+      o->set_t(0.0);
+      return reply;
+    }
     case E::kInitialize: {
-      const StepResult r = sub.initialize();
+      const StepResult r = sub.initialize(from_wire(req.initialize().inputs()));
       step_ = 0;
       *reply.mutable_step_report() = to_wire(r, 0, 0.0);
       return reply;
@@ -181,7 +225,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
     case E::kGetResults: {
       const ParticipantResults r = sub.results();
       auto* w = reply.mutable_results();
-      for (double v : r.rail_deflection) w->add_rail_deflection(v);
+      for (const auto& f : r.fields) w->add_fields()->mutable_values()->Add(f.begin(), f.end());
       w->set_micro_steps(r.micro_steps);
       return reply;
     }

@@ -1,8 +1,8 @@
 // One co-simulation session on a node, independent of any socket: the
 // protocol's state machine around one Subsystem.
 //
-//   hello [-> challenge/auth] -> configure -> initialize -> { set_inputs, get_outputs, step,
-//                                          save, restore, get_results }* -> shutdown
+//   hello [-> challenge/auth] -> configure -> statics* -> initialize ->
+//       { set_inputs, get_outputs, step, save, restore, get_results }* -> shutdown
 //
 // Every request gets exactly one reply. A request that breaks the protocol
 // gets an error reply and ends the session (the node then serves the next).
@@ -25,9 +25,9 @@ inline constexpr int kMaxSleepers = 20000;
 inline constexpr int kMaxElementsPerSpan = 16;
 
 struct NodeOptions {
-  wire::Role role = wire::ROLE_VEHICLE;  // which side this node serves
-  std::optional<Scene> pinned_scene;     // when set, only this scene is accepted
-  std::optional<std::string> token;      // when set, a master must prove it knows it
+  std::string role = "vehicle";       // the participant this node serves, or "any"
+  std::optional<Scene> pinned_scene;  // when set, only this scene is accepted
+  std::optional<std::string> token;   // when set, a master must prove it knows it
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step
   std::string name = "node";
 };
@@ -48,11 +48,11 @@ class NodeSession {
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
   wire::Envelope hello_reply(std::uint64_t id) const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
-  Side side() const { return options_.role == wire::ROLE_VEHICLE ? Side::kS1 : Side::kS2; }
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
   std::uint64_t fingerprint_ = 0;
+  std::string participant_;  // named by the hello
   std::string nonce_;
   std::unique_ptr<Subsystem> subsystem_;
   double macro_step_ = 0;

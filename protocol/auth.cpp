@@ -101,9 +101,11 @@ std::string random_nonce() {
   return n;
 }
 
-std::string auth_answer(std::string_view secret, int role, std::string_view nonce) {
-  std::string msg = "railcosim-auth-v1";
-  msg += static_cast<char>(role);
+std::string auth_answer(std::string_view secret, std::string_view participant,
+                        std::string_view nonce) {
+  std::string msg = "railcosim-auth-v2";
+  msg += participant;
+  msg += '\0';
   msg += nonce;
   const Digest d = hmac_sha256(secret, msg);
   return std::string(d.begin(), d.end());

@@ -1,6 +1,6 @@
 // Who may drive a node: a challenge-response over a shared secret. The node
 // sends a fresh random nonce; the master answers with
-// HMAC-SHA256(secret, "railcosim-auth-v1" | role | nonce). The secret never
+// HMAC-SHA256(secret, "railcosim-auth-v2" | participant | 0 | nonce). The secret never
 // crosses the wire, and a recorded answer is worthless for the next nonce.
 #pragma once
 
@@ -21,8 +21,9 @@ Digest hmac_sha256(std::string_view key, std::string_view message);
 // 32 bytes from the system's random source.
 std::string random_nonce();
 
-// The answer to a challenge, for the node role being reached (wire::Role value).
-std::string auth_answer(std::string_view secret, int role, std::string_view nonce);
+// The answer to a challenge, for the participant the hello named.
+std::string auth_answer(std::string_view secret, std::string_view participant,
+                        std::string_view nonce);
 // Compares in time independent of where the inputs differ.
 bool constant_time_equal(std::string_view a, std::string_view b);
 

@@ -2,6 +2,7 @@
 
 #include <google/protobuf/io/coded_stream.h>
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
+#include <algorithm>
 
 namespace railcosim {
 
@@ -84,33 +85,40 @@ std::string body_name(const wire::Envelope& e) {
       return "challenge";
     case wire::Envelope::kAuth:
       return "auth";
+    case wire::Envelope::kConfigured:
+      return "configured";
+    case wire::Envelope::kStatics:
+      return "statics";
     case wire::Envelope::BODY_NOT_SET:
       break;
   }
   return "empty";
 }
 
-wire::Envelope hello_envelope(wire::Role expected_peer, std::uint64_t scene_fingerprint,
+wire::Envelope hello_envelope(const std::string& participant, std::uint64_t scene_fingerprint,
                               std::uint32_t protocol_version) {
   wire::Envelope e;
   auto* h = e.mutable_hello();
   h->set_protocol_version(protocol_version);
-  h->set_role(wire::ROLE_MASTER);
-  h->set_expected_peer(expected_peer);
+  h->set_role("master");
+  h->set_participant(participant);
   h->set_scene_fingerprint(scene_fingerprint);
   h->set_name("master");
   return e;
 }
 
-wire::Envelope configure_envelope(const Scene& scene, Split split, Coupling coupling,
-                                  double macro_step, double tolerance) {
+wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& config,
+                                  bool with_model) {
   wire::Envelope e;
   auto* c = e.mutable_configure();
-  *c->mutable_scene() = to_wire(scene);
-  c->set_split(to_wire(split));
-  c->set_coupling(to_wire(coupling));
-  c->set_macro_step(macro_step);
-  c->set_tolerance(tolerance);
+  c->set_participant(config.participant.role);
+  for (const InterfaceSpec& i : config.participant.interfaces)
+    *c->add_interfaces() = to_wire(scene, i);
+  c->set_macro_step(config.macro_step);
+  c->set_end_time(scene.end_time);
+  c->set_tolerance(config.tolerance);
+  c->set_micro_steps(config.micro_steps);
+  if (with_model) *c->mutable_model() = to_wire(scene);
   return e;
 }
 
@@ -153,6 +161,12 @@ wire::SceneParams to_wire(const Scene& s) {
   p.set_divergence_factor(s.divergence_factor);
   p.set_amplification_threshold(s.amplification_threshold);
   p.set_rail_start(s.rail_start);
+  p.set_soil_mass(s.soil_mass);
+  p.set_soil_stiffness(s.soil_stiffness);
+  p.set_soil_damping(s.soil_damping);
+  p.set_soil_coupling_stiffness(s.soil_coupling_stiffness);
+  p.set_soil_coupling_damping(s.soil_coupling_damping);
+  p.set_micro_steps(s.micro_steps);
   return p;
 }
 
@@ -184,6 +198,12 @@ Scene from_wire(const wire::SceneParams& p, const std::string& source) {
   s.divergence_factor = p.divergence_factor();
   s.amplification_threshold = p.amplification_threshold();
   s.rail_start = p.rail_start();
+  s.soil_mass = p.soil_mass();
+  s.soil_stiffness = p.soil_stiffness();
+  s.soil_damping = p.soil_damping();
+  s.soil_coupling_stiffness = p.soil_coupling_stiffness();
+  s.soil_coupling_damping = p.soil_coupling_damping();
+  s.micro_steps = p.micro_steps();
   try {
     s.validate();
   } catch (const SceneError& e) {
@@ -202,41 +222,104 @@ std::uint64_t scene_fingerprint(const Scene& scene) {
     out.SetSerializationDeterministic(true);
     p.SerializeToCodedStream(&out);
   }
-  std::uint64_t h = 1469598103934665603ull;
+  return fnv1a64(bytes);
+}
+
+std::uint64_t fnv1a64(std::string_view bytes) {
+  std::uint64_t h = 14695981039346656037ull;  // the FNV-1a 64-bit offset basis
   for (unsigned char c : bytes) {
     h ^= c;
-    h *= 1099511628211ull;
+    h *= 1099511628211ull;  // the FNV 64-bit prime
   }
   return h;
 }
 
+namespace {
+
+wire::Quantity to_wire(Quantity q) {
+  switch (q) {
+    case Quantity::kDisplacement:
+      return wire::DISPLACEMENT;
+    case Quantity::kVelocity:
+      return wire::VELOCITY;
+    case Quantity::kForce:
+      return wire::FORCE;
+  }
+  return wire::QUANTITY_UNSPECIFIED;
+}
+
+std::string quantity_list(const std::vector<Quantity>& qs) {
+  std::string s;
+  for (Quantity q : qs) {
+    if (!s.empty()) s += ", ";
+    s += to_string(q);
+  }
+  return s.empty() ? "nothing" : s;
+}
+
+}  // namespace
+
+wire::Interface to_wire(const Scene& scene, const InterfaceSpec& i) {
+  wire::Interface w;
+  w.set_cut(i.kind().name);
+  w.set_peer(i.peer_role);
+  w.set_upper(i.side == CutSide::kUpper);
+  for (double x : coupling_points(scene, i.cut)) w.add_x(x);
+  w.set_speed(i.kind().moving ? scene.speed : 0.0);
+  for (Quantity q : i.receives()) w.add_receives(to_wire(q));
+  for (Quantity q : i.sends()) w.add_sends(to_wire(q));
+  const SpringDamper e = layer_element(scene, i.cut);
+  w.set_stiffness(e.k);
+  w.set_damping(e.c);
+  if (i.kind().moving) w.set_hertz_constant(scene.hertz_constant);
+  return w;
+}
+
+InterfaceSpec from_wire(const wire::Interface& w) {
+  InterfaceSpec i;
+  i.cut = find_cut(w.cut());
+  if (i.cut < 0)
+    throw ProtocolError(wire::Error::BAD_INTERFACE,
+                        "interface '" + w.cut() + "': not a cut of this model (known: wr, rs, ss)");
+  i.side = w.upper() ? CutSide::kUpper : CutSide::kLower;
+  i.peer_role = w.peer();
+  const bool gets_force =
+      std::find(w.receives().begin(), w.receives().end(), wire::FORCE) != w.receives().end();
+  const bool sends_force =
+      std::find(w.sends().begin(), w.sends().end(), wire::FORCE) != w.sends().end();
+  i.coupling = gets_force || sends_force ? Coupling::kXT : Coupling::kXX;
+  auto same = [](const auto& got, const std::vector<Quantity>& want) {
+    if (got.size() != static_cast<int>(want.size())) return false;
+    for (int k = 0; k < got.size(); ++k)
+      if (got[k] != to_wire(want[static_cast<std::size_t>(k)])) return false;
+    return true;
+  };
+  if (!same(w.receives(), i.receives()) || !same(w.sends(), i.sends()))
+    throw ProtocolError(wire::Error::BAD_INTERFACE,
+                        "interface '" + w.cut() + "' (" + (w.upper() ? "upper" : "lower") +
+                            " side): the built-in model receives " + quantity_list(i.receives()) +
+                            " and sends " + quantity_list(i.sends()) + " there");
+  return i;
+}
+
 wire::CouplingData to_wire(const CouplingData& d) {
   wire::CouplingData w;
-  const std::size_t n = std::max({d.displacement.size(), d.velocity.size(), d.force.size()});
-  for (std::size_t i = 0; i < n; ++i) {
-    auto* p = w.add_points();
-    if (i < d.displacement.size()) p->set_displacement(d.displacement[i]);
-    if (i < d.velocity.size()) p->set_velocity(d.velocity[i]);
-    if (i < d.force.size()) p->set_force(d.force[i]);
+  for (const InterfaceData& i : d) {
+    auto* o = w.add_interfaces();
+    o->mutable_displacement()->Add(i.displacement.begin(), i.displacement.end());
+    o->mutable_velocity()->Add(i.velocity.begin(), i.velocity.end());
+    o->mutable_force()->Add(i.force.begin(), i.force.end());
   }
   return w;
 }
 
 CouplingData from_wire(const wire::CouplingData& w) {
   CouplingData d;
-  if (w.points_size() == 0) return d;
-  const auto& first = w.points(0);
-  const bool has_d = first.has_displacement(), has_v = first.has_velocity(),
-             has_f = first.has_force();
-  for (const auto& p : w.points()) {
-    if (p.has_displacement() != has_d || p.has_velocity() != has_v || p.has_force() != has_f)
-      throw ProtocolError(wire::Error::BAD_REQUEST,
-                          "coupling points carry different quantities; every point of a "
-                          "message must carry the same");
-    if (has_d) d.displacement.push_back(p.displacement());
-    if (has_v) d.velocity.push_back(p.velocity());
-    if (has_f) d.force.push_back(p.force());
-  }
+  d.reserve(static_cast<std::size_t>(w.interfaces_size()));
+  for (const auto& i : w.interfaces())
+    d.push_back({{i.displacement().begin(), i.displacement().end()},
+                 {i.velocity().begin(), i.velocity().end()},
+                 {i.force().begin(), i.force().end()}});
   return d;
 }
 
@@ -247,12 +330,7 @@ wire::StepReport to_wire(const StepResult& r, long step, double t) {
   *w.mutable_outputs() = to_wire(r.outputs);
   w.set_max_abs_displacement(r.max_abs_displacement);
   w.set_finite(r.finite);
-  if (r.row) {
-    auto* row = w.mutable_row();
-    row->set_t(r.row->t);
-    row->set_wheel(r.row->wheel);
-    row->set_contact_force(r.row->contact_force);
-  }
+  w.mutable_history()->Add(r.history.begin(), r.history.end());
   return w;
 }
 
@@ -261,42 +339,8 @@ StepResult from_wire(const wire::StepReport& w) {
   r.outputs = from_wire(w.outputs());
   r.max_abs_displacement = w.max_abs_displacement();
   r.finite = w.finite();
-  if (w.has_row()) r.row = HistoryRow{w.row().t(), w.row().wheel(), w.row().contact_force()};
+  r.history.assign(w.history().begin(), w.history().end());
   return r;
-}
-
-wire::Split to_wire(Split s) {
-  return s == Split::kWheelRail ? wire::SPLIT_WHEEL_RAIL : wire::SPLIT_RAIL_SLEEPERS;
-}
-wire::Coupling to_wire(Coupling c) {
-  return c == Coupling::kXX ? wire::COUPLING_XX : wire::COUPLING_XT;
-}
-Split from_wire(wire::Split s) {
-  if (s == wire::SPLIT_WHEEL_RAIL) return Split::kWheelRail;
-  if (s == wire::SPLIT_RAIL_SLEEPERS) return Split::kRailSleepers;
-  throw ProtocolError(wire::Error::BAD_REQUEST, "configure: split is missing or unknown");
-}
-Coupling from_wire(wire::Coupling c) {
-  if (c == wire::COUPLING_XX) return Coupling::kXX;
-  if (c == wire::COUPLING_XT) return Coupling::kXT;
-  throw ProtocolError(wire::Error::BAD_REQUEST, "configure: coupling is missing or unknown");
-}
-
-wire::Role role_of(Side side) {
-  return side == Side::kS1 ? wire::ROLE_VEHICLE : wire::ROLE_TRACK;
-}
-
-std::string role_name(wire::Role role) {
-  switch (role) {
-    case wire::ROLE_MASTER:
-      return "master";
-    case wire::ROLE_VEHICLE:
-      return "vehicle (S1)";
-    case wire::ROLE_TRACK:
-      return "track (S2)";
-    default:
-      return "unspecified";
-  }
 }
 
 }  // namespace railcosim

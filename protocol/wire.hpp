@@ -15,10 +15,11 @@
 #include "participant.hpp"
 #include "railcosim.pb.h"
 #include "scene.hpp"
+#include "subsystem.hpp"
 
 namespace railcosim {
 
-inline constexpr std::uint32_t kProtocolVersion = 1;
+inline constexpr std::uint32_t kProtocolVersion = 2;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // The largest frame accepted by default: a saved state of a 2,500-sleeper
 // track (3 x 12,500 doubles) fits 25 times over.
@@ -65,10 +66,12 @@ class FrameDecoder {
 std::string body_name(const wire::Envelope& envelope);
 
 // The opening messages of a session, as a master sends them.
-wire::Envelope hello_envelope(wire::Role expected_peer, std::uint64_t scene_fingerprint,
+wire::Envelope hello_envelope(const std::string& participant, std::uint64_t scene_fingerprint,
                               std::uint32_t protocol_version = kProtocolVersion);
-wire::Envelope configure_envelope(const Scene& scene, Split split, Coupling coupling,
-                                  double macro_step, double tolerance);
+// Configure for one participant: its interfaces (with the peers' roles) and,
+// for built-in nodes, the model section.
+wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& config,
+                                  bool with_model = true);
 
 wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const std::string& message,
                               long step = -1, double t = 0.0);
@@ -77,21 +80,20 @@ wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const st
 // for a message that does not describe a valid value.
 wire::SceneParams to_wire(const Scene& scene);
 Scene from_wire(const wire::SceneParams& params, const std::string& source);
-// A hash of every scene parameter, the same on every machine.
+// 64-bit FNV-1a over the deterministic serialisation of every scene
+// parameter: the same on every machine.
 std::uint64_t scene_fingerprint(const Scene& scene);
+std::uint64_t fnv1a64(std::string_view bytes);
+
+wire::Interface to_wire(const Scene& scene, const InterfaceSpec& spec);
+// Rebuilds an interface of the built-in model; throws
+// ProtocolError(BAD_INTERFACE) for one it cannot honour.
+InterfaceSpec from_wire(const wire::Interface& w);
 
 wire::CouplingData to_wire(const CouplingData& data);
 CouplingData from_wire(const wire::CouplingData& data);
 
 wire::StepReport to_wire(const StepResult& result, long step, double t);
 StepResult from_wire(const wire::StepReport& report);
-
-wire::Split to_wire(Split split);
-wire::Coupling to_wire(Coupling coupling);
-Split from_wire(wire::Split split);
-Coupling from_wire(wire::Coupling coupling);
-
-wire::Role role_of(Side side);
-std::string role_name(wire::Role role);
 
 }  // namespace railcosim

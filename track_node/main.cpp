@@ -1,6 +1,7 @@
-// track_node: serves S2, the side of the cut that holds the sleepers.
+// track_node: serves the track participant (the one that holds the sleepers), or any other with
+// --role.
 #include "server.hpp"
 
 int main(int argc, char** argv) {
-  return railcosim::node_main(railcosim::wire::ROLE_TRACK, argc, argv);
+  return railcosim::node_main("track", argc, argv);
 }

@@ -1,6 +1,7 @@
-// vehicle_node: serves S1, the side of the cut that holds the wheel.
+// vehicle_node: serves the vehicle participant (the one that holds the wheel), or any other with
+// --role.
 #include "server.hpp"
 
 int main(int argc, char** argv) {
-  return railcosim::node_main(railcosim::wire::ROLE_VEHICLE, argc, argv);
+  return railcosim::node_main("vehicle", argc, argv);
 }

@@ -1,0 +1,183 @@
+#include "model.hpp"
+
+#include <stdexcept>
+
+#include "scene.hpp"
+
+namespace railcosim {
+
+std::string to_string(Component c) {
+  switch (c) {
+    case Component::kVehicle:
+      return "vehicle";
+    case Component::kRail:
+      return "rail";
+    case Component::kSleepers:
+      return "sleepers";
+    case Component::kSoil:
+      return "soil";
+  }
+  return "?";
+}
+
+std::string to_string(Quantity q) {
+  switch (q) {
+    case Quantity::kDisplacement:
+      return "displacement";
+    case Quantity::kVelocity:
+      return "velocity";
+    case Quantity::kForce:
+      return "force";
+  }
+  return "?";
+}
+
+Parts Parts::all(const Scene& scene) {
+  Parts p;
+  p.add(Component::kVehicle);
+  p.add(Component::kRail);
+  p.add(Component::kSleepers);
+  if (scene.has_soil()) p.add(Component::kSoil);
+  return p;
+}
+
+const std::vector<CutKind>& cut_kinds() {
+  static const std::vector<CutKind> kinds = {
+      {"wr", "wheel/rail", Component::kVehicle, Component::kRail, true, false},
+      {"rs", "rail/sleepers", Component::kRail, Component::kSleepers, false, true},
+      {"ss", "sleepers/soil", Component::kSleepers, Component::kSoil, false, true},
+  };
+  return kinds;
+}
+
+int find_cut(const std::string& name) {
+  const auto& k = cut_kinds();
+  for (std::size_t i = 0; i < k.size(); ++i)
+    if (name == k[i].name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<Quantity> InterfaceSpec::receives() const {
+  if (receives_force()) return {Quantity::kForce};
+  if (kind().damped) return {Quantity::kDisplacement, Quantity::kVelocity};
+  return {Quantity::kDisplacement};
+}
+
+std::vector<Quantity> InterfaceSpec::sends() const {
+  if (sends_force()) return {Quantity::kForce};
+  if (kind().damped) return {Quantity::kDisplacement, Quantity::kVelocity};
+  return {Quantity::kDisplacement};
+}
+
+std::string role_of(const Parts& parts) {
+  if (parts.has(Component::kVehicle)) return "vehicle";
+  if (parts.has(Component::kSleepers)) return "track";
+  if (parts.has(Component::kRail)) return "rail";
+  return "soil";
+}
+
+namespace {
+
+Component last_component(const Scene& scene) {
+  return scene.has_soil() ? Component::kSoil : Component::kSleepers;
+}
+
+Parts range(Component first, Component last) {
+  Parts p;
+  for (int c = static_cast<int>(first); c <= static_cast<int>(last); ++c)
+    p.add(static_cast<Component>(c));
+  return p;
+}
+
+}  // namespace
+
+std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec) {
+  if (spec.monolithic) throw std::invalid_argument("the monolithic case has no participants");
+  if (spec.cuts.empty()) throw std::invalid_argument("a co-simulation case needs a cut");
+  bool cuts_soil = false;
+  for (std::size_t k = 0; k < spec.cuts.size(); ++k) {
+    const CutKind& kind = cut_kinds()[static_cast<std::size_t>(spec.cuts[k].cut)];
+    if (k > 0 && spec.cuts[k].cut <= spec.cuts[k - 1].cut)
+      throw std::invalid_argument("case " + spec.name() +
+                                  ": the cuts must be distinct and in load order (wr, rs, ss)");
+    if (kind.lower == Component::kSoil) {
+      cuts_soil = true;
+      if (!scene.has_soil())
+        throw std::invalid_argument(
+            "case " + spec.name() + ": the " + kind.title + " cut (" + kind.name +
+            ") needs a soil, and the scene's soil is fixed (set [soil] model = \"lumped\" or "
+            "\"external\")");
+    }
+  }
+  if (scene.soil_model == "external" && !cuts_soil)
+    throw std::invalid_argument("case " + spec.name() +
+                                ": the scene's soil is external, so the case must cut through "
+                                "the ballast (ss) to reach it");
+
+  std::vector<ParticipantSpec> out;
+  Component first = Component::kVehicle;
+  const int n = static_cast<int>(spec.cuts.size());
+  for (int k = 0; k <= n; ++k) {
+    ParticipantSpec p;
+    const Component last =
+        k < n ? cut_kinds()[static_cast<std::size_t>(spec.cuts[static_cast<std::size_t>(k)].cut)]
+                    .upper
+              : last_component(scene);
+    p.parts = range(first, last);
+    p.role = role_of(p.parts);
+    if (k > 0) {
+      const CutChoice& c = spec.cuts[static_cast<std::size_t>(k - 1)];
+      p.interfaces.push_back({c.cut, CutSide::kLower, c.coupling, k - 1, ""});
+    }
+    if (k < n) {
+      const CutChoice& c = spec.cuts[static_cast<std::size_t>(k)];
+      p.interfaces.push_back({c.cut, CutSide::kUpper, c.coupling, k + 1, ""});
+      first = cut_kinds()[static_cast<std::size_t>(c.cut)].lower;
+    }
+    out.push_back(std::move(p));
+  }
+  for (ParticipantSpec& p : out)
+    for (InterfaceSpec& i : p.interfaces) i.peer_role = out[static_cast<std::size_t>(i.peer)].role;
+  return out;
+}
+
+ParticipantSpec participant_from_interfaces(const Scene& scene, const std::string& role,
+                                            const std::vector<InterfaceSpec>& interfaces) {
+  Component first = Component::kVehicle, last = last_component(scene);
+  int above = 0, below = 0;
+  for (const InterfaceSpec& i : interfaces) {
+    if (i.cut < 0 || i.cut >= static_cast<int>(cut_kinds().size()))
+      throw std::invalid_argument("unknown cut index " + std::to_string(i.cut));
+    if (i.side == CutSide::kLower) {
+      first = i.kind().lower;
+      ++above;
+    } else {
+      last = i.kind().upper;
+      ++below;
+    }
+    if (i.kind().lower == Component::kSoil && !scene.has_soil())
+      throw std::invalid_argument(std::string("interface ") + i.kind().name +
+                                  " needs a soil, and the scene's soil is fixed");
+  }
+  if (above > 1 || below > 1 || static_cast<int>(first) > static_cast<int>(last))
+    throw std::invalid_argument("the interfaces do not bound one contiguous set of components");
+  ParticipantSpec p;
+  p.parts = range(first, last);
+  p.role = role_of(p.parts);
+  if (!role.empty() && role != p.role)
+    throw std::invalid_argument("the interfaces describe the " + p.role + " participant, not the " +
+                                role + " participant");
+  p.interfaces = interfaces;
+  return p;
+}
+
+std::vector<double> coupling_points(const Scene& scene, int cut) {
+  const CutKind& kind = cut_kinds()[static_cast<std::size_t>(cut)];
+  if (kind.moving) return {scene.initial_position};
+  std::vector<double> x(static_cast<std::size_t>(scene.sleeper_count));
+  for (std::size_t i = 0; i < x.size(); ++i)
+    x[i] = (static_cast<double>(i) + 0.5) * scene.sleeper_spacing;
+  return x;
+}
+
+}  // namespace railcosim
