@@ -2,7 +2,9 @@
 // (convergence as H shrinks) and the paper's findings.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
+#include <sstream>
 
 #include "evaluation.hpp"
 #include "runner.hpp"
@@ -48,22 +50,66 @@ TEST_P(ConsistencyTest, ConvergesToTheMonolithicSolutionAtFirstOrder) {
   EXPECT_NEAR(test::fitted_order(hs, errs), 1.0, 0.25);
 }
 
+std::string param_name(const ::testing::TestParamInfo<const char*>& info) {
+  std::string n = info.param;
+  for (char& ch : n)
+    if (ch == '-' || ch == '+' || ch == '@') ch = '_';
+  return n;
+}
+
 INSTANTIATE_TEST_SUITE_P(OnePerSplit, ConsistencyTest,
                          ::testing::Values("wr-xx-jacobi", "rs-xx-jacobi", "rs-xt-jacobi"),
-                         [](const auto& param_info) {
-                           std::string n = param_info.param;
-                           for (char& ch : n)
-                             if (ch == '-') ch = '_';
-                           return n;
-                         });
+                         param_name);
+
+// The same on the soil scene: every one-cut case at the sleepers/soil cut,
+// and the three-participant cases vehicle | track | soil.
+class SoilConsistencyTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SoilConsistencyTest, ConvergesToTheMonolithicSolutionAtLeastAtFirstOrder) {
+  Scene scene = load_scene(test::source_path("scenes/soil.toml"));
+  scene.end_time = 0.02;
+  scene.validate();
+  const double tol = 1e-10;
+  // "@resolved": the lagged Jacobi X-T wheel/rail coupling is the amplified
+  // case of the paper; its consistent variant reads the force resolved.
+  std::string name = GetParam();
+  const std::string suffix = "@resolved";
+  const bool resolved =
+      name.size() > suffix.size() && name.substr(name.size() - suffix.size()) == suffix;
+  if (resolved) name.resize(name.size() - suffix.size());
+  std::vector<double> hs, errs;
+  // X-T at the wheel/rail cut is amplified from H = 2e-4 s on this scene, so
+  // the sweep starts at 1e-4 s.
+  for (double H : {1e-4, 5e-5, 2.5e-5, 1.25e-5}) {
+    const RunRecord r =
+        judged_run(scene, name, H, tol, resolved ? Feedthrough::kResolved : Feedthrough::kLagged);
+    ASSERT_EQ(r.status, "ok") << "H = " << H << ": " << r.message;
+    hs.push_back(H);
+    errs.push_back(*r.rel_l2_error);
+  }
+  // A zero-order hold is first order; some Gauss–Seidel cases converge
+  // faster (their leading error terms cancel), none slower.
+  for (std::size_t i = 1; i < errs.size(); ++i) EXPECT_LT(errs[i], errs[i - 1] / 1.5) << hs[i];
+  EXPECT_GT(test::fitted_order(hs, errs), 0.8)
+      << "errors " << errs[0] << " " << errs[1] << " " << errs[2] << " " << errs[3];
+}
+
+INSTANTIATE_TEST_SUITE_P(SleepersSoilAndThreeParticipants, SoilConsistencyTest,
+                         ::testing::Values("ss-xx-jacobi", "ss-xt-jacobi", "ss-xx-gauss-seidel",
+                                           "ss-xt-gauss-seidel", "wr-xx+ss-xx-jacobi",
+                                           "wr-xx+ss-xt-jacobi", "wr-xt+ss-xx-jacobi@resolved",
+                                           "wr-xt+ss-xt-jacobi@resolved",
+                                           "wr-xx+ss-xx-gauss-seidel", "wr-xx+ss-xt-gauss-seidel",
+                                           "wr-xt+ss-xx-gauss-seidel", "wr-xt+ss-xt-gauss-seidel"),
+                         param_name);
 
 // The paper's findings on the paper scene at H = 1e-4 s.
 class PaperFindings : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     const Scene scene = test::paper_scene();
-    for (const char* const* n = all_case_names() + 1; *n; ++n)
-      runs_[*n] = judged_run(scene, *n, scene.macro_step, scene.tolerance);
+    for (const std::string& n : paper_case_names())
+      if (n != "monolithic") runs_[n] = judged_run(scene, n, scene.macro_step, scene.tolerance);
     runs_["wr-xt-jacobi-resolved"] = judged_run(scene, "wr-xt-jacobi", scene.macro_step,
                                                 scene.tolerance, Feedthrough::kResolved);
   }
@@ -113,6 +159,70 @@ TEST_F(PaperFindings, EveryRunCoversTheWholeTime) {
     EXPECT_EQ(r.macro_steps, 2500) << name;
     EXPECT_EQ(r.history.size(), 2501u) << name;
     EXPECT_EQ(r.deflection.size(), 101u) << name;
+  }
+}
+
+// Reads a CSV of numbers (header skipped) into rows.
+std::vector<std::vector<double>> read_csv(const std::string& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << "cannot read " << path;
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The largest difference per column over `rows` rows, relative to the
+// column's largest magnitude in the fixture.
+double worst_relative_difference(const std::vector<std::vector<double>>& got,
+                                 const std::vector<std::vector<double>>& want, std::size_t rows) {
+  double worst = 0;
+  for (std::size_t c = 0; c < want.front().size(); ++c) {
+    double scale = 0, diff = 0;
+    for (std::size_t k = 0; k < rows; ++k) {
+      scale = std::max(scale, std::abs(want[k][c]));
+      diff = std::max(diff, std::abs(got[k][c] - want[k][c]));
+    }
+    worst = std::max(worst, scale > 0 ? diff / scale : diff);
+  }
+  return worst;
+}
+
+// The engine was rebuilt around components, cuts and statics found through
+// the interfaces: every paper case still gives the files it gave before, to
+// 1e-9 relative (tests/fixtures/paper: the outputs of the two-subsystem
+// engine). The lagged Jacobi X-T wheel/rail case is unstable: it amplifies
+// any difference, even one of a few ulps in the static state, by orders of
+// magnitude, so it is compared over its first 0.05 s, before the growth
+// has reached 1e-9 of the signal.
+TEST_F(PaperFindings, EveryCaseReproducesTheFilesOfTheTwoSubsystemEngine) {
+  constexpr double kRegressionTolerance = 1e-9;
+  for (const auto& [name, r] : runs_) {
+    const bool resolved = name == "wr-xt-jacobi-resolved";
+    const std::string dir = test::source_path("tests/fixtures/paper/") +
+                            (resolved ? "resolved/wr-xt-jacobi" : name) + "/";
+    const auto deflection = read_csv(dir + "deflection.csv");
+    const auto history = read_csv(dir + "history.csv");
+    std::vector<std::vector<double>> got_d, got_h;
+    for (std::size_t k = 0; k < r.deflection.size(); ++k)
+      got_d.push_back({r.x[k], r.deflection[k]});
+    for (const HistoryRow& h : r.history) got_h.push_back({h.t, h.wheel, h.contact_force});
+    ASSERT_EQ(got_d.size(), deflection.size()) << name;
+    ASSERT_EQ(got_h.size(), history.size()) << name;
+    if (name == "wr-xt-jacobi") {
+      EXPECT_LT(worst_relative_difference(got_h, history, 501), kRegressionTolerance) << name;
+      continue;
+    }
+    EXPECT_LT(worst_relative_difference(got_d, deflection, deflection.size()), kRegressionTolerance)
+        << name;
+    EXPECT_LT(worst_relative_difference(got_h, history, history.size()), kRegressionTolerance)
+        << name;
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "statics.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -62,15 +63,17 @@ TEST(Newmark, ConservesTheEnergyOfAnUndampedLinearSystem) {
   // The paper's track (rail, pads, sleepers, ballast) with its damping removed,
   // released from the statically loaded shape.
   const Scene scene = test::paper_scene();
-  Structure s = assemble(scene, {false, true, true}, CutPads::kNone);
+  // The track side of a wheel/rail X-T cut: loaded by the static wheel load.
+  ParticipantSpec track;
+  track.role = "track";
+  track.parts.add(Component::kRail);
+  track.parts.add(Component::kSleepers);
+  track.interfaces.push_back({find_cut("wr"), CutSide::kLower, Coupling::kXT, 0, "vehicle"});
+  Structure s = assemble(scene, track);
   s.C = SymmetricBandMatrix(s.layout.size, s.C.half_bandwidth());
-  const StaticState st = solve_statics(scene);
-  Vector u0 = Vector::Zero(s.layout.size);
-  for (std::size_t k = 0; k < s.layout.rail_w.size(); ++k) {
-    u0[s.layout.rail_w[k]] = st.rail_w[k];
-    u0[s.layout.rail_theta[k]] = st.rail_theta[k];
-  }
-  for (std::size_t i = 0; i < s.layout.sleeper.size(); ++i) u0[s.layout.sleeper[i]] = st.sleeper[i];
+  s.contact->prescribed_force = scene.load();
+  const Vector u0 = solve_static(s, Vector::Zero(s.layout.size));
+  s.contact.reset();  // released: no load from then on
 
   auto energy = [&](const NewmarkState& x) {
     Vector Mv, Ku;

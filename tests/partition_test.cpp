@@ -1,0 +1,201 @@
+// The model as components and cuts: case names, partitions, and the coupled
+// static state found through the interfaces alone.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "coupled_statics.hpp"
+#include "model.hpp"
+#include "runner.hpp"
+#include "schedule.hpp"
+#include "statics.hpp"
+#include "subsystem.hpp"
+#include "test_support.hpp"
+
+namespace railcosim {
+namespace {
+
+Scene soil_scene() {
+  return load_scene(test::source_path("scenes/soil.toml"));
+}
+
+TEST(CaseNames, RoundTripAndMultiCutForm) {
+  for (const char* name : {"monolithic", "rs-xx-jacobi", "wr-xt-gauss-seidel", "ss-xt-jacobi",
+                           "wr-xx+ss-xt-gauss-seidel", "wr-xt+rs-xx+ss-xx-jacobi"})
+    EXPECT_EQ(parse_case(name).name(), name);
+  const CaseSpec c = parse_case("wr-xx+ss-xt-gauss-seidel");
+  EXPECT_EQ(c.split_name(), "wr+ss");
+  EXPECT_EQ(c.coupling_name(), "xx+xt");
+  EXPECT_TRUE(c.has_force_feedthrough());
+  EXPECT_FALSE(parse_case("rs-xx-jacobi").has_force_feedthrough());
+}
+
+TEST(CaseNames, BadNamesSayWhatACaseIs) {
+  for (const char* bad : {"wr-xx", "xx-wr-jacobi", "ss-xx+wr-xt-jacobi", "wr-xx+wr-xt-jacobi",
+                          "wr-xy-jacobi", "wr-xx-seidel", ""}) {
+    try {
+      parse_case(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("CUT-TYPE"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(CaseNames, EachSceneListsTheCasesItCanRun) {
+  const auto paper = case_names(test::paper_scene());
+  EXPECT_EQ(paper, paper_case_names());
+  const auto soil = case_names(soil_scene());
+  EXPECT_EQ(soil.size(), 1u + 12u + 8u);  // monolithic, wr/rs/ss x 4, wr+ss x 8
+  EXPECT_NE(std::find(soil.begin(), soil.end(), "wr-xt+ss-xx-gauss-seidel"), soil.end());
+  Scene external = soil_scene();
+  external.soil_model = "external";
+  const auto ext = case_names(external);
+  EXPECT_EQ(ext.size(), 4u);  // only ss cases: no built-in soil, no monolithic reference
+  EXPECT_THROW(check_case_for_scene(parse_case("monolithic"), external), std::invalid_argument);
+  EXPECT_THROW(check_case_for_scene(parse_case("rs-xx-jacobi"), external), std::invalid_argument);
+  EXPECT_THROW(check_case_for_scene(parse_case("ss-xx-jacobi"), test::paper_scene()),
+               std::invalid_argument);
+}
+
+TEST(Partition, CutsMakeContiguousParticipantsWithTheirInterfaces) {
+  const auto ps = partition(soil_scene(), parse_case("wr-xx+ss-xt-jacobi"));
+  ASSERT_EQ(ps.size(), 3u);
+  EXPECT_EQ(ps[0].role, "vehicle");
+  EXPECT_EQ(ps[1].role, "track");
+  EXPECT_EQ(ps[2].role, "soil");
+  EXPECT_TRUE(ps[1].parts.has(Component::kRail) && ps[1].parts.has(Component::kSleepers));
+  EXPECT_FALSE(ps[1].parts.has(Component::kVehicle) || ps[1].parts.has(Component::kSoil));
+  ASSERT_EQ(ps[1].interfaces.size(), 2u);
+  EXPECT_EQ(ps[1].interfaces[0].side, CutSide::kLower);  // below the contact
+  EXPECT_EQ(ps[1].interfaces[1].side, CutSide::kUpper);  // above the ballast
+  EXPECT_TRUE(ps[1].interfaces[1].sends_force());        // ss X-T: the track computes it
+  EXPECT_TRUE(ps[2].interfaces[0].receives_force());
+  // A node rebuilds the same participant from its interfaces alone.
+  const ParticipantSpec again =
+      participant_from_interfaces(soil_scene(), "track", ps[1].interfaces);
+  EXPECT_EQ(again.parts.held, ps[1].parts.held);
+  EXPECT_THROW(participant_from_interfaces(soil_scene(), "soil", ps[1].interfaces),
+               std::invalid_argument);
+}
+
+// Each participant holds its own DOFs and no other's: no code path of one
+// solves another's model.
+TEST(Partition, ParticipantsHoldOnlyTheirOwnDofs) {
+  const Scene s = soil_scene();
+  const auto ps = partition(s, parse_case("wr-xx+ss-xx-jacobi"));
+  const int n = s.sleeper_count, nodes = s.rail_nodes();
+  EXPECT_EQ(assemble(s, ps[0]).layout.size, 1);
+  EXPECT_EQ(assemble(s, ps[1]).layout.size, 2 * nodes + n);
+  EXPECT_EQ(assemble(s, ps[2]).layout.size, n);
+}
+
+struct Coupled {
+  std::vector<std::unique_ptr<Subsystem>> subs;
+  std::vector<ParticipantSpec> specs;
+  StaticsOutcome outcome;
+};
+
+Coupled coupled_statics(const Scene& scene, const std::string& name) {
+  Coupled c;
+  c.specs = partition(scene, parse_case(name));
+  std::vector<Participant*> ps;
+  std::vector<CouplingData> zero;
+  for (const auto& p : c.specs) {
+    SubsystemConfig cfg;
+    cfg.participant = p;
+    cfg.macro_step = scene.macro_step;
+    cfg.tolerance = scene.tolerance;
+    c.subs.push_back(std::make_unique<Subsystem>(scene, cfg));
+    ps.push_back(c.subs.back().get());
+    zero.push_back(zero_inputs(scene, p));
+  }
+  c.outcome = find_static_state(ps, make_routing(c.specs), zero);
+  for (std::size_t p = 0; p < ps.size(); ++p) ps[p]->initialize(c.outcome.inputs[p]);
+  return c;
+}
+
+// The displacement of every body, whoever holds it: wheel, rail w, sleepers, soil.
+std::vector<double> gather(const Coupled& c, const Scene& s) {
+  std::vector<double> wheel, rail, sleepers, soil;
+  for (const auto& sub : c.subs) {
+    const DofLayout& l = sub->structure().layout;
+    const Vector& u = sub->integrator_state().u;
+    if (l.wheel >= 0) wheel.push_back(u[l.wheel]);
+    for (int d : l.rail_w) rail.push_back(u[d]);
+    for (int d : l.sleeper) sleepers.push_back(u[d]);
+    for (int d : l.soil) soil.push_back(u[d]);
+  }
+  EXPECT_EQ(rail.size(), static_cast<std::size_t>(s.rail_nodes()));
+  std::vector<double> all = wheel;
+  for (const auto* v : {&rail, &sleepers, &soil}) all.insert(all.end(), v->begin(), v->end());
+  return all;
+}
+
+std::vector<double> global(const Scene& s) {
+  ParticipantSpec whole;
+  whole.parts = Parts::all(s);
+  const Structure st = assemble(s, whole);
+  const Vector u = solve_static(st, Vector::Zero(st.layout.size));
+  std::vector<double> all{u[st.layout.wheel]};
+  for (const auto* dofs : {&st.layout.rail_w, &st.layout.sleeper, &st.layout.soil})
+    for (int d : *dofs) all.push_back(u[d]);
+  return all;
+}
+
+class InterfaceStaticsTest : public ::testing::TestWithParam<std::pair<const char*, const char*>> {
+};
+
+// The static state found through the interfaces equals the global static
+// solution of the whole model to 1e-9 (relative to the largest displacement).
+TEST_P(InterfaceStaticsTest, EqualsTheGlobalStaticSolution) {
+  const auto [scene_file, case_name] = GetParam();
+  const Scene s = load_scene(test::source_path(std::string("scenes/") + scene_file));
+  const Coupled c = coupled_statics(s, case_name);
+  const std::vector<double> got = gather(c, s), want = global(s);
+  ASSERT_EQ(got.size(), want.size());
+  double scale = 0, diff = 0;
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    scale = std::max(scale, std::abs(want[k]));
+    diff = std::max(diff, std::abs(got[k] - want[k]));
+  }
+  EXPECT_LT(diff, 1e-9 * scale) << case_name << " after " << c.outcome.iterations
+                                << " interface iterations";
+  EXPECT_LT(c.outcome.iterations, 200);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryCut, InterfaceStaticsTest,
+    ::testing::Values(
+        std::pair{"paper.toml", "wr-xx-jacobi"}, std::pair{"paper.toml", "wr-xt-jacobi"},
+        std::pair{"paper.toml", "rs-xx-jacobi"}, std::pair{"paper.toml", "rs-xt-jacobi"},
+        std::pair{"soil.toml", "wr-xx-jacobi"}, std::pair{"soil.toml", "rs-xt-jacobi"},
+        std::pair{"soil.toml", "ss-xx-jacobi"}, std::pair{"soil.toml", "ss-xt-jacobi"},
+        std::pair{"soil.toml", "wr-xx+ss-xx-jacobi"}, std::pair{"soil.toml", "wr-xt+ss-xt-jacobi"},
+        std::pair{"soil.toml", "wr-xt+rs-xx+ss-xt-jacobi"}),
+    [](const auto& param_info) {
+      std::string n = std::string(param_info.param.first).substr(0, 4) + "_" + param_info.param.second;
+      for (char& ch : n)
+        if (ch == '-' || ch == '+') ch = '_';
+      return n;
+    });
+
+TEST(FixedMicroSteps, EveryMacroStepTakesExactlyThatMany) {
+  Scene s = soil_scene();
+  s.end_time = 0.005;
+  s.micro_steps = 10;
+  RunOptions o;
+  o.macro_step = s.macro_step;
+  o.tolerance = s.tolerance;
+  const RunRecord r =
+      run_cosim(s, parse_case("ss-xx-gauss-seidel"), o, inproc_factory(s), "inproc");
+  ASSERT_EQ(r.status, "ok") << r.message;
+  EXPECT_EQ(r.micro_steps.at("s1"), 10 * r.macro_steps);
+  EXPECT_EQ(r.micro_steps.at("s2"), 10 * r.macro_steps);
+  const RunRecord m = run_monolithic(s, o);
+  EXPECT_EQ(m.micro_steps.at("monolithic"), 10 * m.macro_steps);
+}
+
+}  // namespace
+}  // namespace railcosim
