@@ -168,6 +168,7 @@ int do_run(const RunArgs& a) {
   RunWriter writer(a.out, spec.name());
   o.stop = &g_stop;
   o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+  o.on_channels = [&writer](const std::vector<std::string>& extra) { writer.channels(extra); };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
   o.on_progress = [progress](long done, long total) { (*progress)(done, total); };
   RunRecord record;

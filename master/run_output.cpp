@@ -100,10 +100,32 @@ std::string deflection_csv(const RunRecord& r) {
 }
 
 std::string history_line(const HistoryRow& h) {
-  return num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force) + "\n";
+  std::string line = num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force);
+  for (double v : h.extra) {
+    line += ',';
+    line += num(v);
+  }
+  line += '\n';
+  return line;
 }
 
-constexpr const char* kHistoryHeader = "t_s,wheel_m,contact_force_N\n";
+// The fixed columns, then the further channels the participants declared.
+std::string history_header(const std::vector<std::string>& extra) {
+  std::string h = "t_s,wheel_m,contact_force_N";
+  for (const auto& name : extra) {
+    h += ',';
+    h += name;
+  }
+  h += '\n';
+  return h;
+}
+
+std::string soil_csv(const RunRecord& r) {
+  std::string text = "x_m,s_m\n";
+  for (std::size_t i = 0; i < r.soil.size() && i < r.soil_x.size(); ++i)
+    text += num(r.soil_x[i]) + "," + num(r.soil[i]) + "\n";
+  return text;
+}
 
 std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {
   const std::filesystem::path dir = out_dir / name;
@@ -118,9 +140,10 @@ std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const s
 std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& r) {
   const std::filesystem::path dir = make_run_dir(out_dir, r.case_name);
   write_atomically(dir / "deflection.csv", deflection_csv(r));
-  std::string text = kHistoryHeader;
+  std::string text = history_header(r.extra_channels);
   for (const auto& h : r.history) text += history_line(h);
   write_atomically(dir / "history.csv", text);
+  if (!r.soil.empty()) write_atomically(dir / "soil.csv", soil_csv(r));
   write_atomically(dir / "summary.json", summary_json(r));
   return dir;
 }
@@ -131,10 +154,20 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
   std::error_code ec;
   std::filesystem::remove(dir_ / "summary.json", ec);
   std::filesystem::remove(dir_ / "deflection.csv", ec);
+  std::filesystem::remove(dir_ / "soil.csv", ec);
   history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
   if (!history_) throw std::runtime_error("cannot write " + (dir_ / "history.csv").string());
-  std::fputs(kHistoryHeader, history_);
+}
+
+void RunWriter::channels(const std::vector<std::string>& extra) {
+  extra_ = extra;
+}
+
+void RunWriter::header() {
+  if (header_written_ || !history_) return;
+  std::fputs(history_header(extra_).c_str(), history_);
   std::fflush(history_);
+  header_written_ = true;
 }
 
 RunWriter::~RunWriter() {
@@ -142,16 +175,19 @@ RunWriter::~RunWriter() {
 }
 
 void RunWriter::row(const HistoryRow& row) {
+  header();
   std::fputs(history_line(row).c_str(), history_);
   std::fflush(history_);
 }
 
 void RunWriter::finish(const RunRecord& r) {
   if (history_) {
+    header();
     std::fclose(history_);
     history_ = nullptr;
   }
   if (!r.deflection.empty()) write_atomically(dir_ / "deflection.csv", deflection_csv(r));
+  if (!r.soil.empty()) write_atomically(dir_ / "soil.csv", soil_csv(r));
   write_atomically(dir_ / "summary.json", summary_json(r));
 }
 

@@ -5,6 +5,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "run_record.hpp"
 
@@ -24,6 +26,8 @@ class RunWriter {
   ~RunWriter();
   RunWriter(const RunWriter&) = delete;
   RunWriter& operator=(const RunWriter&) = delete;
+  // The names of the history channels beyond the wheel's (before the first row).
+  void channels(const std::vector<std::string>& extra);
   void row(const HistoryRow& row);
   // Writes deflection.csv (if the run has one) and summary.json.
   void finish(const RunRecord& run);
@@ -32,6 +36,9 @@ class RunWriter {
  private:
   std::filesystem::path dir_;
   std::FILE* history_ = nullptr;
+  std::vector<std::string> extra_;
+  bool header_written_ = false;
+  void header();
 };
 
 std::string summary_json(const RunRecord& run);

@@ -22,6 +22,12 @@ std::vector<double> rail_positions(const Scene& scene) {
   return x;
 }
 
+std::vector<double> sleeper_positions(const Scene& scene) {
+  std::vector<double> x;
+  for (double p : coupling_points(scene, find_cut("rs"))) x.push_back(scene.rail_start + p);
+  return x;
+}
+
 long steps_to(const Scene& scene, double H) {
   return std::lround(scene.end_time / H);
 }
@@ -69,6 +75,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.macro_step = o.macro_step;
   r.t_end = scene.end_time;
   if (scene.builtin_soil()) r.extra_channels = {"soil_peak_m"};
+  if (o.on_channels) o.on_channels(r.extra_channels);
   const long N = steps_to(scene, o.macro_step);
   r.history.reserve(static_cast<std::size_t>(N + 1));
   auto record_row = [&](const HistoryRow& row) {
@@ -87,6 +94,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.x = rail_positions(scene);
   r.deflection = model.rail_deflection();
   r.soil = model.soil_deflection();
+  if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
   r.max_abs_error_m = 0.0;
   r.rel_l2_error = 0.0;
   r.history_error = 0.0;
@@ -181,6 +189,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
 
   HistoryAssembler history(ps);
   r.extra_channels = history.extra_names();
+  if (o.on_channels) o.on_channels(r.extra_channels);
   auto schedule = make_schedule(spec.scheme, o.feedthrough, ps, routing);
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
@@ -252,6 +261,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
   }
   r.x = rail_positions(scene);
+  if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
 }

@@ -21,6 +21,8 @@ struct RunOptions {
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;
+  // Called once, before the first row, with the names of HistoryRow::extra.
+  std::function<void(const std::vector<std::string>&)> on_channels;
   // When set and non-zero (a signal number), the run stops at the next macro
   // step with an error saying so.
   const std::atomic<int>* stop = nullptr;

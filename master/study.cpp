@@ -198,6 +198,9 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
         RunOptions o = job.options;
         o.stop = opt.stop;
         o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+        o.on_channels = [&writer](const std::vector<std::string>& extra) {
+          writer.channels(extra);
+        };
         if (job.monolithic) {
           r = run_monolithic(scene, o);
         } else {
