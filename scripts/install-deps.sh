@@ -15,7 +15,7 @@ packages=(
   libbenchmark-dev
   libtomlplusplus-dev
   libcli11-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib python3-protobuf python3-numpy
   iproute2
 )
 
