@@ -148,6 +148,8 @@ void Scene::validate() const {
     non_negative("soil.coupling_stiffness", soil_coupling_stiffness);
     non_negative("soil.coupling_damping", soil_coupling_damping);
   }
+  if (restart != "consistent" && restart != "carry")
+    fail("simulation.restart", "must be \"consistent\" or \"carry\"");
   if (micro_steps < 0 || micro_steps > 65536)
     fail("simulation.micro_steps", "must lie between 1 and 65536, or be left out (adaptive)");
   positive("simulation.gravity", gravity);
@@ -246,6 +248,10 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.end_time = r.number("simulation", "end_time");
   sc.macro_step = r.number("simulation", "macro_step");
   sc.tolerance = r.number("simulation", "tolerance");
+  sc.restart = r.string_or("simulation", "restart", "consistent");
+  if (sc.restart != "consistent" && sc.restart != "carry")
+    r.fail("simulation.restart",
+           "must be \"consistent\" or \"carry\" (got \"" + sc.restart + "\")");
   if (r.find("simulation", "micro_steps", false)) {
     const long m = r.integer("simulation", "micro_steps");
     if (m < 1 || m > 65536)

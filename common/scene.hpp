@@ -69,6 +69,9 @@ struct Scene {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // bound on the local error of one micro step, m (and rad)
   int micro_steps = 0;    // > 0: that many equal micro steps per macro step (no adaptivity)
+  // At communication points: "consistent" (restart from the acceleration the
+  // new inputs imply) or "carry" (keep the integrator's acceleration).
+  std::string restart = "consistent";
 
   // [cosim]: how a co-simulation run is judged.
   double divergence_factor = 50.0;       // |displacement| > factor * static max => diverged

@@ -115,8 +115,9 @@ void Subsystem::set_inputs(long n, const CouplingData& inputs) {
   require(n == next_step_, "set_inputs(" + std::to_string(n) + ")",
           "the subsystem is at macro step " + std::to_string(next_step_));
   apply_inputs(inputs);
-  // The held inputs changed the forces: restart from a consistent acceleration.
-  newmark_->update_acceleration(time(n));
+  // The held inputs changed the forces: restart from a consistent
+  // acceleration, unless the run carries the integrator's across.
+  if (!config_.carry_acceleration) newmark_->update_acceleration(time(n));
   phase_ = Phase::kInputsSet;
 }
 

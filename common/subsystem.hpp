@@ -23,9 +23,12 @@ namespace railcosim {
 
 struct SubsystemConfig {
   ParticipantSpec participant;
-  double macro_step = 0;                                 // H, s
-  double tolerance = 0;                                  // local error bound of the micro steps, m
-  int micro_steps = 0;                                   // > 0: fixed micro steps per macro step
+  double macro_step = 0;  // H, s
+  double tolerance = 0;   // local error bound of the micro steps, m
+  int micro_steps = 0;    // > 0: fixed micro steps per macro step
+  // At a communication point: false (consistent) restarts from the
+  // acceleration the new inputs imply; true (carry) keeps the integrator's.
+  bool carry_acceleration = false;
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step, see Newmark
 };
 

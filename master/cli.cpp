@@ -37,6 +37,7 @@ struct RunArgs {
   double macro_step = 0;  // 0: from the scene
   double tolerance = 0;   // 0: from the scene
   std::string feedthrough = "lagged";
+  std::string restart;  // empty: from the scene
   std::string transport = "tcp";
   std::string vehicle, track;
   std::vector<std::string> nodes;  // ROLE=HOST:PORT
@@ -140,6 +141,7 @@ class Progress {
 int do_run(const RunArgs& a) {
   auto log = logger("master");
   Scene scene = load_scene(a.scene_path);
+  if (!a.restart.empty()) scene.restart = a.restart;
   const CaseSpec spec = parse_case(a.case_name);
   RunOptions o;
   o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
@@ -276,6 +278,11 @@ int master_main(int argc, char** argv) {
                   "or resolved (after it received the fresh displacement)")
       ->check(CLI::IsMember({"lagged", "resolved"}))
       ->capture_default_str();
+  run->add_option("--restart", ra.restart,
+                  "At communication points: consistent (restart from the acceleration the new "
+                  "inputs imply) or carry (keep the integrator's); default: simulation.restart "
+                  "of the scene, else consistent")
+      ->check(CLI::IsMember({"consistent", "carry"}));
   run->add_option("--transport", ra.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
       ->check(CLI::IsMember({"inproc", "tcp"}))

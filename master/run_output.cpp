@@ -85,7 +85,8 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
-  s << "  \"transport\": " << json_string(r.transport) << "\n";
+  s << "  \"transport\": " << json_string(r.transport) << ",\n";
+  s << "  \"restart\": " << json_string(r.restart) << "\n";
   s << "}\n";
   return s.str();
 }

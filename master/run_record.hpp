@@ -25,6 +25,7 @@ struct RunRecord {
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
   std::optional<double> history_error;
   std::string transport = "inproc";
+  std::string restart = "consistent";  // at communication points: consistent or carry
 
   std::vector<double> x;           // rail node positions
   std::vector<double> deflection;  // rail node displacements at the last time

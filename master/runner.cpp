@@ -167,6 +167,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   auto log = logger("master");
   RunRecord r = failed_record(scene, spec, o, transport, "");
   r.status = "ok";
+  r.restart = scene.restart;
 
   const std::vector<ParticipantSpec> specs = partition(scene, spec);
   std::vector<std::unique_ptr<Participant>> owned;
@@ -177,6 +178,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     c.macro_step = o.macro_step;
     c.tolerance = o.tolerance;
     c.micro_steps = scene.micro_steps;
+    c.carry_acceleration = scene.restart == "carry";
     owned.push_back(make(c));
     ps.push_back(owned.back().get());
   }

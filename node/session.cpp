@@ -162,6 +162,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       cfg.macro_step = c.macro_step();
       cfg.tolerance = c.tolerance();
       cfg.micro_steps = c.micro_steps();
+      cfg.carry_acceleration = c.carry_acceleration();
       cfg.max_micro_steps = c.max_micro_steps() > 0
                                 ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
                                 : options_.max_micro_steps;

@@ -118,6 +118,7 @@ wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& con
   c->set_end_time(scene.end_time);
   c->set_tolerance(config.tolerance);
   c->set_micro_steps(config.micro_steps);
+  c->set_carry_acceleration(config.carry_acceleration);
   if (with_model) *c->mutable_model() = to_wire(scene);
   return e;
 }
@@ -167,6 +168,7 @@ wire::SceneParams to_wire(const Scene& s) {
   p.set_soil_coupling_stiffness(s.soil_coupling_stiffness);
   p.set_soil_coupling_damping(s.soil_coupling_damping);
   p.set_micro_steps(s.micro_steps);
+  p.set_restart(s.restart);
   return p;
 }
 
@@ -204,6 +206,7 @@ Scene from_wire(const wire::SceneParams& p, const std::string& source) {
   s.soil_coupling_stiffness = p.soil_coupling_stiffness();
   s.soil_coupling_damping = p.soil_coupling_damping();
   s.micro_steps = p.micro_steps();
+  s.restart = p.restart().empty() ? "consistent" : p.restart();
   try {
     s.validate();
   } catch (const SceneError& e) {
