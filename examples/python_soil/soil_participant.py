@@ -166,6 +166,7 @@ class Session:
         self.nonce = b""
         self.participant = ""
         self.model = None
+        self.carry = False
         self.step = 0
 
     def reply(self, req):
@@ -229,6 +230,7 @@ class Session:
             raise SessionError(8, "configure: this participant integrates with fixed micro steps; "
                                "set simulation.micro_steps in the scene")
         self.model = LumpedSoil(self.soil_params, i, c.macro_step, c.micro_steps)
+        self.carry = c.carry_acceleration
 
     def dispatch(self, req, kind, out):
         pb, m = self.pb, self.model
@@ -249,7 +251,8 @@ class Session:
                 raise SessionError(7, "inputs for step %d, the participant is at step %d" %
                                    (msg.step, self.step))
             m.hold(msg.inputs.interfaces[0])
-            m.restart()
+            if not self.carry:  # else keep the integrator's acceleration
+                m.restart()
             if kind == "set_inputs":
                 out.ack.SetInParent()
                 return out, False
