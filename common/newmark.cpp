@@ -54,10 +54,10 @@ const Vector& Newmark::unit_response(int level, int dof) {
 double Newmark::contact_force(const Vector& u, double t) const {
   if (!sys_.contact) return 0.0;
   const ContactTerm& c = *sys_.contact;
-  if (c.law == ContactTerm::Law::kPrescribed) return c.prescribed_force;
+  if (c.law == ContactTerm::Law::kPrescribed) return c.prescribed_at(t);
   ContactTerm::Entry g[5];
   const int ng = c.entries(t, sys_.layout, g);
-  double delta = c.delta0();
+  double delta = c.delta0_at(t);
   for (int i = 0; i < ng; ++i) delta += g[i].weight * u[g[i].dof];
   return hertz_force(c.hertz_constant, delta);
 }
@@ -69,7 +69,8 @@ void Newmark::set_state(const Vector& u, const Vector& v, double t) {
 }
 
 void Newmark::update_acceleration(double t) {
-  Vector r = sys_.load;
+  Vector r;
+  sys_.load_at(t, r);
   sys_.K.multiply_add(-1.0, state_.u, r);
   sys_.C.multiply_add(-1.0, state_.v, r);
   state_.contact_force = contact_force(state_.u, t);
@@ -89,7 +90,7 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
   pred_u_ = s.u + h * s.v + (h * h * (0.5 - kBeta)) * s.a;
   pred_v_ = s.v + (h * (1.0 - kGamma)) * s.a;
   // K_eff u+ = load + M c0 pred_u + C (c1 pred_u - pred_v) - F g.
-  rhs_ = sys_.load;
+  sys_.load_at(t_end, rhs_);
   damp_arg_ = c1 * pred_u_ - pred_v_;
   SymmetricBandMatrix::multiply_add2(c0, sys_.M, pred_u_, 1.0, sys_.C, damp_arg_, rhs_);
 
@@ -100,7 +101,7 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
     ContactTerm::Entry g[5];
     const int ng = c.entries(t_end, sys_.layout, g);
     if (c.law == ContactTerm::Law::kPrescribed) {
-      force = c.prescribed_force;
+      force = c.prescribed_at(t_end);
       for (int i = 0; i < ng; ++i) rhs_[g[i].dof] -= force * g[i].weight;
       keff.solve_in_place(rhs_);
     } else {
@@ -108,7 +109,7 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
       // y = K_eff^-1 g, from the cached unit responses of the <= 5 DOFs of g.
       y_.setZero(sys_.layout.size);
       for (int i = 0; i < ng; ++i) y_ += g[i].weight * unit_response(level, g[i].dof);
-      double d0 = c.delta0(), flex = 0.0;
+      double d0 = c.delta0_at(t_end), flex = 0.0;
       for (int i = 0; i < ng; ++i) {
         d0 += g[i].weight * rhs_[g[i].dof];
         flex += g[i].weight * y_[g[i].dof];

@@ -84,6 +84,7 @@ class BadInputError : public std::invalid_argument {
 //                                      returns the outputs at t = 0
 //   then for each macro step n = 0, 1, 2, ... in turn:
 //     set_inputs(n, data)              at least once: the inputs held over [nH, (n+1)H]
+//                                      (or set_inputs(n, start, end): inputs that ramp)
 //     outputs()                        any number of times: outputs now, with the held inputs
 //     start_step(n), finish_step()     advance to (n+1)H; nothing else in between
 //   results(), save(), restore()       any time after initialize() (not inside a step)
@@ -98,6 +99,14 @@ class Participant {
   virtual CouplingData statics(const CouplingData& inputs) = 0;
   virtual StepResult initialize(const CouplingData& inputs) = 0;
   virtual void set_inputs(long n, const CouplingData& inputs) = 0;
+  // Interpolated inputs: they ramp linearly from `start` at nH to `end` at
+  // (n+1)H instead of being held at one value (same call order).
+  virtual void set_inputs(long n, const CouplingData& start, const CouplingData& end) {
+    (void)start;
+    (void)end;
+    throw CallOrderError(name() + ": set_inputs(" + std::to_string(n) +
+                         ") rejected: this participant takes held inputs only");
+  }
   virtual CouplingData outputs() = 0;
   virtual void start_step(long n) = 0;
   virtual StepResult finish_step() = 0;

@@ -46,9 +46,9 @@ void Subsystem::require(bool ok, const std::string& call, const std::string& why
 
 CouplingData Subsystem::statics(const CouplingData& inputs) {
   require(phase_ == Phase::kCreated, "statics()", "the statics come before initialize()");
-  apply_inputs(inputs);
+  apply_inputs(inputs, nullptr, 0.0);
   static_u_ = solve_static(sys_, static_u_, 0.0);
-  return compute_outputs(static_u_, Vector::Zero(sys_.layout.size), 0.0);
+  return compute_outputs(static_u_, Vector::Zero(sys_.layout.size), 0.0, held_);
 }
 
 StepResult Subsystem::initialize(const CouplingData& inputs) {
@@ -83,51 +83,93 @@ void Subsystem::check_inputs(const CouplingData& in) const {
   }
 }
 
-void Subsystem::apply_inputs(const CouplingData& in) {
-  check_inputs(in);
-  held_ = in;
-  sys_.load = base_load_;
+Subsystem::Loads Subsystem::loads_of(const CouplingData& in) const {
+  Loads r;
+  r.load = base_load_;
   const auto& ifs = config_.participant.interfaces;
   for (std::size_t j = 0; j < ifs.size(); ++j) {
     const InterfaceSpec& i = ifs[j];
     if (i.kind().moving) {
-      ContactTerm& c = *sys_.contact;
       if (i.side == CutSide::kUpper)
-        c.held_rail = in[j].displacement[0];
+        r.rail = in[j].displacement[0];
       else if (i.receives_force())
-        c.prescribed_force = in[j].force[0];
+        r.force = in[j].force[0];
       else
-        c.held_wheel = in[j].displacement[0];
+        r.wheel = in[j].displacement[0];
       continue;
     }
     const SpringDamper e = elements_[j];
     for (std::size_t p = 0; p < dofs_[j].size(); ++p)
-      sys_.load[dofs_[j][p]] += i.receives_force()
-                                    ? in[j].force[p]
-                                    : e.k * in[j].displacement[p] + e.c * in[j].velocity[p];
+      r.load[dofs_[j][p]] += i.receives_force()
+                                 ? in[j].force[p]
+                                 : e.k * in[j].displacement[p] + e.c * in[j].velocity[p];
   }
+  return r;
 }
 
-void Subsystem::set_inputs(long n, const CouplingData& inputs) {
+void Subsystem::apply_inputs(const CouplingData& in, const CouplingData* end, double t0) {
+  check_inputs(in);
+  if (end) check_inputs(*end);
+  Loads start = loads_of(in);
+  sys_.load = std::move(start.load);
+  sys_.load_time = t0;
+  sys_.load_rate.resize(0);
+  double wheel_rate = 0, rail_rate = 0, force_rate = 0;
+  if (end) {
+    const Loads last = loads_of(*end);
+    const double H = config_.macro_step;
+    sys_.load_rate = (last.load - sys_.load) / H;
+    wheel_rate = (last.wheel - start.wheel) / H;
+    rail_rate = (last.rail - start.rail) / H;
+    force_rate = (last.force - start.force) / H;
+  }
+  if (sys_.contact) {
+    ContactTerm& c = *sys_.contact;
+    c.held_wheel = start.wheel;
+    c.held_rail = start.rail;
+    c.prescribed_force = start.force;
+    c.held_wheel_rate = wheel_rate;
+    c.held_rail_rate = rail_rate;
+    c.prescribed_force_rate = force_rate;
+    c.t0 = t0;
+  }
+  held_ = in;
+  held_end_ = end ? *end : in;
+  ramp_ = end != nullptr;
+}
+
+void Subsystem::accept_inputs(long n, const CouplingData& start, const CouplingData* end) {
   require(phase_ == Phase::kAwaitingInputs || phase_ == Phase::kInputsSet,
           "set_inputs(" + std::to_string(n) + ")",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
   require(n == next_step_, "set_inputs(" + std::to_string(n) + ")",
           "the subsystem is at macro step " + std::to_string(next_step_));
-  apply_inputs(inputs);
+  apply_inputs(start, end, time(n));
   // The held inputs changed the forces: restart from a consistent
   // acceleration, unless the run carries the integrator's across.
   if (!config_.carry_acceleration) newmark_->update_acceleration(time(n));
   phase_ = Phase::kInputsSet;
 }
 
+void Subsystem::set_inputs(long n, const CouplingData& inputs) {
+  accept_inputs(n, inputs, nullptr);
+}
+
+void Subsystem::set_inputs(long n, const CouplingData& start, const CouplingData& end) {
+  accept_inputs(n, start, &end);
+}
+
 CouplingData Subsystem::outputs() {
   require(phase_ == Phase::kAwaitingInputs || phase_ == Phase::kInputsSet, "outputs()",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
-  return compute_outputs(newmark_->state().u, newmark_->state().v, time(next_step_));
+  // Inputs set for the coming step: those at its start; else those the last
+  // step ended with.
+  return compute_outputs(newmark_->state().u, newmark_->state().v, time(next_step_),
+                         phase_ == Phase::kInputsSet ? held_ : held_end_);
 }
 
-CouplingData Subsystem::compute_outputs(const Vector& u, const Vector& v, double t) const {
+CouplingData Subsystem::compute_outputs(const Vector& u, const Vector& v, double t,
+                                        const CouplingData& held) const {
   const DofLayout& l = sys_.layout;
   const auto& ifs = config_.participant.interfaces;
   CouplingData out(ifs.size());
@@ -151,8 +193,8 @@ CouplingData Subsystem::compute_outputs(const Vector& u, const Vector& v, double
     for (std::size_t p = 0; p < dofs_[j].size(); ++p) {
       const int dof = dofs_[j][p];
       if (i.sends_force()) {
-        o.force.push_back(e.k * (u[dof] - held_[j].displacement[p]) +
-                          e.c * (v[dof] - held_[j].velocity[p]));
+        o.force.push_back(e.k * (u[dof] - held[j].displacement[p]) +
+                          e.c * (v[dof] - held[j].velocity[p]));
       } else {
         o.displacement.push_back(u[dof]);
         o.velocity.push_back(v[dof]);
@@ -202,7 +244,8 @@ StepResult Subsystem::report() const {
   const double t = time(next_step_);
   if (l.wheel >= 0) r.history = {s.u[l.wheel], newmark_->contact_force(s.u, t)};
   if (!l.soil.empty()) r.history.push_back(soil);
-  r.outputs = compute_outputs(s.u, s.v, t);
+  // After a step (or at the start): the inputs reached at its end.
+  r.outputs = compute_outputs(s.u, s.v, t, held_end_);
   return r;
 }
 
@@ -276,11 +319,13 @@ ParticipantState Subsystem::save() {
   put(o, s.u);
   put(o, s.v);
   put(o, s.a);
-  for (const InterfaceData& h : held_) {
-    put(o, h.displacement);
-    put(o, h.velocity);
-    put(o, h.force);
-  }
+  o.push_back(ramp_ ? 1.0 : 0.0);
+  for (const CouplingData* held : {&held_, &held_end_})
+    for (const InterfaceData& h : *held) {
+      put(o, h.displacement);
+      put(o, h.velocity);
+      put(o, h.force);
+    }
   return st;
 }
 
@@ -296,15 +341,19 @@ void Subsystem::restore(const ParticipantState& state) {
   const double force = c.next();
   const auto n = static_cast<std::size_t>(sys_.layout.size);
   const std::vector<double> u = c.vec(n), v = c.vec(n), a = c.vec(n);
-  CouplingData held(points_.size());
-  for (std::size_t j = 0; j < points_.size(); ++j) {
-    const auto N = static_cast<std::size_t>(points_[j]);
-    held[j] = {c.vec(N), c.vec(N), c.vec(N)};
-  }
+  const bool ramp = c.next() != 0.0;
+  CouplingData held(points_.size()), held_end(points_.size());
+  for (CouplingData* h : {&held, &held_end})
+    for (std::size_t j = 0; j < points_.size(); ++j) {
+      const auto N = static_cast<std::size_t>(points_[j]);
+      (*h)[j] = {c.vec(N), c.vec(N), c.vec(N)};
+    }
   if (!c.done() || u.size() != n || v.size() != n || a.size() != n || step < 0 || level < 0 ||
       level > Newmark::kMaxLevel)
     throw BadInputError(name() + ": restore() rejected: the state does not fit this subsystem");
-  apply_inputs(held);
+  // The inputs of the step being set up, or of the step last taken.
+  const long ramp_step = inputs_set ? step : std::max(0L, step - 1);
+  apply_inputs(held, ramp ? &held_end : nullptr, time(ramp_step));
   NewmarkState& s = newmark_->state();
   s.u = Eigen::Map<const Vector>(u.data(), static_cast<Eigen::Index>(n));
   s.v = Eigen::Map<const Vector>(v.data(), static_cast<Eigen::Index>(n));

@@ -51,6 +51,7 @@ class Subsystem final : public Participant {
   CouplingData statics(const CouplingData& inputs) override;
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
+  void set_inputs(long n, const CouplingData& start, const CouplingData& end) override;
   CouplingData outputs() override;
   void start_step(long n) override;
   StepResult finish_step() override;
@@ -66,11 +67,19 @@ class Subsystem final : public Participant {
   enum class Phase { kCreated, kAwaitingInputs, kInputsSet, kStepping };
 
   void require(bool ok, const std::string& call, const std::string& why) const;
-  void apply_inputs(const CouplingData& in);
+  // Holds `in` from t0 on, ramping to `end` at t0 + H when given.
+  void apply_inputs(const CouplingData& in, const CouplingData* end, double t0);
+  struct Loads {
+    Vector load;
+    double wheel = 0, rail = 0, force = 0;  // the contact's held values
+  };
+  Loads loads_of(const CouplingData& in) const;
+  void accept_inputs(long n, const CouplingData& start, const CouplingData* end);
   void check_inputs(const CouplingData& in) const;
   double time(long n) const { return static_cast<double>(n) * config_.macro_step; }
   StepResult report() const;
-  CouplingData compute_outputs(const Vector& u, const Vector& v, double t) const;
+  CouplingData compute_outputs(const Vector& u, const Vector& v, double t,
+                               const CouplingData& held) const;
 
   Scene scene_;
   SubsystemConfig config_;
@@ -82,8 +91,10 @@ class Subsystem final : public Participant {
   Vector static_u_;  // the last static solution, the next one's starting guess
   std::unique_ptr<Newmark> newmark_;
   Phase phase_ = Phase::kCreated;
-  long next_step_ = 0;  // the macro step the subsystem is at the start of
-  CouplingData held_;
+  long next_step_ = 0;     // the macro step the subsystem is at the start of
+  CouplingData held_;      // the inputs at the start of the macro step
+  CouplingData held_end_;  // and at its end (the same for a zero-order hold)
+  bool ramp_ = false;
 };
 
 }  // namespace railcosim

@@ -74,6 +74,10 @@ struct ContactTerm {
   double held_wheel = 0;
   double held_rail = 0;
   double prescribed_force = 0;
+  // Held values may ramp linearly over a macro step from their values at t0
+  // (interpolated inputs); the rates are zero for a zero-order hold.
+  double held_wheel_rate = 0, held_rail_rate = 0, prescribed_force_rate = 0;
+  double t0 = 0;
   ContactPath path;
 
   // The sparse vector g(t): up to 5 (dof, weight) entries.
@@ -83,6 +87,14 @@ struct ContactTerm {
   };
   int entries(double t, const DofLayout& layout, Entry out[5]) const;
   double delta0() const { return (has_wheel ? 0.0 : held_wheel) - (has_rail ? 0.0 : held_rail); }
+  double delta0_at(double t) const {
+    const double dt = t - t0;
+    return (has_wheel ? 0.0 : held_wheel + dt * held_wheel_rate) -
+           (has_rail ? 0.0 : held_rail + dt * held_rail_rate);
+  }
+  double prescribed_at(double t) const {
+    return prescribed_force + (t - t0) * prescribed_force_rate;
+  }
 };
 
 // A linear second-order system M a + C v + K u = load, plus an optional
@@ -90,7 +102,14 @@ struct ContactTerm {
 struct Structure {
   DofLayout layout;
   SymmetricBandMatrix M, C, K;
-  Vector load;  // constant over a macro step
+  Vector load;       // at load_time; constant over a macro step unless load_rate is set
+  Vector load_rate;  // per second, empty for a zero-order hold
+  double load_time = 0;
+  // The load at time t.
+  void load_at(double t, Vector& out) const {
+    out = load;
+    if (load_rate.size() > 0) out += (t - load_time) * load_rate;
+  }
   std::optional<ContactTerm> contact;
 };
 
