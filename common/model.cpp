@@ -165,8 +165,16 @@ ParticipantSpec participant_from_interfaces(const Scene& scene, const std::strin
   p.parts = range(first, last);
   p.role = role_of(p.parts);
   if (!role.empty() && role != p.role)
-    throw std::invalid_argument("the interfaces describe the " + p.role + " participant, not the " +
-                                role + " participant");
+  {
+    std::string msg = "the interfaces";
+    for (const InterfaceSpec& i : interfaces) {
+      msg += ' ';
+      msg += i.kind().name;
+      msg += i.side == CutSide::kLower ? " (lower side)" : " (upper side)";
+    }
+    msg += " describe the " + p.role + " participant, not the " + role + " participant";
+    throw std::invalid_argument(msg);
+  }
   p.interfaces = interfaces;
   return p;
 }

@@ -138,11 +138,28 @@ class Progress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
 };
 
+// Parses a case name; an unknown one is an error that lists this scene's cases.
+CaseSpec parse_case_of(const std::string& name, const Scene& scene) {
+  try {
+    return parse_case(name);
+  } catch (const std::invalid_argument& e) {
+    std::string msg = e.what();
+    msg += "; the cases of ";
+    msg += scene.source;
+    msg += " are:";
+    for (const std::string& c : case_names(scene)) {
+      msg += ' ';
+      msg += c;
+    }
+    throw std::invalid_argument(msg);
+  }
+}
+
 int do_run(const RunArgs& a) {
   auto log = logger("master");
   Scene scene = load_scene(a.scene_path);
   if (!a.restart.empty()) scene.restart = a.restart;
-  const CaseSpec spec = parse_case(a.case_name);
+  const CaseSpec spec = parse_case_of(a.case_name, scene);
   RunOptions o;
   o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
   o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;

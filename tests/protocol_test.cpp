@@ -2,19 +2,26 @@
 
 #include <cmath>
 
+#include "model.hpp"
 #include "test_support.hpp"
 #include "wire.hpp"
 
 namespace railcosim {
 namespace {
 
+Scene soil_scene() {
+  return load_scene(test::source_path("scenes/soil.toml"));
+}
+
 wire::Envelope sample_step_report() {
   StepResult r;
-  r.outputs.displacement = {1.5e-3, -2.25e-4, 0.1 + 0.2};  // values that print inexactly
-  r.outputs.velocity = {0.0, -0.0, 1e-300};
+  r.outputs.resize(2);
+  r.outputs[0].displacement = {1.5e-3, -2.25e-4, 0.1 + 0.2};  // values that print inexactly
+  r.outputs[0].velocity = {0.0, -0.0, 1e-300};
+  r.outputs[1].force = {110362.5};
   r.max_abs_displacement = 1.9e-3;
   r.finite = true;
-  r.row = HistoryRow{0.0123, 1.97e-3, 110362.5};
+  r.history = {1.97e-3, 110362.5};
   wire::Envelope e;
   e.set_id(42);
   *e.mutable_step_report() = to_wire(r, 123, 0.0123);
@@ -50,12 +57,18 @@ TEST(Frames, CouplingDataSurvivesBitwise) {
   wire::Envelope back;
   ASSERT_EQ(dec.next(back), FrameDecoder::Status::kFrame);
   const StepResult r = from_wire(back.step_report());
-  EXPECT_EQ(r.outputs.displacement, (std::vector<double>{1.5e-3, -2.25e-4, 0.1 + 0.2}));
-  EXPECT_TRUE(std::signbit(r.outputs.velocity[1]));
-  EXPECT_EQ(r.outputs.velocity[2], 1e-300);
-  EXPECT_TRUE(r.outputs.force.empty());
-  ASSERT_TRUE(r.row.has_value());
-  EXPECT_EQ(r.row->contact_force, 110362.5);
+  ASSERT_EQ(r.outputs.size(), 2u);
+  EXPECT_EQ(r.outputs[0].displacement, (std::vector<double>{1.5e-3, -2.25e-4, 0.1 + 0.2}));
+  EXPECT_TRUE(std::signbit(r.outputs[0].velocity[1]));
+  EXPECT_EQ(r.outputs[0].velocity[2], 1e-300);
+  EXPECT_TRUE(r.outputs[0].force.empty());
+  // Each interface keeps its own quantities: nothing leaks between them.
+  EXPECT_TRUE(r.outputs[1].displacement.empty());
+  EXPECT_TRUE(r.outputs[1].velocity.empty());
+  EXPECT_EQ(r.outputs[1].force, (std::vector<double>{110362.5}));
+  EXPECT_EQ(r.history, (std::vector<double>{1.97e-3, 110362.5}));
+  EXPECT_EQ(back.step_report().step(), 123);
+  EXPECT_EQ(back.step_report().t(), 0.0123);
 }
 
 TEST(Frames, OversizedFramesAreRefusedBothWays) {
@@ -89,11 +102,12 @@ TEST(Frames, ATruncatedFrameWaitsForTheRest) {
   EXPECT_EQ(dec.next(e), FrameDecoder::Status::kFrame);
 }
 
-TEST(Conversions, MixedCouplingPointsAreRejected) {
-  wire::CouplingData w;
-  w.add_points()->set_displacement(1.0);
-  w.add_points()->set_force(2.0);
-  EXPECT_THROW(from_wire(w), ProtocolError);
+// The published FNV-1a 64-bit test vectors (Fowler, Noll and Vo; the
+// reference test suite of the FNV home page, isthe.com/chongo/tech/comp/fnv).
+TEST(Fingerprint, Fnv1a64MatchesThePublishedVectors) {
+  EXPECT_EQ(fnv1a64(""), 0xcbf29ce484222325ull);
+  EXPECT_EQ(fnv1a64("a"), 0xaf63dc4c8601ec8cull);
+  EXPECT_EQ(fnv1a64("foobar"), 0x85944171f73967e8ull);
 }
 
 TEST(Conversions, SceneRoundTripsAndItsFingerprintSeesEveryChange) {
@@ -105,6 +119,11 @@ TEST(Conversions, SceneRoundTripsAndItsFingerprintSeesEveryChange) {
   Scene changed = s;
   changed.pad_damping = std::nextafter(s.pad_damping, 1e9);
   EXPECT_NE(scene_fingerprint(changed), scene_fingerprint(s));
+  const Scene soil = soil_scene();
+  EXPECT_EQ(scene_fingerprint(from_wire(to_wire(soil), "wire")), scene_fingerprint(soil));
+  Scene softer = soil;
+  softer.soil_coupling_damping = std::nextafter(soil.soil_coupling_damping, 1e9);
+  EXPECT_NE(scene_fingerprint(softer), scene_fingerprint(soil));
 }
 
 TEST(Conversions, AnInvalidSceneOnTheWireIsABadScene) {
@@ -117,6 +136,86 @@ TEST(Conversions, AnInvalidSceneOnTheWireIsABadScene) {
     EXPECT_EQ(e.code(), wire::Error::BAD_SCENE);
     EXPECT_NE(std::string(e.what()).find("sleepers.mass"), std::string::npos) << e.what();
   }
+}
+
+// Every interface of every participant of these cases, through the wire and
+// back: the node rebuilds exactly what the master partitioned.
+TEST(Conversions, EveryInterfaceRoundTrips) {
+  const Scene scene = soil_scene();
+  int checked = 0;
+  for (const char* name : {"wr-xx-jacobi", "wr-xt-jacobi", "rs-xx-jacobi", "rs-xt-jacobi",
+                           "ss-xx-jacobi", "ss-xt-jacobi", "wr-xt+rs-xx+ss-xt-jacobi"}) {
+    for (const ParticipantSpec& p : partition(scene, parse_case(name))) {
+      for (const InterfaceSpec& i : p.interfaces) {
+        SCOPED_TRACE(std::string(name) + ", " + p.role + ", " + i.kind().name);
+        const wire::Interface w = to_wire(scene, i);
+        const InterfaceSpec back = from_wire(w);
+        EXPECT_EQ(back.cut, i.cut);
+        EXPECT_EQ(back.side, i.side);
+        EXPECT_EQ(back.coupling, i.coupling);
+        EXPECT_EQ(back.peer_role, i.peer_role);
+        EXPECT_EQ(back.receives(), i.receives());
+        EXPECT_EQ(back.sends(), i.sends());
+        const std::vector<double> x(w.x().begin(), w.x().end());
+        EXPECT_EQ(x, coupling_points(scene, i.cut));
+        EXPECT_EQ(w.speed(), i.kind().moving ? scene.speed : 0.0);
+        if (i.kind().moving) {
+          EXPECT_EQ(w.hertz_constant(), scene.hertz_constant);
+        } else {
+          EXPECT_GT(w.stiffness(), 0.0);
+          EXPECT_GT(w.damping(), 0.0);
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 2 * 6 + 2 * 3);  // both sides of one cut in six cases, of three in the last
+}
+
+ProtocolError interface_error(const wire::Interface& w) {
+  try {
+    from_wire(w);
+  } catch (const ProtocolError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted interface " << w.ShortDebugString();
+  return ProtocolError(wire::Error::CODE_UNSPECIFIED, "");
+}
+
+TEST(Conversions, AnInterfaceTheModelCannotHonourIsABadInterface) {
+  const Scene scene = soil_scene();
+  const auto parts = partition(scene, parse_case("ss-xx-jacobi"));
+  const wire::Interface upper = to_wire(scene, parts[0].interfaces.at(0));  // sleepers above ss
+  ASSERT_TRUE(upper.upper());
+
+  // The upper side computes the ballast force itself: it cannot receive it.
+  wire::Interface w = upper;
+  w.clear_receives();
+  w.add_receives(wire::FORCE);
+  ProtocolError e = interface_error(w);
+  EXPECT_EQ(e.code(), wire::Error::BAD_INTERFACE);
+  EXPECT_NE(std::string(e.what()).find("'ss'"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("upper"), std::string::npos) << e.what();
+
+  // Through a damped layer a displacement comes with its velocity.
+  w = upper;
+  w.clear_sends();
+  w.add_sends(wire::DISPLACEMENT);
+  EXPECT_EQ(interface_error(w).code(), wire::Error::BAD_INTERFACE);
+
+  // The Hertz contact is undamped: no velocities cross it.
+  w = to_wire(scene, partition(scene, parse_case("wr-xx-jacobi"))[1].interfaces.at(0));
+  w.add_receives(wire::VELOCITY);
+  e = interface_error(w);
+  EXPECT_EQ(e.code(), wire::Error::BAD_INTERFACE);
+  EXPECT_NE(std::string(e.what()).find("'wr'"), std::string::npos) << e.what();
+
+  // A cut this model does not have.
+  w = upper;
+  w.set_cut("sg");
+  e = interface_error(w);
+  EXPECT_EQ(e.code(), wire::Error::BAD_INTERFACE);
+  EXPECT_NE(std::string(e.what()).find("'sg'"), std::string::npos) << e.what();
 }
 
 }  // namespace

@@ -135,7 +135,7 @@ TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {
     FAIL() << "accepted garbage as a hello reply";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("track node (S2) at " + fake.address().str()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("track node at " + fake.address().str()), std::string::npos) << msg;
     EXPECT_NE(msg.find("not a message"), std::string::npos) << msg;
   }
 }
@@ -167,7 +167,7 @@ TEST(TcpNodes, ANodeOfTheWrongRoleIsNamedInTheError) {
     FAIL() << "connected to a track node as the vehicle";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("vehicle node (S1) at " + track.address().str()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("vehicle node at " + track.address().str()), std::string::npos) << msg;
     EXPECT_NE(msg.find("WRONG_ROLE"), std::string::npos) << msg;
   }
 }
@@ -184,7 +184,7 @@ TEST(TcpNodes, AnUnreachableNodeIsNamedWithItsAddress) {
     FAIL() << "connected to nothing";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("track node (S2)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("track node"), std::string::npos) << msg;
     EXPECT_NE(msg.find("127.0.0.1:1"), std::string::npos) << msg;
   }
 }
