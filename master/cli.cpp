@@ -1,4 +1,5 @@
 #include "cli.hpp"
+#include "coupling_options.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -43,6 +44,8 @@ struct RunArgs {
   std::vector<std::string> nodes;  // ROLE=HOST:PORT
   std::string out = "results";
   std::string token_file;
+  std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
+  CouplingOptions c;  // the numbers; the names above are parsed into it
 };
 
 void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
@@ -164,6 +167,14 @@ int do_run(const RunArgs& a) {
   o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
   o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
   o.feedthrough = *parse_feedthrough(a.feedthrough);
+  o.coupling = a.c;
+  o.coupling.method = parse_coupling_method(a.coupling, "--coupling");
+  o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
+  o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
+  check(o.coupling);
+  if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
+    throw std::invalid_argument(
+        "--feedthrough resolved applies to explicit coupling with held inputs only");
   if (a.macro_step > 0) {
     const double steps = scene.end_time / o.macro_step;
     if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
@@ -300,6 +311,37 @@ int master_main(int argc, char** argv) {
                   "inputs imply) or carry (keep the integrator's); default: simulation.restart "
                   "of the scene, else consistent")
       ->check(CLI::IsMember({"consistent", "carry"}));
+  run->add_option("--coupling", ra.coupling,
+                  "explicit (one pass per macro step, the paper) or implicit (each macro step "
+                  "repeated from a checkpoint until the exchanged values converge)")
+      ->check(CLI::IsMember({"explicit", "implicit"}))
+      ->capture_default_str();
+  run->add_option("--inputs", ra.inputs,
+                  "Inputs over a macro step: hold (zero-order hold), linear (ramp to the value "
+                  "at the step's end where it is known), extrapolate1 or extrapolate2 (ramp to "
+                  "a value extrapolated from past communication points; explicit only)")
+      ->check(CLI::IsMember({"hold", "linear", "extrapolate1", "extrapolate2"}))
+      ->capture_default_str();
+  run->add_option("--accelerator", ra.accelerator,
+                  "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")
+      ->check(CLI::IsMember({"constant", "aitken", "iqn-ils"}))
+      ->capture_default_str();
+  run->add_option("--relaxation", ra.c.accelerator.relaxation,
+                  "Implicit: the constant factor, and the first factor of aitken and iqn-ils")
+      ->check(CLI::Range(1e-6, 1.0))
+      ->capture_default_str();
+  run->add_option("--max-iterations", ra.c.max_iterations, "Implicit: iterations per macro step")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  run->add_option("--convergence", ra.c.convergence,
+                  "Implicit: converged when ||G(x) - x|| <= this x ||G(x)|| for every exchanged "
+                  "quantity")
+      ->check(CLI::Range(1e-15, 0.5))
+      ->capture_default_str();
+  run->add_option("--reused-windows", ra.c.accelerator.windows_reused,
+                  "Implicit, iqn-ils: past macro steps whose iterations are reused")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
   run->add_option("--transport", ra.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
       ->check(CLI::IsMember({"inproc", "tcp"}))

@@ -141,6 +141,13 @@ StepResult RemoteParticipant::initialize(const CouplingData& inputs) {
 void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
   step_ = n;
   pending_inputs_ = inputs;  // sent with the step, or flushed before any other request
+  pending_end_.reset();
+}
+
+void RemoteParticipant::set_inputs(long n, const CouplingData& start, const CouplingData& end) {
+  step_ = n;
+  pending_inputs_ = start;
+  pending_end_ = end;
 }
 
 void RemoteParticipant::flush_inputs() {
@@ -150,7 +157,9 @@ void RemoteParticipant::flush_inputs() {
   s->set_step(step_);
   s->set_t(static_cast<double>(step_) * config_.macro_step);
   *s->mutable_inputs() = to_wire(*pending_inputs_);
+  if (pending_end_) *s->mutable_inputs_end() = to_wire(*pending_end_);
   pending_inputs_.reset();
+  pending_end_.reset();
   send(e, true);  // pipelined: its ack is read with the next reply
 }
 
@@ -170,7 +179,9 @@ void RemoteParticipant::start_step(long n) {
   step_started_ = std::chrono::steady_clock::now();
   if (pending_inputs_) {
     *s->mutable_inputs() = to_wire(*pending_inputs_);
+    if (pending_end_) *s->mutable_inputs_end() = to_wire(*pending_end_);
     pending_inputs_.reset();
+    pending_end_.reset();
   }
   send(e, false);
 }
@@ -208,6 +219,7 @@ ParticipantState RemoteParticipant::save() {
 
 void RemoteParticipant::restore(const ParticipantState& state) {
   pending_inputs_.reset();  // the restored state brings its own held inputs
+  pending_end_.reset();
   wire::Envelope e;
   auto* r = e.mutable_restore()->mutable_state();
   for (double v : state.values) r->add_values(v);

@@ -45,6 +45,7 @@ class RemoteParticipant final : public Participant {
   CouplingData statics(const CouplingData& inputs) override;
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
+  void set_inputs(long n, const CouplingData& start, const CouplingData& end) override;
   CouplingData outputs() override;
   void start_step(long n) override;
   StepResult finish_step() override;
@@ -80,7 +81,8 @@ class RemoteParticipant final : public Participant {
   std::chrono::steady_clock::duration slowest_step_{0};
   // set_inputs() keeps its data here; the next step carries it.
   std::optional<CouplingData> pending_inputs_;
-  Channels channels_;  // as the node declared them
+  std::optional<CouplingData> pending_end_;  // inputs that ramp: their value at the step's end
+  Channels channels_;                        // as the node declared them
 };
 
 }  // namespace railcosim

@@ -86,7 +86,16 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
-  s << "  \"restart\": " << json_string(r.restart) << "\n";
+  s << "  \"restart\": " << json_string(r.restart) << ",\n";
+  s << "  \"method\": " << json_string(r.method) << ",\n";
+  s << "  \"inputs\": " << json_string(r.inputs) << ",\n";
+  s << "  \"accelerator\": " << json_opt(r.accelerator) << ",\n";
+  s << "  \"iterations\": ";
+  if (r.iterations_mean)
+    s << "{\"mean\": " << num(*r.iterations_mean) << ", \"max\": " << *r.iterations_max
+      << ", \"not_converged_steps\": " << *r.not_converged_steps << "}\n";
+  else
+    s << "null\n";
   s << "}\n";
   return s.str();
 }
@@ -128,6 +137,27 @@ std::string soil_csv(const RunRecord& r) {
   return text;
 }
 
+// Implicit runs: one row per iteration, the relative residual per quantity.
+std::string convergence_csv(const RunRecord& r) {
+  std::string text = "step,iteration";
+  for (const auto& q : r.convergence_quantities) {
+    text += ',';
+    text += q;
+  }
+  text += '\n';
+  for (const auto& row : r.convergence) {
+    text += std::to_string(row.step);
+    text += ',';
+    text += std::to_string(row.iteration);
+    for (double v : row.residual) {
+      text += ',';
+      text += num(v);
+    }
+    text += '\n';
+  }
+  return text;
+}
+
 std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {
   const std::filesystem::path dir = out_dir / name;
   std::error_code ec;
@@ -145,6 +175,7 @@ std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunR
   for (const auto& h : r.history) text += history_line(h);
   write_atomically(dir / "history.csv", text);
   if (!r.soil.empty()) write_atomically(dir / "soil.csv", soil_csv(r));
+  if (!r.convergence.empty()) write_atomically(dir / "convergence.csv", convergence_csv(r));
   write_atomically(dir / "summary.json", summary_json(r));
   return dir;
 }
@@ -156,6 +187,7 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
   std::filesystem::remove(dir_ / "summary.json", ec);
   std::filesystem::remove(dir_ / "deflection.csv", ec);
   std::filesystem::remove(dir_ / "soil.csv", ec);
+  std::filesystem::remove(dir_ / "convergence.csv", ec);
   history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
   if (!history_) throw std::runtime_error("cannot write " + (dir_ / "history.csv").string());
 }
@@ -189,6 +221,7 @@ void RunWriter::finish(const RunRecord& r) {
   }
   if (!r.deflection.empty()) write_atomically(dir_ / "deflection.csv", deflection_csv(r));
   if (!r.soil.empty()) write_atomically(dir_ / "soil.csv", soil_csv(r));
+  if (!r.convergence.empty()) write_atomically(dir_ / "convergence.csv", convergence_csv(r));
   write_atomically(dir_ / "summary.json", summary_json(r));
 }
 

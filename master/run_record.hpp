@@ -20,12 +20,26 @@ struct RunRecord {
   long macro_steps = 0;  // done
   std::map<std::string, long>
       micro_steps;            // per subsystem ("monolithic", or "s1", "s2", ... in load order)
-  std::string status = "ok";  // ok, amplified, diverged, failed
+  std::string status = "ok";  // ok, amplified, diverged, not_converged, failed
   std::string message;        // why, when not ok
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
   std::optional<double> history_error;
   std::string transport = "inproc";
   std::string restart = "consistent";  // at communication points: consistent or carry
+  // How the macro step was coupled (coupling_options.hpp): explicit or
+  // implicit, hold/linear/extrapolate1/extrapolate2, and the accelerator.
+  std::string method = "explicit", inputs = "hold";
+  std::optional<std::string> accelerator;  // implicit only
+  // Implicit runs: iterations per macro step and the convergence log.
+  std::optional<double> iterations_mean;
+  std::optional<long> iterations_max, not_converged_steps;
+  std::vector<std::string> convergence_quantities;
+  struct ConvergenceRow {
+    long step = 0;
+    int iteration = 0;
+    std::vector<double> residual;
+  };
+  std::vector<ConvergenceRow> convergence;
 
   std::vector<double> x;           // rail node positions
   std::vector<double> deflection;  // rail node displacements at the last time

@@ -9,6 +9,7 @@
 #include "log.hpp"
 #include "monolithic.hpp"
 #include "schedule.hpp"
+#include "window_schedule.hpp"
 
 namespace railcosim {
 namespace {
@@ -41,6 +42,33 @@ void check_stop(const RunOptions& o, long n) {
   }
 }
 
+// The iterations of an implicit run into its record; a run with macro steps
+// that did not converge is not ok.
+void record_convergence(RunRecord& r, const ConvergenceLog& log, const RunOptions& o) {
+  r.convergence_quantities = log.quantities;
+  for (const auto& row : log.rows) r.convergence.push_back({row.step, row.iteration, row.residual});
+  long sum = 0, most = 0;
+  for (int k : log.iterations) {
+    sum += k;
+    most = std::max<long>(most, k);
+  }
+  r.iterations_mean = log.iterations.empty()
+                          ? 0.0
+                          : static_cast<double>(sum) / static_cast<double>(log.iterations.size());
+  r.iterations_max = most;
+  r.not_converged_steps = log.not_converged;
+  if (log.not_converged > 0 && r.status == "ok") {
+    std::ostringstream s;
+    s << log.not_converged << " of " << log.iterations.size()
+      << " macro steps did not converge within " << o.coupling.max_iterations
+      << " iterations (to a relative residual of " << o.coupling.convergence
+      << "); the first at macro step " << log.first_not_converged + 1
+      << " (t = " << static_cast<double>(log.first_not_converged + 1) * o.macro_step << " s)";
+    r.status = "not_converged";
+    r.message = s.str();
+  }
+}
+
 }  // namespace
 
 ParticipantFactory inproc_factory(const Scene& scene) {
@@ -59,6 +87,10 @@ RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptio
     r.scheme = to_string(spec.scheme);
     r.feedthrough = to_string(o.feedthrough);
     r.transport = transport;
+    r.method = to_string(o.coupling.method);
+    r.inputs = to_string(o.coupling.inputs);
+    if (o.coupling.method == CouplingMethod::kImplicit)
+      r.accelerator = to_string(o.coupling.accelerator.kind);
   }
   r.macro_step = o.macro_step;
   r.t_end = scene.end_time;
@@ -192,7 +224,9 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   HistoryAssembler history(ps);
   r.extra_channels = history.extra_names();
   if (o.on_channels) o.on_channels(r.extra_channels);
-  auto schedule = make_schedule(spec.scheme, o.feedthrough, ps, routing);
+  std::vector<std::string> roles;
+  for (const ParticipantSpec& p : specs) roles.push_back(p.role);
+  auto schedule = make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles);
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
     r.history.push_back(row);
@@ -246,6 +280,9 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
   }
   r.macro_steps = n;
+  if (const auto* w = dynamic_cast<const WindowSchedule*>(schedule.get());
+      w && o.coupling.method == CouplingMethod::kImplicit)
+    record_convergence(r, w->log(), o);
   for (std::size_t p = 0; p < ps.size(); ++p) {
     ParticipantResults res;
     try {

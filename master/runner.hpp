@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cosim_case.hpp"
+#include "coupling_options.hpp"
 #include "participant.hpp"
 #include "run_record.hpp"
 #include "scene.hpp"
@@ -18,6 +19,7 @@ struct RunOptions {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // micro-step local error bound, m
   Feedthrough feedthrough = Feedthrough::kLagged;
+  CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;

@@ -197,7 +197,11 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
     }
     case E::kSetInputs: {
       const auto& s = req.set_inputs();
-      sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()));
+      if (s.has_inputs_end())
+        sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()),
+                       from_wire(s.inputs_end()));
+      else
+        sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()));
       reply.mutable_ack();
       return reply;
     }
@@ -217,7 +221,13 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                 " s, but the session was configured with H = " + std::to_string(macro_step_) +
                 " s");
       const long n = static_cast<long>(s.step());
-      if (s.has_inputs()) sub.set_inputs(n, from_wire(s.inputs()));
+      if (s.has_inputs_end() && !s.has_inputs())
+        throw ProtocolError(wire::Error::BAD_REQUEST,
+                            "step " + std::to_string(n) + " carries inputs_end without inputs");
+      if (s.has_inputs_end())
+        sub.set_inputs(n, from_wire(s.inputs()), from_wire(s.inputs_end()));
+      else if (s.has_inputs())
+        sub.set_inputs(n, from_wire(s.inputs()));
       const StepResult r = sub.step(n);
       step_ = n + 1;
       *reply.mutable_step_report() = to_wire(r, step_, static_cast<double>(step_) * macro_step_);

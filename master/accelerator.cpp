@@ -1,0 +1,184 @@
+#include "accelerator.hpp"
+
+#include <stdexcept>
+
+namespace railcosim {
+
+std::string to_string(AcceleratorKind k) {
+  switch (k) {
+    case AcceleratorKind::kConstant:
+      return "constant";
+    case AcceleratorKind::kAitken:
+      return "aitken";
+    case AcceleratorKind::kIqnIls:
+      return "iqn-ils";
+  }
+  return "?";
+}
+
+AcceleratorKind parse_accelerator(const std::string& s, const std::string& what) {
+  for (AcceleratorKind k :
+       {AcceleratorKind::kConstant, AcceleratorKind::kAitken, AcceleratorKind::kIqnIls})
+    if (to_string(k) == s) return k;
+  std::string msg = what;
+  msg += ": unknown accelerator '";
+  msg += s;
+  msg += "' (constant, aitken or iqn-ils)";
+  throw std::invalid_argument(msg);
+}
+
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+// Common part: the per-entry weights of the current window.
+class Weighted : public Accelerator {
+ public:
+  explicit Weighted(std::vector<int> blocks) : blocks_(std::move(blocks)) {
+    int n = 0;
+    for (int b : blocks_) n += b;
+    weight_ = VectorXd::Ones(n);
+  }
+  void start_window(const std::vector<double>& scale) override {
+    if (scale.size() != blocks_.size())
+      throw std::logic_error("accelerator: one scale per block expected");
+    Eigen::Index at = 0;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      weight_.segment(at, blocks_[b]).setConstant(scale[b]);
+      at += blocks_[b];
+    }
+  }
+
+ protected:
+  VectorXd weighted(const VectorXd& v) const { return weight_.cwiseProduct(v); }
+  std::vector<int> blocks_;
+  VectorXd weight_;
+};
+
+class Constant final : public Weighted {
+ public:
+  Constant(double omega, std::vector<int> blocks) : Weighted(std::move(blocks)), omega_(omega) {}
+  VectorXd next(const VectorXd& x, const VectorXd& gx) override { return x + omega_ * (gx - x); }
+
+ private:
+  double omega_;
+};
+
+// Aitken's dynamic relaxation; the factor restarts from its initial value in
+// every window.
+class Aitken final : public Weighted {
+ public:
+  Aitken(double omega0, std::vector<int> blocks) : Weighted(std::move(blocks)), omega0_(omega0) {}
+  void start_window(const std::vector<double>& scale) override {
+    Weighted::start_window(scale);
+    first_ = true;
+  }
+  VectorXd next(const VectorXd& x, const VectorXd& gx) override {
+    const VectorXd r = weighted(gx - x);
+    if (first_) {
+      omega_ = omega0_;
+      first_ = false;
+    } else {
+      const VectorXd dr = r - prev_r_;
+      const double den = dr.squaredNorm();
+      if (den > 0) omega_ = -omega_ * prev_r_.dot(dr) / den;
+    }
+    prev_r_ = r;
+    return x + omega_ * (gx - x);
+  }
+
+ private:
+  double omega0_, omega_ = 0;
+  bool first_ = true;
+  VectorXd prev_r_;
+};
+
+// Interface quasi-Newton with an approximation of the inverse Jacobian from
+// least squares (IQN-ILS, Degroote et al. 2009): the columns are the changes
+// of the residual r = G(x) - x (V) and of G(x) (W) between iterations, of
+// this window and of up to `windows_reused` past ones, newest first.
+class IqnIls final : public Weighted {
+ public:
+  IqnIls(const AcceleratorOptions& o, std::vector<int> blocks)
+      : Weighted(std::move(blocks)), o_(o) {}
+
+  void start_window(const std::vector<double>& scale) override {
+    Weighted::start_window(scale);
+    have_prev_ = false;
+    current_.clear();
+  }
+
+  VectorXd next(const VectorXd& x, const VectorXd& gx) override {
+    const VectorXd r = gx - x;
+    if (have_prev_) current_.push_front({r - prev_r_, gx - prev_g_});
+    prev_r_ = r;
+    prev_g_ = gx;
+    have_prev_ = true;
+
+    // The columns, newest first, kept by the QR filter.
+    std::vector<const Column*> cols;
+    for (const Column& c : current_) cols.push_back(&c);
+    for (const auto& w : past_)
+      for (const Column& c : w) cols.push_back(&c);
+    std::vector<VectorXd> q;  // orthonormal basis of the kept weighted columns
+    std::vector<const Column*> kept;
+    for (const Column* c : cols) {
+      if (static_cast<int>(kept.size()) >= o_.max_columns) break;
+      const VectorXd v = weighted(c->dr);
+      const double norm = v.norm();
+      if (!(norm > 0)) continue;
+      VectorXd p = v;
+      for (const VectorXd& b : q) p -= b.dot(p) * b;
+      const double rest = p.norm();
+      if (rest < o_.filter_limit * norm) continue;
+      q.push_back(p / rest);
+      kept.push_back(c);
+    }
+    if (kept.empty()) return x + o_.relaxation * r;
+
+    MatrixXd V(r.size(), static_cast<Eigen::Index>(kept.size()));
+    MatrixXd W(r.size(), static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      V.col(static_cast<Eigen::Index>(k)) = weighted(kept[k]->dr);
+      W.col(static_cast<Eigen::Index>(k)) = kept[k]->dg;
+    }
+    const VectorXd alpha = V.colPivHouseholderQr().solve(-weighted(r));
+    return gx + W * alpha;
+  }
+
+  void end_window() override {
+    if (!current_.empty()) past_.push_front(std::move(current_));
+    current_.clear();
+    while (static_cast<int>(past_.size()) > o_.windows_reused) past_.pop_back();
+  }
+
+ private:
+  struct Column {
+    VectorXd dr, dg;
+  };
+  AcceleratorOptions o_;
+  bool have_prev_ = false;
+  VectorXd prev_r_, prev_g_;
+  std::deque<Column> current_;
+  std::deque<std::deque<Column>> past_;
+};
+
+}  // namespace
+
+std::unique_ptr<Accelerator> make_accelerator(const AcceleratorOptions& o,
+                                              std::vector<int> blocks) {
+  if (!(o.relaxation > 0 && o.relaxation <= 1))
+    throw std::invalid_argument("the relaxation factor must be in (0, 1]");
+  switch (o.kind) {
+    case AcceleratorKind::kConstant:
+      return std::make_unique<Constant>(o.relaxation, std::move(blocks));
+    case AcceleratorKind::kAitken:
+      return std::make_unique<Aitken>(o.relaxation, std::move(blocks));
+    case AcceleratorKind::kIqnIls:
+      return std::make_unique<IqnIls>(o, std::move(blocks));
+  }
+  throw std::logic_error("make_accelerator: unknown kind");
+}
+
+}  // namespace railcosim
