@@ -27,6 +27,8 @@ AcceleratorKind parse_accelerator(const std::string& s, const std::string& what)
   throw std::invalid_argument(msg);
 }
 
+void Accelerator::set_weights(const std::vector<double>&) {}
+
 namespace {
 
 using Eigen::MatrixXd;
@@ -40,15 +42,16 @@ class Weighted : public Accelerator {
     for (int b : blocks_) n += b;
     weight_ = VectorXd::Ones(n);
   }
-  void start_window(const std::vector<double>& scale) override {
+  void set_weights(const std::vector<double>& scale) override {
     if (scale.size() != blocks_.size())
-      throw std::logic_error("accelerator: one scale per block expected");
+      throw std::logic_error("accelerator: one weight per block expected");
     Eigen::Index at = 0;
     for (std::size_t b = 0; b < blocks_.size(); ++b) {
       weight_.segment(at, blocks_[b]).setConstant(scale[b]);
       at += blocks_[b];
     }
   }
+  void start_window() override {}
 
  protected:
   VectorXd weighted(const VectorXd& v) const { return weight_.cwiseProduct(v); }
@@ -70,19 +73,16 @@ class Constant final : public Weighted {
 class Aitken final : public Weighted {
  public:
   Aitken(double omega0, std::vector<int> blocks) : Weighted(std::move(blocks)), omega0_(omega0) {}
-  void start_window(const std::vector<double>& scale) override {
-    Weighted::start_window(scale);
-    first_ = true;
-  }
+  void start_window() override { first_ = true; }
   VectorXd next(const VectorXd& x, const VectorXd& gx) override {
-    const VectorXd r = weighted(gx - x);
+    const VectorXd r = gx - x;
     if (first_) {
       omega_ = omega0_;
       first_ = false;
     } else {
-      const VectorXd dr = r - prev_r_;
+      const VectorXd dr = weighted(r - prev_r_);
       const double den = dr.squaredNorm();
-      if (den > 0) omega_ = -omega_ * prev_r_.dot(dr) / den;
+      if (den > 0) omega_ = -omega_ * weighted(prev_r_).dot(dr) / den;
     }
     prev_r_ = r;
     return x + omega_ * (gx - x);
@@ -103,8 +103,7 @@ class IqnIls final : public Weighted {
   IqnIls(const AcceleratorOptions& o, std::vector<int> blocks)
       : Weighted(std::move(blocks)), o_(o) {}
 
-  void start_window(const std::vector<double>& scale) override {
-    Weighted::start_window(scale);
+  void start_window() override {
     have_prev_ = false;
     current_.clear();
   }

@@ -33,9 +33,11 @@ struct AcceleratorOptions {
 class Accelerator {
  public:
   virtual ~Accelerator() = default;
-  // A new window begins: `scale` holds one positive weight per block
-  // (entries of block b are multiplied by scale[b] in least-squares terms).
-  virtual void start_window(const std::vector<double>& scale) = 0;
+  // A new window begins.
+  virtual void start_window() = 0;
+  // One positive weight per block (entries of block b are multiplied by
+  // weight[b] in least-squares terms); before each next().
+  virtual void set_weights(const std::vector<double>& weight);
   // The next iterate from x^k and G(x^k).
   virtual Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) = 0;
   // The window converged (IQN-ILS keeps its columns for the next windows).

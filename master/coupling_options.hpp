@@ -35,7 +35,12 @@ struct CouplingOptions {
   int max_iterations = 50;         // implicit: per macro step
   // implicit: converged when, for every exchanged quantity (one cut, one
   // direction, one of displacement/velocity/force), ||G(x) - x|| <=
-  // convergence * ||G(x)|| (the relative measure of the coupling libraries).
+  // convergence * the largest norm that quantity has had in the run so far
+  // (for a velocity: or its displacement's largest norm / H, whichever is
+  // larger, since a velocity error dv moves the displacement by dv H).
+  // (The coupling libraries' plain relative measure, against ||G(x)||, never
+  // converges on a quantity that starts at zero, such as the velocities at a
+  // static start, whose first values are round-off.)
   double convergence = 1e-8;
 
   bool is_plain() const {

@@ -226,7 +226,8 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   if (o.on_channels) o.on_channels(r.extra_channels);
   std::vector<std::string> roles;
   for (const ParticipantSpec& p : specs) roles.push_back(p.role);
-  auto schedule = make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles);
+  auto schedule =
+      make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles, o.macro_step);
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
     r.history.push_back(row);

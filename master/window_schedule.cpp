@@ -39,11 +39,12 @@ const char* const kQuantity[] = {"displacement", "velocity", "force"};
 
 WindowSchedule::WindowSchedule(std::vector<Participant*> participants, Routing routing,
                                std::vector<std::string> roles, Scheme scheme,
-                               const CouplingOptions& options)
+                               const CouplingOptions& options, double macro_step)
     : Schedule(std::move(participants), std::move(routing)),
       roles_(std::move(roles)),
       scheme_(scheme),
-      o_(options) {
+      o_(options),
+      macro_step_(macro_step) {
   check(o_);
   if (roles_.size() != ps_.size())
     throw std::logic_error("WindowSchedule: one role per participant");
@@ -150,6 +151,8 @@ std::vector<StepResult> WindowSchedule::implicit_window(long n) {
   for (std::size_t k : iterated_) x.push_back(start_[links_[k].q][links_[k].i]);
   // The blocks: one per iterated value and quantity it carries.
   std::vector<int> blocks;
+  // For a velocity block, the block of the same value's displacement (-1: none).
+  std::vector<int> displacement_of;
   std::vector<std::string> names;
   for (std::size_t m = 0; m < x.size(); ++m) {
     const Link& l = links_[iterated_[m]];
@@ -157,6 +160,8 @@ std::vector<StepResult> WindowSchedule::implicit_window(long n) {
     for (std::size_t q = 0; q < a.size(); ++q)
       if (!a[q]->empty()) {
         blocks.push_back(static_cast<int>(a[q]->size()));
+        displacement_of.push_back(q == 1 && !a[0]->empty() ? static_cast<int>(blocks.size()) - 2
+                                                           : -1);
         std::string name = roles_[l.q];
         name += "_to_";
         name += roles_[l.p];
@@ -199,18 +204,26 @@ std::vector<StepResult> WindowSchedule::implicit_window(long n) {
     std::vector<double> scale;
     bool converged = true, finite = G.allFinite();
     Eigen::Index at = 0;
-    for (int b : blocks) {
-      const double gn = G.segment(at, b).norm();
-      const double rn = (G.segment(at, b) - X.segment(at, b)).norm();
-      const double den = std::max(gn, X.segment(at, b).norm());
-      const double res = den > 0 ? rn / den : 0.0;
+    if (largest_.empty()) largest_.assign(blocks.size(), 0.0);
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const auto gb = G.segment(at, blocks[b]), xb = X.segment(at, blocks[b]);
+      if (finite) largest_[b] = std::max({largest_[b], gb.norm(), xb.norm()});
+      // A velocity is measured against its displacement's largest norm / H
+      // too: a velocity error dv moves the displacement by dv H.
+      const double den =
+          displacement_of[b] >= 0
+              ? std::max(largest_[b],
+                         largest_[static_cast<std::size_t>(displacement_of[b])] / macro_step_)
+              : largest_[b];
+      const double res = den > 0 ? (gb - xb).norm() / den : 0.0;
       row.residual.push_back(res);
       converged = converged && res <= o_.convergence;
-      scale.push_back(gn > 0 ? 1.0 / gn : 1.0);
-      at += b;
+      scale.push_back(den > 0 ? 1.0 / den : 1.0);
+      at += blocks[b];
     }
     log_.rows.push_back(std::move(row));
-    if (k == 1) accel_->start_window(scale);
+    if (k == 1) accel_->start_window();
+    accel_->set_weights(scale);
     if (converged || !finite || k >= o_.max_iterations) {
       if (!converged && finite) {
         ++log_.not_converged;
@@ -227,7 +240,7 @@ std::vector<StepResult> WindowSchedule::implicit_window(long n) {
 std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         const CouplingOptions& options,
                                         std::vector<Participant*> participants, Routing routing,
-                                        std::vector<std::string> roles) {
+                                        std::vector<std::string> roles, double macro_step) {
   if (options.is_plain())
     return make_schedule(scheme, feedthrough, std::move(participants), std::move(routing));
   if (feedthrough == Feedthrough::kResolved)
@@ -235,7 +248,7 @@ std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
         "--feedthrough resolved applies to explicit coupling with held inputs only (--coupling "
         "explicit --inputs hold)");
   return std::make_unique<WindowSchedule>(std::move(participants), std::move(routing),
-                                          std::move(roles), scheme, options);
+                                          std::move(roles), scheme, options, macro_step);
 }
 
 }  // namespace railcosim

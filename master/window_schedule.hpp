@@ -29,7 +29,7 @@ struct ConvergenceLog {
   struct Row {
     long step = 0;                 // macro step n: the window [nH, (n+1)H]
     int iteration = 0;             // 1, 2, ...
-    std::vector<double> residual;  // ||G(x) - x|| / ||G(x)|| per quantity
+    std::vector<double> residual;  // ||G(x) - x|| / (largest ||G(x)|| so far) per quantity
   };
   std::vector<Row> rows;
   std::vector<int> iterations;  // per macro step
@@ -41,7 +41,8 @@ class WindowSchedule final : public Schedule {
  public:
   // `roles` name the participants in the convergence log.
   WindowSchedule(std::vector<Participant*> participants, Routing routing,
-                 std::vector<std::string> roles, Scheme scheme, const CouplingOptions& options);
+                 std::vector<std::string> roles, Scheme scheme, const CouplingOptions& options,
+                 double macro_step);
   std::vector<StepResult> advance(long n) override;
   const ConvergenceLog& log() const { return log_; }
 
@@ -60,11 +61,13 @@ class WindowSchedule final : public Schedule {
   std::vector<std::string> roles_;
   Scheme scheme_;
   CouplingOptions o_;
+  double macro_step_;
   std::vector<Link> links_;                      // every routed value
   std::vector<std::size_t> iterated_;            // indices into links_ of x's values
   std::vector<std::vector<CouplingData>> past_;  // outputs at t_{n-1}, t_{n-2}
   std::vector<CouplingData> start_;              // outputs at t_n
   std::unique_ptr<Accelerator> accel_;
+  std::vector<double> largest_;  // per quantity: the largest norm it has had in the run
   ConvergenceLog log_;
 };
 
@@ -75,6 +78,6 @@ class WindowSchedule final : public Schedule {
 std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         const CouplingOptions& options,
                                         std::vector<Participant*> participants, Routing routing,
-                                        std::vector<std::string> roles);
+                                        std::vector<std::string> roles, double macro_step);
 
 }  // namespace railcosim
