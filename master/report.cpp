@@ -1,4 +1,5 @@
 #include "report.hpp"
+#include "report_methods.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -325,6 +326,8 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
     for (double H : hs) md << " " << (map[m].count(H) ? map[m][H] : "–") << " |";
     md << "\n";
   }
+
+  write_method_sections(md, runs, o.transport);
 
   md << "\n## Every run\n\n| folder | case | feedthrough | H (s) | tolerance (m) | wall (s) | "
         "micro steps | "

@@ -16,6 +16,7 @@
 #include "node_launcher.hpp"
 #include "remote_participant.hpp"
 #include "report.hpp"
+#include "report_methods.hpp"
 #include "run_output.hpp"
 #include "runner.hpp"
 #include "transport.hpp"
@@ -35,12 +36,21 @@ struct Job {
   bool monolithic;
   Method method;
   RunOptions options;
+  std::shared_ptr<const Scene> scene;          // null: the study's scene
+  std::shared_ptr<const RunRecord> reference;  // null: the monolithic run at the same H
+  std::string transport;                       // empty: the study's transport
 };
 
 }  // namespace
 
 std::string Method::label() const {
-  return spec.name() + (feedthrough == Feedthrough::kResolved ? "-resolved" : "");
+  std::string s = spec.name();
+  if (feedthrough == Feedthrough::kResolved) s += "-resolved";
+  if (!coupling.is_plain()) {
+    s += '+';
+    s += coupling.label();
+  }
+  return s;
 }
 
 namespace {
@@ -50,9 +60,9 @@ std::vector<Method> methods_of(const std::vector<std::string>& names) {
   for (const std::string& n : names) {
     if (n == "monolithic") continue;
     const CaseSpec c = parse_case(n);
-    m.push_back({c, Feedthrough::kLagged});
+    m.push_back({c, Feedthrough::kLagged, {}});
     if (c.scheme == Scheme::kJacobi && c.has_force_feedthrough())
-      m.push_back({c, Feedthrough::kResolved});
+      m.push_back({c, Feedthrough::kResolved, {}});
   }
   return m;
 }
@@ -64,8 +74,62 @@ std::vector<Method> all_methods() {
 }
 
 std::vector<Method> methods_for(const Scene& scene) {
-  return methods_of(case_names(scene));
+  std::vector<Method> m = methods_of(case_names(scene));
+  const std::size_t plain = m.size();
+  for (std::size_t k = 0; k < plain; ++k) {
+    const Method& base = m[k];
+    if (base.spec.cuts.size() != 1 || base.spec.scheme != Scheme::kJacobi ||
+        base.feedthrough != Feedthrough::kLagged)
+      continue;
+    Method implicit = base;
+    implicit.coupling.method = CouplingMethod::kImplicit;
+    implicit.coupling.inputs = InputMode::kLinear;
+    implicit.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
+    Method extrapolated = base;
+    extrapolated.coupling.inputs = InputMode::kExtrapolate1;
+    m.push_back(implicit);
+    m.push_back(extrapolated);
+  }
+  return m;
 }
+
+namespace {
+
+// The paper's "Gauss–Seidel divides the Jacobi error by almost 10" at the
+// rail/sleepers cut with X-X, under both restart conventions, with 10 fixed
+// micro steps per macro step of 1e-4 s (as the paper's solver would take).
+template <class Add>
+void add_restart_check(const Scene& scene, const StudyOptions& opt, Add add) {
+  const auto names = case_names(scene);
+  const double H = 1e-4;
+  const double n = scene.end_time / H;
+  if (!opt.restart_check || std::find(names.begin(), names.end(), "rs-xx-jacobi") == names.end() ||
+      std::abs(n - std::round(n)) > 1e-9 * n)
+    return;
+  auto fixed = std::make_shared<Scene>(scene);
+  fixed->micro_steps = 10;
+  RunOptions o;
+  o.macro_step = H;
+  o.tolerance = scene.tolerance;
+  auto reference = std::make_shared<const RunRecord>(run_monolithic(*fixed, o));
+  for (const char* restart : {"consistent", "carry"}) {
+    auto sc = std::make_shared<Scene>(*fixed);
+    sc->restart = restart;
+    for (const char* c : {"rs-xx-jacobi", "rs-xx-gauss-seidel"}) {
+      Method m;
+      m.spec = parse_case(c);
+      std::string folder = "restart/";
+      folder += restart;
+      folder += '/';
+      folder += c;
+      Job& j = add("restart", folder, false, m, H, scene.tolerance);
+      j.scene = sc;
+      j.reference = reference;
+    }
+  }
+}
+
+}  // namespace
 
 std::vector<double> default_macro_steps(const Scene& scene) {
   std::vector<double> out;
@@ -85,7 +149,8 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
   if (!f) throw std::runtime_error("cannot write " + file.string());
   f << "group,folder,method,case,split,coupling,scheme,feedthrough,macro_step_s,tolerance_m,"
        "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
-       "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message\n";
+       "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
+       "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart\n";
   auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
   auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
   auto steps = [](const RunRecord& r, const char* k) {
@@ -108,9 +173,55 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << optd(r.history_error) << ","
       << (r.status == "ok" || r.status == "amplified" ? format_double(s.rel_l2_error_converged)
                                                       : std::string())
-      << "," << r.transport << "," << quoted(r.message) << "\n";
+      << "," << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
+      << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
+      << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
+      << "\n";
   }
 }
+
+namespace {
+
+// The cheapest method at each accuracy level, run again over the other
+// transport (in-process for a TCP study, and the reverse), one at a time so
+// that the wall times are comparable.
+void rerun_cheapest_in_other_transport(const Scene& scene, const StudyOptions& opt,
+                                       const std::vector<Job>& jobs, std::vector<StudyRun>& runs) {
+  if (opt.stop && opt.stop->load() != 0) return;
+  const std::string other = opt.transport == "tcp" ? "inproc" : "tcp";
+  NodePool pool;
+  const Transport t = other == "tcp" ? tcp_transport(scene, {}, pool) : inproc_transport(scene);
+  std::vector<std::size_t> done;
+  for (double level : accuracy_levels()) {
+    const StudyRun* best = cheapest_reaching(runs, level);
+    if (!best) continue;
+    const auto index = static_cast<std::size_t>(best - runs.data());
+    if (std::find(done.begin(), done.end(), index) != done.end()) continue;
+    done.push_back(index);
+    const auto job =
+        std::find_if(jobs.begin(), jobs.end(), [&](const Job& j) { return j.index == index; });
+    if (job == jobs.end()) continue;
+    StudyRun s;
+    s.group = "other-transport";
+    s.method = best->method;
+    s.tolerance = best->tolerance;
+    s.folder = "other-transport/" + other + "/H_" + short_number(job->options.macro_step) + "/" +
+               best->method;
+    try {
+      RunWriter writer(opt.out, s.folder);
+      RunOptions o = job->options;
+      o.stop = opt.stop;
+      s.record = run_cosim(scene, job->method.spec, o, t.factory, t.name);
+      s.record.rel_l2_error = best->record.rel_l2_error;  // the same run, bitwise
+      writer.finish(s.record);
+    } catch (const std::exception& e) {
+      s.record = failed_record(scene, job->method.spec, job->options, other, e.what());
+    }
+    runs.push_back(std::move(s));
+  }
+}
+
+}  // namespace
 
 std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   auto log = logger("master");
@@ -123,7 +234,7 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   std::vector<StudyRun> runs;
   std::vector<Job> jobs;
   auto add = [&](const std::string& group, const std::string& folder, bool mono, const Method& m,
-                 double H, double tol) {
+                 double H, double tol) -> Job& {
     StudyRun s;
     s.group = group;
     s.folder = folder;
@@ -133,8 +244,10 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
     o.macro_step = H;
     o.tolerance = tol;
     o.feedthrough = m.feedthrough;
-    jobs.push_back({runs.size(), mono, m, o});
+    o.coupling = m.coupling;
+    jobs.push_back({runs.size(), mono, m, o, nullptr, nullptr, {}});
     runs.push_back(std::move(s));
+    return jobs.back();
   };
   add("case", "monolithic", true, {}, scene.macro_step, scene.tolerance);
   for (const Method& m : methods)
@@ -142,8 +255,10 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   for (double H : sweep) {
     if (H == scene.macro_step) continue;  // the cases are that column of the sweep
     for (const Method& m : methods)
-      add("sweep", "sweep/H_" + short_number(H) + "/" + m.label(), false, m, H, scene.tolerance);
+      if (m.coupling.method != CouplingMethod::kImplicit || H >= opt.implicit_min_macro_step)
+        add("sweep", "sweep/H_" + short_number(H) + "/" + m.label(), false, m, H, scene.tolerance);
   }
+  add_restart_check(scene, opt, add);
   for (double tol : opt.tolerances)
     add("tolerance", "sweep/tol_" + short_number(tol) + "/monolithic", true, {}, scene.macro_step,
         tol);
@@ -201,11 +316,12 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
         o.on_channels = [&writer](const std::vector<std::string>& extra) {
           writer.channels(extra);
         };
+        const Scene& sc = job.scene ? *job.scene : scene;
         if (job.monolithic) {
-          r = run_monolithic(scene, o);
+          r = run_monolithic(sc, o);
         } else {
-          r = run_cosim(scene, spec, o, factory, opt.transport);
-          judge(r, references.at(o.macro_step), scene);
+          r = run_cosim(sc, spec, o, factory, opt.transport);
+          judge(r, job.reference ? *job.reference : references.at(o.macro_step), sc);
         }
         if (r.status == "ok" || r.status == "amplified")
           s.rel_l2_error_converged = deflection_error(r.deflection, converged.deflection).rel_l2;
@@ -230,6 +346,8 @@ std::vector<StudyRun> run_study(const Scene& scene, const StudyOptions& opt) {
   std::vector<std::thread> threads;
   for (int w = 0; w < workers; ++w) threads.emplace_back(work, w);
   for (auto& t : threads) t.join();
+
+  rerun_cheapest_in_other_transport(scene, opt, jobs, runs);
 
   write_summary_csv(opt.out / "summary.csv", runs);
   write_report(scene, opt, runs, converged);

@@ -1,0 +1,111 @@
+#include "report_methods.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <string>
+
+namespace railcosim {
+namespace {
+
+std::string sci(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2e", v);
+  return b;
+}
+
+bool is_cosim(const StudyRun& r) {
+  return (r.group == "case" || r.group == "sweep") && r.method != "monolithic";
+}
+
+}  // namespace
+
+const StudyRun* cheapest_reaching(const std::vector<StudyRun>& runs, double level) {
+  const StudyRun* best = nullptr;
+  for (const StudyRun& r : runs) {
+    if (!is_cosim(r) || r.record.status != "ok" || !r.record.rel_l2_error ||
+        *r.record.rel_l2_error > level)
+      continue;
+    if (!best || r.record.wall_s < best->record.wall_s) best = &r;
+  }
+  return best;
+}
+
+std::optional<double> restart_ratio(const std::vector<StudyRun>& runs, const std::string& restart) {
+  std::optional<double> j, gs;
+  for (const StudyRun& r : runs) {
+    if (r.group != "restart" || r.record.restart != restart || !r.record.rel_l2_error) continue;
+    if (r.record.case_name == "rs-xx-jacobi") j = *r.record.rel_l2_error;
+    if (r.record.case_name == "rs-xx-gauss-seidel") gs = *r.record.rel_l2_error;
+  }
+  if (!j || !gs || !(*gs > 0)) return std::nullopt;
+  return *j / *gs;
+}
+
+void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
+                           const std::string& transport) {
+  const std::string other = transport == "tcp" ? "inproc" : "tcp";
+  md << "\n## Cheapest method per accuracy\n\n"
+     << "Among the runs of the sweep that end `ok`, the one that reaches each relative error "
+        "(rail deflection at t_end against the monolithic run at the same H) in the least wall "
+        "time over `"
+     << transport << "`; the same method and H rerun over `" << other << "` for comparison.\n\n"
+     << "| error at most | method | H (s) | error | wall " << transport << " (s) | wall " << other
+     << " (s) | iterations per step (mean) |\n|---|---|---|---|---|---|---|\n";
+  for (double level : accuracy_levels()) {
+    const StudyRun* best = cheapest_reaching(runs, level);
+    if (!best) {
+      md << "| " << sci(level) << " | none of the swept methods | | | | | |\n";
+      continue;
+    }
+    const RunRecord& x = best->record;
+    std::string again = "–";
+    for (const StudyRun& r : runs)
+      if (r.group == "other-transport" && r.method == best->method &&
+          r.record.macro_step == x.macro_step && r.record.status == "ok")
+        again = sci(r.record.wall_s);
+    md << "| " << sci(level) << " | " << best->method << " | " << x.macro_step << " | "
+       << sci(*x.rel_l2_error) << " | " << sci(x.wall_s) << " | " << again << " | "
+       << (x.iterations_mean ? sci(*x.iterations_mean) : "1 (explicit)") << " |\n";
+  }
+
+  // Per method: the largest H at which it is ok, and the first H above it at
+  // which it is not.
+  std::map<std::string, std::map<double, std::string>> status;
+  std::vector<std::string> order;
+  for (const StudyRun& r : runs) {
+    if (!is_cosim(r)) continue;
+    if (!status.count(r.method)) order.push_back(r.method);
+    status[r.method][r.record.macro_step] = r.record.status;
+  }
+  md << "\n## Largest stable macro step per method\n\n"
+     << "| method | largest H ok (s) | first H not ok (s): status |\n|---|---|---|\n";
+  for (const std::string& m : order) {
+    std::optional<double> ok;
+    std::string broke = "–";
+    for (const auto& [H, s] : status[m]) {  // ascending H
+      if (s == "ok" && broke == "–") ok = H;
+      if (s != "ok" && broke == "–" && ok) broke = sci(H) + ": " + s;
+    }
+    md << "| " << m << " | " << (ok ? sci(*ok) : "none") << " | " << broke << " |\n";
+  }
+
+  const auto consistent = restart_ratio(runs, "consistent");
+  const auto carry = restart_ratio(runs, "carry");
+  if (consistent || carry) {
+    md << "\n## Restart convention and the paper's \"almost 10\"\n\n"
+       << "Jacobi over Gauss–Seidel error at the rail/sleepers cut with X-X, H = 1e-4 s, 10 "
+          "fixed micro steps per macro step. The paper reports \"almost 10\"; an independent "
+          "reference gives 9.3 when each subsystem keeps its acceleration across a communication "
+          "point (carry) and 32 to 46 when it restarts from an acceleration consistent with the "
+          "new inputs. Judged: a ratio in [5, 20] reproduces \"almost 10\".\n\n"
+       << "| convention | ratio (ours) | paper | reproduces \"almost 10\" |\n|---|---|---|---|\n";
+    for (const auto& [name, v] :
+         {std::pair{"consistent (default)", consistent}, std::pair{"carry", carry}}) {
+      md << "| " << name << " | " << (v ? sci(*v) : "–") << " | almost 10 | "
+         << (v ? (*v >= 5 && *v <= 20 ? "yes" : "no") : "not run") << " |\n";
+    }
+  }
+}
+
+}  // namespace railcosim
