@@ -333,11 +333,13 @@ void Subsystem::restore(const ParticipantState& state) {
   require(phase_ != Phase::kCreated && phase_ != Phase::kStepping, "restore()",
           phase_ == Phase::kCreated ? "initialize() must come first" : "a step is in progress");
   Cursor c(state.values, name());
-  const long step = static_cast<long>(c.next());
+  // Counts are checked before they are converted: any double may arrive.
+  constexpr std::size_t kMaxCount = std::size_t{1} << 53;
+  const auto step = static_cast<long>(c.count(kMaxCount));
   const bool inputs_set = c.next() != 0.0;
-  const int level = static_cast<int>(c.next());
-  const long micro = static_cast<long>(c.next());
-  const long rejected = static_cast<long>(c.next());
+  const auto level = static_cast<int>(c.count(Newmark::kMaxLevel));
+  const auto micro = static_cast<long>(c.count(kMaxCount));
+  const auto rejected = static_cast<long>(c.count(kMaxCount));
   const double force = c.next();
   const auto n = static_cast<std::size_t>(sys_.layout.size);
   const std::vector<double> u = c.vec(n), v = c.vec(n), a = c.vec(n);

@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
+#include "coupled_statics.hpp"
 #include "remote_participant.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
@@ -19,6 +21,8 @@ namespace railcosim {
 namespace {
 
 using std::chrono::milliseconds;
+
+constexpr const char* kSecret = "correct horse battery staple";
 
 std::string hex(const Digest& d) {
   std::string s;
@@ -54,19 +58,37 @@ TEST(Auth, NoncesAreFreshAndAnswersDependOnEverything) {
   EXPECT_EQ(a.size(), 32u);
   EXPECT_NE(a, b);
   const std::string s = "a secret of enough length";
-  EXPECT_NE(auth_answer(s, 2, a), auth_answer(s, 2, b));
-  EXPECT_NE(auth_answer(s, 2, a), auth_answer(s, 3, a));
-  EXPECT_NE(auth_answer(s, 2, a), auth_answer(s + "!", 2, a));
-  EXPECT_TRUE(constant_time_equal(auth_answer(s, 2, a), auth_answer(s, 2, a)));
+  EXPECT_NE(auth_answer(s, "track", a), auth_answer(s, "track", b));
+  EXPECT_NE(auth_answer(s, "track", a), auth_answer(s, "soil", a));
+  EXPECT_NE(auth_answer(s + "!", "track", a), auth_answer(s, "track", a));
+  // The zero byte ends the participant's name: it cannot run into the nonce.
+  EXPECT_NE(auth_answer(s, "soil", "x" + a), auth_answer(s, "soilx", a));
+  EXPECT_TRUE(constant_time_equal(auth_answer(s, "track", a), auth_answer(s, "track", a)));
 }
 
-constexpr const char* kSecret = "correct horse battery staple";
+// The answer as docs/protocol.md defines it, HMAC-SHA256(secret,
+// "railcosim-auth-v2" | participant | 0 | nonce); the expected values come
+// from another implementation (Python's hmac module), for outside
+// participants to check theirs against.
+TEST(Auth, AnswerMatchesTheDocumentedConstruction) {
+  std::string nonce;
+  for (int i = 0; i < 32; ++i) nonce += static_cast<char>(i);  // 00 01 ... 1f
+  auto hex_of = [](const std::string& raw) {
+    Digest d{};
+    std::copy(raw.begin(), raw.end(), d.begin());
+    return hex(d);
+  };
+  EXPECT_EQ(hex_of(auth_answer(kSecret, "soil", nonce)),
+            "4e2d5487f0cf7d11491de7fa96b114c303c3bc603281743421002ef021887e49");
+  EXPECT_EQ(hex_of(auth_answer(kSecret, "vehicle", nonce)),
+            "eaf9b6376227518e8a6a3abf3ff764c63a8c293b9aa0cb6ea0183ec8723e4f89");
+}
 
 class TokenNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     NodeOptions o;
-    o.role = wire::ROLE_VEHICLE;
+    o.role = "vehicle";
     o.token = kSecret;
     server_ = std::make_unique<NodeServer>(o, Address{"127.0.0.1", 0});
     thread_ = std::thread([this] { server_->run(false); });
@@ -76,12 +98,17 @@ class TokenNodeTest : public ::testing::Test {
     server_->stop();
     thread_.join();
   }
+  // The vehicle of the paper's wr-xx-jacobi case.
   SubsystemConfig config() const {
-    return {Split::kWheelRail, Side::kS1, Coupling::kXX, scene_.macro_step, scene_.tolerance};
+    SubsystemConfig cfg;
+    cfg.participant = partition(scene_, parse_case("wr-xx-jacobi")).front();
+    cfg.macro_step = scene_.macro_step;
+    cfg.tolerance = scene_.tolerance;
+    return cfg;
   }
   // Sends a hello, returns the challenge's nonce.
   std::string hello(Connection& c) {
-    c.send(hello_envelope(wire::ROLE_VEHICLE, scene_fingerprint(scene_)));
+    c.send(hello_envelope("vehicle", scene_fingerprint(scene_)));
     const wire::Envelope r = c.receive(milliseconds(5000));
     EXPECT_TRUE(r.has_challenge()) << body_name(r);
     return r.challenge().nonce();
@@ -100,14 +127,29 @@ class TokenNodeTest : public ::testing::Test {
 
 TEST_F(TokenNodeTest, TheRightSecretOpensASession) {
   RemoteParticipant p(server_->local_address(), scene_, config(), {}, std::string(kSecret));
-  EXPECT_EQ(p.initialize().outputs.displacement.size(), 1u);
+  ASSERT_EQ(config().participant.role, "vehicle");
+  Subsystem local(scene_, config());
+  const CouplingData in = zero_inputs(scene_, config().participant);
+  const StepResult remote = p.initialize(in);
+  ASSERT_EQ(remote.outputs.size(), 1u);  // the wr interface
+  EXPECT_EQ(remote.outputs[0].displacement.size(), 1u);
+  EXPECT_EQ(remote.outputs, local.initialize(in).outputs);
 }
 
 TEST_F(TokenNodeTest, AWrongSecretGetsOnlyARefusal) {
   auto c = Connection::connect(server_->local_address(), milliseconds(5000));
   const std::string nonce = hello(*c);
   wire::Envelope auth;
-  auth.mutable_auth()->set_mac(auth_answer("not the right secret!", wire::ROLE_VEHICLE, nonce));
+  auth.mutable_auth()->set_mac(auth_answer("not the right secret!", "vehicle", nonce));
+  c->send(auth);
+  expect_refused(*c);
+}
+
+TEST_F(TokenNodeTest, AnAnswerForAnotherParticipantGetsOnlyARefusal) {
+  auto c = Connection::connect(server_->local_address(), milliseconds(5000));
+  const std::string nonce = hello(*c);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", nonce));  // the hello said vehicle
   c->send(auth);
   expect_refused(*c);
 }
@@ -125,7 +167,7 @@ TEST_F(TokenNodeTest, ReplayingAnOldAnswerFails) {
   auto c1 = Connection::connect(server_->local_address(), milliseconds(5000));
   const std::string nonce = hello(*c1);
   wire::Envelope auth;
-  auth.mutable_auth()->set_mac(auth_answer(kSecret, wire::ROLE_VEHICLE, nonce));
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "vehicle", nonce));
   c1->send(auth);
   ASSERT_TRUE(c1->receive(milliseconds(5000)).has_hello_reply());
   wire::Envelope bye;

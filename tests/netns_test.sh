@@ -1,14 +1,19 @@
 #!/usr/bin/env bash
-# Multi-host check: the two nodes on hosts of their own (network namespaces
+# Multi-host check: the nodes on hosts of their own (network namespaces
 # joined to this one by veth pairs, with addresses this test makes), the
-# master here, one case across them; its results must equal the in-process
-# run bit for bit. Exits 77 (skipped) where namespaces cannot be made.
+# master here. Two hosts: a paper-scene case across the vehicle and track
+# nodes; three hosts: a soil-scene case across vehicle, track and soil nodes.
+# The results of each must equal the in-process run bit for bit. Exits 77
+# (skipped) where namespaces cannot be made.
+# Usage: netns_test.sh BIN_DIR PAPER_SCENE SOIL_SCENE
 set -u
 bin=$1
 scene=$2
+soil_scene=$3
 id=$$
 ns_v=rcs_v_$id
 ns_t=rcs_t_$id
+ns_s=rcs_s_$id
 out=$(mktemp -d)
 pids=()
 
@@ -17,8 +22,10 @@ cleanup() {
   wait 2>/dev/null
   ip netns del "$ns_v" 2>/dev/null
   ip netns del "$ns_t" 2>/dev/null
+  ip netns del "$ns_s" 2>/dev/null
   ip link del "rv${id}a" 2>/dev/null
   ip link del "rt${id}a" 2>/dev/null
+  ip link del "rs${id}a" 2>/dev/null
   rm -rf "$out"
 }
 trap cleanup EXIT
@@ -28,10 +35,12 @@ if ! command -v ip >/dev/null || ! ip netns add "$ns_v" 2>/dev/null; then
   exit 77
 fi
 ip netns add "$ns_t" || exit 1
+ip netns add "$ns_s" || exit 1
 
 # host   namespace  address          link to this host
 # vehicle $ns_v     10.231.1.2/24    rv<id>a (10.231.1.1) <-> rv<id>b
 # track   $ns_t     10.231.2.2/24    rt<id>a (10.231.2.1) <-> rt<id>b
+# soil    $ns_s     10.231.3.2/24    rs<id>a (10.231.3.1) <-> rs<id>b
 link() {  # ns side subnet
   local ns=$1 a=$2 b=$3 net=$4
   ip link add "$a" type veth peer name "$b" || return 1
@@ -40,7 +49,8 @@ link() {  # ns side subnet
   ip netns exec "$ns" ip addr add "$net.2/24" dev "$b" || return 1
   ip netns exec "$ns" ip link set "$b" up && ip netns exec "$ns" ip link set lo up
 }
-if ! link "$ns_v" "rv${id}a" "rv${id}b" 10.231.1 || ! link "$ns_t" "rt${id}a" "rt${id}b" 10.231.2; then
+if ! link "$ns_v" "rv${id}a" "rv${id}b" 10.231.1 || ! link "$ns_t" "rt${id}a" "rt${id}b" 10.231.2 ||
+  ! link "$ns_s" "rs${id}a" "rs${id}b" 10.231.3; then
   echo "SKIP: cannot create veth links here"
   exit 77
 fi
@@ -59,6 +69,7 @@ start_node() {  # ns program address logfile
 }
 start_node "$ns_v" vehicle_node 10.231.1.2:7001 "$out/vehicle.log" || exit 1
 start_node "$ns_t" track_node 10.231.2.2:7002 "$out/track.log" || exit 1
+start_node "$ns_s" soil_node 10.231.3.2:7003 "$out/soil.log" || exit 1
 
 case=rs-xx-gauss-seidel
 "$bin/master" run --scene "$scene" --case $case --vehicle 10.231.1.2:7001 --track 10.231.2.2:7002 \
@@ -78,3 +89,20 @@ for f in deflection.csv history.csv; do
 done
 grep -q '"transport": "tcp"' "$out/tcp/$case/summary.json" || { echo "FAIL: transport"; exit 1; }
 echo "PASS: $case across two network hosts equals the in-process run bit for bit"
+
+# Three hosts: vehicle, track and soil each on its own (the same vehicle and
+# track nodes serve this session after the first).
+case=wr-xx+ss-xt-gauss-seidel
+"$bin/master" run --scene "$soil_scene" --case $case --node vehicle=10.231.1.2:7001 \
+  --node track=10.231.2.2:7002 --node soil=10.231.3.2:7003 --token-file "$out/token" \
+  --out "$out/tcp3" || { echo "FAIL: the run across three hosts failed"; exit 1; }
+"$bin/master" run --scene "$soil_scene" --case $case --transport inproc --out "$out/inproc3" \
+  >/dev/null || exit 1
+for f in deflection.csv history.csv soil.csv; do
+  if ! cmp -s "$out/tcp3/$case/$f" "$out/inproc3/$case/$f"; then
+    echo "FAIL: $f across three hosts differs from the in-process run"
+    exit 1
+  fi
+done
+grep -q '"s3"' "$out/tcp3/$case/summary.json" || { echo "FAIL: three participants"; exit 1; }
+echo "PASS: $case across three network hosts equals the in-process run bit for bit"

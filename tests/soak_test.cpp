@@ -1,9 +1,12 @@
-// Soak: 200 sessions back to back against one pair of nodes. Their resident
-// memory must not grow by more than 10% once the first sessions have warmed
-// them up (allocator pools, caches): anything a session leaks would add up.
+// Soak: 200 sessions back to back against one set of nodes (vehicle, track
+// and soil). Their resident memory must not grow by more than 10% once the
+// first sessions have warmed them up (allocator pools, caches): anything a
+// session leaks would add up.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <memory>
 #include <sstream>
 
 #include "node_launcher.hpp"
@@ -23,43 +26,47 @@ long resident_kib(pid_t pid) {
 }
 
 TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
-  Scene scene = test::paper_scene();
+  Scene scene = load_scene(test::source_path("scenes/soil.toml"));
   scene.end_time = 0.005;  // 50 macro steps a session
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
-  LaunchedNode track("track_node", std::chrono::seconds(10));
-  const Address va = vehicle.address(), ta = track.address();
+  const std::vector<std::string> roles = {"vehicle", "track", "soil"};
+  std::map<std::string, std::unique_ptr<LaunchedNode>> nodes;
+  std::map<std::string, Address> at;
+  for (const std::string& role : roles) {
+    nodes[role] = std::make_unique<LaunchedNode>(role + "_node", std::chrono::seconds(10));
+    at[role] = nodes[role]->address();
+  }
   const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? va : ta, scene, c);
+    return std::make_unique<RemoteParticipant>(at.at(c.participant.role), scene, c);
   };
   RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
-  // Alternate the cuts so that both kinds of subsystem are built and freed.
-  const CaseSpec cases[] = {parse_case("wr-xx-jacobi"), parse_case("rs-xt-gauss-seidel")};
-  long warm_v = 0, warm_t = 0;
+  // Every session uses the three nodes; alternating the cuts builds and
+  // frees both kinds of vehicle and track participant (with and without the
+  // rail) and both kinds of soil participant (receiving forces or motions).
+  const CaseSpec cases[] = {parse_case("wr-xx+ss-xt-gauss-seidel"),
+                            parse_case("rs-xt+ss-xx-jacobi")};
+  std::map<std::string, long> warm;
   std::vector<double> first_deflection;
   for (int s = 0; s < 200; ++s) {
     const RunRecord r = run_cosim(scene, cases[s % 2], o, tcp, "tcp");
     ASSERT_EQ(r.status, "ok") << "session " << s << ": " << r.message;
+    ASSERT_EQ(r.micro_steps.size(), 3u) << "session " << s;
     if (s == 0) first_deflection = r.deflection;
     if (s % 2 == 0) {
       ASSERT_EQ(r.deflection, first_deflection) << "session " << s;  // the same every time
     }
-    if (s == 19) {
-      warm_v = resident_kib(vehicle.pid());
-      warm_t = resident_kib(track.pid());
-    }
+    if (s == 19)
+      for (const std::string& role : roles) warm[role] = resident_kib(nodes[role]->pid());
   }
-  const long end_v = resident_kib(vehicle.pid()), end_t = resident_kib(track.pid());
-  ASSERT_GT(warm_v, 0);
-  ASSERT_GT(warm_t, 0);
-  EXPECT_LE(end_v, warm_v * 11 / 10)
-      << "vehicle node: " << warm_v << " KiB after 20 sessions, " << end_v << " KiB after 200";
-  EXPECT_LE(end_t, warm_t * 11 / 10)
-      << "track node: " << warm_t << " KiB after 20 sessions, " << end_t << " KiB after 200";
-  std::printf(
-      "resident memory after 20 / 200 sessions: vehicle %ld / %ld KiB, track %ld / %ld KiB\n",
-      warm_v, end_v, warm_t, end_t);
+  for (const std::string& role : roles) {
+    const long end = resident_kib(nodes[role]->pid());
+    ASSERT_GT(warm[role], 0) << role;
+    EXPECT_LE(end, warm[role] * 11 / 10)
+        << role << " node: " << warm[role] << " KiB after 20 sessions, " << end << " KiB after 200";
+    std::printf("%s node: resident memory %ld KiB after 20 sessions, %ld KiB after 200\n",
+                role.c_str(), warm[role], end);
+  }
 }
 
 }  // namespace

@@ -1,58 +1,98 @@
-// Every case of the paper scene over real TCP, against real node processes,
-// bitwise equal to its in-process twin.
+// Cases over real TCP, against real node processes (one per participant),
+// bitwise equal to their in-process twins: every case of the paper scene,
+// three-participant cases of the soil scene, and a master run given a soil
+// node the test started. Then how the master reports nodes that misbehave.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <thread>
 
-#include "evaluation.hpp"
 #include "node_launcher.hpp"
 #include "remote_participant.hpp"
 #include "runner.hpp"
 #include "test_support.hpp"
+#include "transport.hpp"
 
 namespace railcosim {
 namespace {
 
-struct Nodes {
-  LaunchedNode vehicle{"vehicle_node", std::chrono::seconds(10)};
-  LaunchedNode track{"track_node", std::chrono::seconds(10)};
-};
+namespace fs = std::filesystem;
 
-class TcpIntegration : public ::testing::TestWithParam<std::pair<const char*, Feedthrough>> {
- protected:
-  // One pair of nodes serves every case, session after session.
-  static void SetUpTestSuite() { nodes_ = std::make_unique<Nodes>(); }
-  static void TearDownTestSuite() { nodes_.reset(); }
-  static inline std::unique_ptr<Nodes> nodes_;
-};
+// The soil scene shortened to 0.05 s (500 macro steps of 1e-4 s): long
+// enough for the wheel to cross three sleeper bays and the soil to respond,
+// short enough that the three-participant cases add about a second each.
+constexpr double kSoilEndTime = 0.05;
 
-TEST_P(TcpIntegration, BitwiseEqualToInProcess) {
-  const Scene scene = test::paper_scene();
-  const auto [name, feedthrough] = GetParam();
+Scene soil_scene() {
+  Scene s = load_scene(test::source_path("scenes/soil.toml"));
+  s.end_time = kSoilEndTime;
+  s.validate();
+  return s;
+}
+
+// The configuration of participant `role` in a case.
+SubsystemConfig config_of(const Scene& scene, const char* case_name, const std::string& role) {
+  SubsystemConfig cfg;
+  for (const ParticipantSpec& p : partition(scene, parse_case(case_name)))
+    if (p.role == role) cfg.participant = p;
+  EXPECT_EQ(cfg.participant.role, role) << case_name;
+  cfg.macro_step = scene.macro_step;
+  cfg.tolerance = scene.tolerance;
+  return cfg;
+}
+
+// Runs a case in-process and over TCP and expects the same record bit for bit.
+void expect_tcp_equals_inproc(const Scene& scene, const std::string& name, Feedthrough feedthrough,
+                              NodePool& pool) {
   RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   o.feedthrough = feedthrough;
-  const Address vehicle = nodes_->vehicle.address(), track = nodes_->track.address();
-  const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? vehicle : track, scene, c);
-  };
   const CaseSpec spec = parse_case(name);
   const RunRecord local = run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
-  const RunRecord remote = run_cosim(scene, spec, o, tcp, "tcp");
+  const RunRecord remote = run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
   ASSERT_EQ(remote.status, local.status) << remote.message;
   EXPECT_EQ(remote.macro_steps, local.macro_steps);
+  EXPECT_EQ(remote.macro_steps, scene.macro_steps());
   EXPECT_EQ(remote.micro_steps, local.micro_steps);
+  EXPECT_EQ(remote.micro_steps.size(), spec.cuts.size() + 1);  // one count per participant
   ASSERT_EQ(remote.deflection.size(), local.deflection.size());
   EXPECT_EQ(remote.deflection, local.deflection);  // exact double equality
+  EXPECT_EQ(remote.soil, local.soil);
+  EXPECT_EQ(remote.extra_channels, local.extra_channels);
   ASSERT_EQ(remote.history.size(), local.history.size());
   for (std::size_t i = 0; i < local.history.size(); ++i) {
     EXPECT_EQ(remote.history[i].t, local.history[i].t) << i;
     EXPECT_EQ(remote.history[i].wheel, local.history[i].wheel) << i;
     EXPECT_EQ(remote.history[i].contact_force, local.history[i].contact_force) << i;
+    EXPECT_EQ(remote.history[i].extra, local.history[i].extra) << i;
   }
   EXPECT_EQ(remote.transport, "tcp");
+}
+
+std::string test_name(const char* case_name, Feedthrough f) {
+  std::string n = std::string(case_name) + "_" + to_string(f);
+  for (char& ch : n)
+    if (ch == '-' || ch == '+') ch = '_';
+  return n;
+}
+
+class TcpIntegration : public ::testing::TestWithParam<std::pair<const char*, Feedthrough>> {
+ protected:
+  // One node per role serves every case of the suite, session after session.
+  static void SetUpTestSuite() { pool_ = std::make_unique<NodePool>(); }
+  static void TearDownTestSuite() { pool_.reset(); }
+  static inline std::unique_ptr<NodePool> pool_;
+};
+
+TEST_P(TcpIntegration, PaperCaseBitwiseEqualToInProcess) {
+  expect_tcp_equals_inproc(test::paper_scene(), GetParam().first, GetParam().second, *pool_);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCases, TcpIntegration,
@@ -66,26 +106,101 @@ INSTANTIATE_TEST_SUITE_P(AllCases, TcpIntegration,
                                            std::pair{"rs-xt-jacobi", Feedthrough::kLagged},
                                            std::pair{"rs-xt-gauss-seidel", Feedthrough::kLagged}),
                          [](const auto& param_info) {
-                           std::string n = std::string(param_info.param.first) + "_" +
-                                           to_string(param_info.param.second);
-                           for (char& ch : n)
-                             if (ch == '-') ch = '_';
-                           return n;
+                           return test_name(param_info.param.first, param_info.param.second);
                          });
+
+// Three participants (vehicle | track | soil), each in its own node process.
+class TcpSoil : public TcpIntegration {};
+
+TEST_P(TcpSoil, ThreeNodesBitwiseEqualToInProcess) {
+  expect_tcp_equals_inproc(soil_scene(), GetParam().first, GetParam().second, *pool_);
+}
+
+INSTANTIATE_TEST_SUITE_P(SoilCases, TcpSoil,
+                         ::testing::Values(std::pair{"wr-xx+ss-xx-jacobi", Feedthrough::kLagged},
+                                           std::pair{"wr-xt+ss-xt-gauss-seidel",
+                                                     Feedthrough::kLagged},
+                                           std::pair{"wr-xt+ss-xt-jacobi", Feedthrough::kResolved}),
+                         [](const auto& param_info) {
+                           return test_name(param_info.param.first, param_info.param.second);
+                         });
+
+// --- the master program, given a soil node ---------------------------------
+
+struct Outcome {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Outcome run_master(const std::string& args) {
+  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master " + args + " 2>&1";
+  Outcome o;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return o;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), p)) o.output += buf.data();
+  const int st = pclose(p);
+  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return o;
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(TcpMaster, ARunWithAGivenSoilNodeEqualsTheInProcessRun) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("railcosim_given_soil_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A scene copy with the shortened end time.
+  std::string scene_text = file_text(test::source_path("scenes/soil.toml"));
+  const std::string key = "end_time = 0.25";
+  const auto at = scene_text.find(key);
+  ASSERT_NE(at, std::string::npos) << "scenes/soil.toml no longer says " << key;
+  scene_text.replace(at, key.size(), "end_time = 0.05");
+  const fs::path scene = dir / "soil.toml";
+  std::ofstream(scene) << scene_text;
+
+  const std::string c = "wr-xx+ss-xt-gauss-seidel";
+  {
+    LaunchedNode soil("soil_node", std::chrono::seconds(10));
+    const Outcome tcp =
+        run_master("run --scene " + scene.string() + " --case " + c +
+                   " --node soil=" + soil.address().str() + " --out " + (dir / "tcp").string());
+    ASSERT_EQ(tcp.status, 0) << tcp.output;
+    // The master started the vehicle and track nodes, and no soil node of its own.
+    EXPECT_NE(tcp.output.find("started vehicle_node"), std::string::npos) << tcp.output;
+    EXPECT_NE(tcp.output.find("started track_node"), std::string::npos) << tcp.output;
+    EXPECT_EQ(tcp.output.find("started soil_node"), std::string::npos) << tcp.output;
+  }
+  const Outcome local = run_master("run --scene " + scene.string() + " --case " + c +
+                                   " --transport inproc --out " + (dir / "inproc").string());
+  ASSERT_EQ(local.status, 0) << local.output;
+  for (const char* f : {"deflection.csv", "history.csv", "soil.csv"}) {
+    const std::string a = file_text(dir / "tcp" / c / f), b = file_text(dir / "inproc" / c / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, b) << f << " over TCP differs from the in-process run";
+  }
+  EXPECT_NE(file_text(dir / "tcp" / c / "summary.json").find("\"transport\": \"tcp\""),
+            std::string::npos);
+  fs::remove_all(dir);
+}
+
+// --- nodes that misbehave ---------------------------------------------------
 
 TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
   Scene scene = test::paper_scene();
   scene.end_time = 0.001;
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
-  LaunchedNode track("track_node", std::chrono::seconds(10));
+  NodePool pool;
   RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = 1e-30;  // no step can meet it
-  const Address va = vehicle.address(), ta = track.address();
-  const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(c.side == Side::kS1 ? va : ta, scene, c);
-  };
-  const RunRecord r = run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o, tcp, "tcp");
+  const RunRecord r = run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o,
+                                tcp_transport(scene, {}, pool).factory, "tcp");
   EXPECT_EQ(r.status, "diverged");
   EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;
@@ -129,9 +244,7 @@ TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {
   const Scene scene = test::paper_scene();
   FakeNode fake(std::string("\0\0\0\6garbag", 10));
   try {
-    RemoteParticipant p(
-        fake.address(), scene,
-        {Split::kWheelRail, Side::kS2, Coupling::kXX, scene.macro_step, scene.tolerance});
+    RemoteParticipant p(fake.address(), scene, config_of(scene, "wr-xx-jacobi", "track"));
     FAIL() << "accepted garbage as a hello reply";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
@@ -147,28 +260,28 @@ TEST(TcpNodes, ANodeThatNeverAnswersTheHelloTimesOut) {
   t.reply = std::chrono::milliseconds(300);
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    RemoteParticipant p(
-        fake.address(), scene,
-        {Split::kWheelRail, Side::kS1, Coupling::kXX, scene.macro_step, scene.tolerance}, t);
+    RemoteParticipant p(fake.address(), scene, config_of(scene, "wr-xx-jacobi", "vehicle"), t);
     FAIL() << "no timeout";
   } catch (const NodeFailure& e) {
-    EXPECT_NE(std::string(e.what()).find("no reply within 300 ms"), std::string::npos) << e.what();
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("vehicle node at " + fake.address().str()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("no reply within 300 ms"), std::string::npos) << msg;
   }
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
 }
 
 TEST(TcpNodes, ANodeOfTheWrongRoleIsNamedInTheError) {
-  const Scene scene = test::paper_scene();
+  const Scene scene = soil_scene();
   LaunchedNode track("track_node", std::chrono::seconds(10));
   try {
-    RemoteParticipant p(
-        track.address(), scene,
-        {Split::kWheelRail, Side::kS1, Coupling::kXX, scene.macro_step, scene.tolerance});
-    FAIL() << "connected to a track node as the vehicle";
+    RemoteParticipant p(track.address(), scene, config_of(scene, "ss-xx-jacobi", "soil"));
+    FAIL() << "connected to a track node as the soil";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("vehicle node at " + track.address().str()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("soil node at " + track.address().str()), std::string::npos) << msg;
     EXPECT_NE(msg.find("WRONG_ROLE"), std::string::npos) << msg;
+    // The node's own words name both participants.
+    EXPECT_NE(msg.find("serves the track participant, not the soil"), std::string::npos) << msg;
   }
 }
 
@@ -178,9 +291,7 @@ TEST(TcpNodes, AnUnreachableNodeIsNamedWithItsAddress) {
   t.connect = std::chrono::milliseconds(300);
   try {
     // Port 1 on loopback: nothing listens there.
-    RemoteParticipant p(
-        {"127.0.0.1", 1}, scene,
-        {Split::kWheelRail, Side::kS2, Coupling::kXX, scene.macro_step, scene.tolerance}, t);
+    RemoteParticipant p({"127.0.0.1", 1}, scene, config_of(scene, "wr-xx-jacobi", "track"), t);
     FAIL() << "connected to nothing";
   } catch (const NodeFailure& e) {
     const std::string msg = e.what();
