@@ -46,12 +46,29 @@ RandomProfile::RandomProfile(const RandomProfileSpec& s) {
     h_ = s.grid_step > 0 ? s.grid_step : s.wavelength_min / 20.0;
     x0_ = s.x_min;
     const auto n = static_cast<std::size_t>(std::ceil((s.x_max - s.x_min) / h_)) + 1;
-    r_.resize(n);
-    dr_.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      const double x = x0_ + static_cast<double>(j) * h_;
-      r_[j] = exact_height(x);
-      dr_[j] = exact_slope(x);
+    r_.assign(n, 0.0);
+    dr_.assign(n, 0.0);
+    // Each cosine along the grid by complex rotation, z_{j+1} = z_j e^{i Omega h}
+    // (a few multiplications instead of a cos and a sin), restarted from the
+    // exact value every kRestart points so that round-off cannot build up.
+    constexpr std::size_t kRestart = 256;
+    for (std::size_t k = 0; k < omega_.size(); ++k) {
+      const double c = std::cos(omega_[k] * h_), sn = std::sin(omega_[k] * h_);
+      const double a = amp_[k], aw = amp_[k] * omega_[k];
+      double re = 0, im = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (j % kRestart == 0) {
+          const double arg = omega_[k] * (x0_ + static_cast<double>(j) * h_) + phase_[k];
+          re = std::cos(arg);
+          im = std::sin(arg);
+        } else {
+          const double re1 = re * c - im * sn;
+          im = re * sn + im * c;
+          re = re1;
+        }
+        r_[j] += a * re;
+        dr_[j] -= aw * im;
+      }
     }
   }
 }

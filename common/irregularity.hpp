@@ -22,6 +22,12 @@
 
 namespace railcosim {
 
+// The penetration of a wheel at displacement q (down) over a rail deflected
+// by w_c, with rail profile r and the wheel's flat loss f (both >= 0 unload).
+inline double contact_penetration(double q, double w_c, double r, double flat_loss = 0.0) {
+  return q - w_c - r - flat_loss;
+}
+
 class RailProfile {
  public:
   virtual ~RailProfile() = default;
