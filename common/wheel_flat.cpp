@@ -32,9 +32,15 @@ double WheelFlat::angle_from_centre(double rolled) const {
   return psi;
 }
 
+bool WheelFlat::on_flat(double psi) const {
+  // The chord spans the angles +-alpha; the rounded flat the arc +-L/2.
+  return s_.shape == FlatShape::chord ? std::abs(psi) <= half_angle_
+                                      : std::abs(radius_ * psi) <= 0.5 * s_.length;
+}
+
 double WheelFlat::loss(double rolled) const {
   const double psi = angle_from_centre(rolled);
-  if (std::abs(psi) > half_angle_) return 0.0;
+  if (!on_flat(psi)) return 0.0;
   if (s_.shape == FlatShape::chord)
     return radius_ - radius_ * std::cos(half_angle_) / std::cos(psi);
   return 0.5 * depth_ * (1.0 + std::cos(2.0 * std::numbers::pi * radius_ * psi / s_.length));
@@ -42,7 +48,7 @@ double WheelFlat::loss(double rolled) const {
 
 double WheelFlat::loss_slope(double rolled) const {
   const double psi = angle_from_centre(rolled);
-  if (std::abs(psi) > half_angle_) return 0.0;
+  if (!on_flat(psi)) return 0.0;
   // d/ds = (1/R) d/dpsi.
   if (s_.shape == FlatShape::chord)
     return -std::cos(half_angle_) * std::sin(psi) / (std::cos(psi) * std::cos(psi));

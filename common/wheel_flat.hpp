@@ -11,7 +11,7 @@
 //   chord   the exact chord: f = R - R cos(alpha) / cos(psi) for |psi| <= alpha;
 //           its depth is d = R - sqrt(R^2 - L^2/4) (= L^2 / (4 D) to first order);
 //   rounded a worn flat, the haversine d/2 (1 + cos(2 pi R psi / L)) over the
-//           same arc, same depth, smooth edges.
+//           arc |R psi| <= L/2, same depth, smooth edges.
 //
 // The wheel is treated as following the flat's radial profile (no pivoting on
 // the flat's edges), the usual simplification.
@@ -44,6 +44,7 @@ class WheelFlat {
 
  private:
   double angle_from_centre(double rolled) const;  // psi in (-pi, pi]
+  bool on_flat(double psi) const;
   WheelFlatSpec s_;
   double radius_, half_angle_, depth_;
 };
