@@ -20,7 +20,7 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   } else {
     r.fail("model", "unknown vehicle model '" + model + "' (known: wheel, quarter, car)");
   }
-  r.set_unknown_hint("for model = \"" + model + "\" (see docs/vehicles.md)");
+  r.set_unknown_hint("for model = \"" + model + "\" (see the README, \"Vehicles and excitation\")");
   p.hertz_constant = r.positive("hertz_constant");
   p.speed = r.non_negative("speed_kmh") / 3.6;
   p.initial_position = r.number("initial_position");
@@ -53,7 +53,8 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
   SectionReader r(t, "irregularity", source);
   IrregularitySpec s;
   s.model = r.has("model") ? r.string("model") : "none";
-  r.set_unknown_hint("for model = \"" + s.model + "\" (see docs/vehicles.md)");
+  r.set_unknown_hint("for model = \"" + s.model +
+                     "\" (see the README, \"Vehicles and excitation\")");
   if (s.model == "random") {
     RandomProfileSpec& g = s.random;
     if (r.has("fra_class")) {
@@ -83,6 +84,9 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
     const std::string file = r.string("file");
     const std::filesystem::path base = std::filesystem::path(source).parent_path();
     s.csv_path = std::filesystem::path(file).is_absolute() ? file : (base / file).string();
+    const TableProfile table = TableProfile::load_csv(s.csv_path);
+    s.table_x = table.xs();
+    s.table_r = table.heights();
   } else if (s.model == "dipped_joint") {
     s.position = r.number("position");
     s.length = r.positive("length");

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "scene.hpp"
+#include "scene_error.hpp"
 
 namespace railcosim {
 
@@ -233,7 +233,9 @@ std::unique_ptr<RailProfile> make_profile(const IrregularitySpec& spec, double x
     return std::make_unique<RandomProfile>(r);
   }
   if (spec.model == "csv") {
-    auto t = std::make_unique<TableProfile>(TableProfile::load_csv(spec.csv_path));
+    auto t = spec.table_x.empty()
+                 ? std::make_unique<TableProfile>(TableProfile::load_csv(spec.csv_path))
+                 : std::make_unique<TableProfile>(spec.table_x, spec.table_r, spec.csv_path);
     t->check_covers(x_min, x_max);
     return t;
   }

@@ -120,6 +120,8 @@ class TableProfile : public RailProfile {
   double slope(double x) const override;
   // Throws SceneError (naming the file) unless [a, b] lies inside the table.
   void check_covers(double a, double b) const;
+  const std::vector<double>& xs() const { return x_; }
+  const std::vector<double>& heights() const { return r_; }
 
  private:
   std::vector<double> x_, r_;
@@ -164,14 +166,15 @@ class SumProfile : public RailProfile {
 // What a scene's [irregularity] table asks for; make_profile builds it once
 // the track is sized.
 struct IrregularitySpec {
-  std::string model = "none";  // none | random | csv | dipped_joint | sine
-  RandomProfileSpec random;    // random (x_min, x_max, grid_step set by make_profile)
-  std::string csv_path;        // csv, resolved against the scene file's folder
+  std::string model = "none";            // none | random | csv | dipped_joint | sine
+  RandomProfileSpec random;              // random (x_min, x_max, grid_step set by make_profile)
+  std::string csv_path;                  // csv, resolved against the scene file's folder
+  std::vector<double> table_x, table_r;  // csv: its rows, read when the scene is read
   double position = 0, length = 0, depth = 0;       // dipped_joint, m
   double amplitude = 0, wavelength = 0, phase = 0;  // sine: m, m, rad
 };
 
-// The profile over the rail [x_min, x_max] (m, the rail's frame); nullptr for
+// The profile over [x_min, x_max] (m, the scene's frame); nullptr for
 // model = "none". A csv profile must cover that range (SceneError otherwise).
 std::unique_ptr<RailProfile> make_profile(const IrregularitySpec& spec, double x_min, double x_max);
 

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "scene.hpp"
+#include "scene_error.hpp"
 
 namespace railcosim {
 

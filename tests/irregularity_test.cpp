@@ -3,6 +3,7 @@
 #include <bit>
 #include <cmath>
 #include <complex>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <vector>
@@ -226,8 +227,20 @@ TEST(IrregularityToml, ReadsEachModelAndRejectsMistakes) {
   EXPECT_DOUBLE_EQ(r.random.psd.a_v, 0.2095);
   EXPECT_EQ(r.random.seed, 42u);
   EXPECT_DOUBLE_EQ(r.random.amplitude_scale, 0.5);
-  const IrregularitySpec c = parse("[irregularity]\nmodel = \"csv\"\nfile = \"p.csv\"\n");
-  EXPECT_EQ(c.csv_path, "scenes/p.csv");  // beside the scene file
+  {
+    // A csv profile is read beside the scene file, when the scene is read.
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rc_irr_toml";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "p.csv") << "x_m,r_m\n0,0\n1,2e-4\n";
+    const std::string src = (dir / "x.toml").string();
+    const toml::table root =
+        toml::parse("[irregularity]\nmodel = \"csv\"\nfile = \"p.csv\"\n", std::string_view(src));
+    const IrregularitySpec c = parse_irregularity(*root["irregularity"].as_table(), src);
+    EXPECT_EQ(c.csv_path, (dir / "p.csv").string());
+    EXPECT_EQ(c.table_x, (std::vector<double>{0.0, 1.0}));
+    EXPECT_EQ(c.table_r, (std::vector<double>{0.0, 2e-4}));
+    std::filesystem::remove_all(dir);
+  }
   const IrregularitySpec j = parse(
       "[irregularity]\nmodel = \"dipped_joint\"\nposition = 12.0\nlength = 0.6\ndepth = 1e-3\n");
   EXPECT_DOUBLE_EQ(j.length, 0.6);
