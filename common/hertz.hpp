@@ -1,7 +1,9 @@
 // Hertz wheel/rail contact law: F = K_H * max(delta, 0)^(3/2), no tension.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace railcosim {
 
@@ -35,6 +37,36 @@ inline double hertz_solve_penetration(double K_H, double d0, double c) {
     delta = next;
   }
   return delta;
+}
+
+// Several contacts on one elastic system: delta_j = d0_j - sum_k c_jk F(delta_k)
+// with the symmetric flexibility c (c_jk: the penetration of contact j under a
+// unit force at contact k). Nonlinear Gauss-Seidel over the contacts, each
+// solved exactly by hertz_solve_penetration for the others' forces: the
+// wheels of a vehicle stand metres apart, so c is strongly diagonally
+// dominant and a few sweeps reach round-off. Returns the forces, or an empty
+// vector if the sweeps did not settle (a flexibility that couples the
+// contacts more strongly than they are held).
+template <class Matrix>
+std::vector<double> hertz_solve_coupled(double K_H, const std::vector<double>& d0,
+                                        const Matrix& c) {
+  const std::size_t n = d0.size();
+  std::vector<double> F(n, 0.0);
+  for (int sweep = 0; sweep < 200; ++sweep) {
+    double change = 0, largest = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      double d = d0[k];
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != k) d -= c(k, j) * F[j];
+      const double f = hertz_force(K_H, hertz_solve_penetration(K_H, d, c(k, k)));
+      change = std::max(change, std::abs(f - F[k]));
+      largest = std::max(largest, std::abs(f));
+      F[k] = f;
+    }
+    // A force settled to a few ulps of the largest one is converged.
+    if (change <= 1e-14 * largest) return F;
+  }
+  return {};
 }
 
 }  // namespace railcosim

@@ -164,8 +164,7 @@ ParticipantSpec participant_from_interfaces(const Scene& scene, const std::strin
   ParticipantSpec p;
   p.parts = range(first, last);
   p.role = role_of(p.parts);
-  if (!role.empty() && role != p.role)
-  {
+  if (!role.empty() && role != p.role) {
     std::string msg = "the interfaces";
     for (const InterfaceSpec& i : interfaces) {
       msg += ' ';
@@ -181,7 +180,12 @@ ParticipantSpec participant_from_interfaces(const Scene& scene, const std::strin
 
 std::vector<double> coupling_points(const Scene& scene, int cut) {
   const CutKind& kind = cut_kinds()[static_cast<std::size_t>(cut)];
-  if (kind.moving) return {scene.initial_position};
+  if (kind.moving) {
+    // One point per wheel, front to back, where it stands at t = 0.
+    std::vector<double> x;
+    for (double offset : scene.wheel_offsets()) x.push_back(scene.initial_position + offset);
+    return x;
+  }
   std::vector<double> x(static_cast<std::size_t>(scene.sleeper_count));
   for (std::size_t i = 0; i < x.size(); ++i)
     x[i] = (static_cast<double>(i) + 0.5) * scene.sleeper_spacing;

@@ -6,7 +6,7 @@
 // layer, the only places a cut can go:
 //
 //   cut  layer            upper     lower     points               damped
-//   wr   Hertz contact    vehicle   rail      1, moving at v_0     no
+//   wr   Hertz contact    vehicle   rail      1 per wheel, at v_0  no
 //   rs   railpads         rail      sleepers  one per sleeper      yes
 //   ss   ballast          sleepers  soil      one per sleeper      yes
 //

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "statics.hpp"
+#include "subsystem.hpp"
 
 namespace railcosim {
 
@@ -19,7 +20,8 @@ ParticipantSpec whole_model(const Scene& scene) {
 }  // namespace
 
 MonolithicModel::MonolithicModel(const Scene& scene, double output_step, double tolerance)
-    : sys_(assemble(scene, whole_model(scene))),
+    : scene_(scene),
+      sys_(assemble(scene, whole_model(scene))),
       dt_(output_step),
       newmark_(sys_, output_step, tolerance, 0, Newmark::kMaxStepsPerInterval, scene.micro_steps) {
   const Vector u = solve_static(sys_, Vector::Zero(sys_.layout.size), 0.0);
@@ -32,14 +34,26 @@ void MonolithicModel::advance(long n) {
 
 HistoryRow MonolithicModel::history_row(long n) const {
   const Vector& u = newmark_.state().u;
-  HistoryRow row{
-      static_cast<double>(n) * dt_, u[sys_.layout.wheel], newmark_.state().contact_force, {}};
+  const double t = static_cast<double>(n) * dt_;
+  HistoryRow row{t, u[sys_.layout.wheel], newmark_.state().contact_force, {}};
+  if (sys_.contacts.size() > 1)
+    for (std::size_t k = 0; k < sys_.contacts.size(); ++k)
+      row.extra.push_back(newmark_.contact_force(u, t, k));
+  if (scene_.ballast_forces)
+    for (double f : ballast_forces(scene_, sys_.layout, u, newmark_.state().v, nullptr, nullptr))
+      row.extra.push_back(f);
   if (!sys_.layout.soil.empty()) {
     double peak = 0;
     for (int dof : sys_.layout.soil) peak = std::max(peak, std::abs(u[dof]));
     row.extra.push_back(peak);
   }
   return row;
+}
+
+std::vector<std::string> MonolithicModel::extra_channels() const {
+  std::vector<std::string> names = channels_of(scene_, Parts::all(scene_)).history;
+  names.erase(names.begin(), names.begin() + 2);  // wheel_m, contact_force_N
+  return names;
 }
 
 std::vector<double> MonolithicModel::soil_deflection() const {
@@ -56,7 +70,7 @@ double MonolithicModel::rail_under_wheel(double t) const {
     w.push_back(u[l.rail_w[k]]);
     theta.push_back(u[l.rail_theta[k]]);
   }
-  return rail_displacement_at(sys_.contact->path, t, w, theta);
+  return rail_displacement_at(sys_.contacts.front().path, t, w, theta);
 }
 
 std::vector<double> MonolithicModel::rail_deflection() const {

@@ -20,6 +20,9 @@ class MonolithicModel {
   // Advances from step n to n + 1 (t = n * output_step).
   void advance(long n);
   HistoryRow history_row(long n) const;
+  // The names of history_row's extra values: the channels a co-simulation's
+  // participants declare beyond wheel_m and contact_force_N, in load order.
+  std::vector<std::string> extra_channels() const;
 
   // The rail displacement under the wheel at time t (Hermite interpolation).
   double rail_under_wheel(double t) const;
@@ -33,6 +36,7 @@ class MonolithicModel {
   double output_step() const { return dt_; }
 
  private:
+  Scene scene_;
   Structure sys_;
   double dt_;
   Newmark newmark_;

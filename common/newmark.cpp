@@ -1,5 +1,7 @@
 #include "newmark.hpp"
 
+#include <Eigen/Dense>
+#include <array>
 #include <cmath>
 
 #include "hertz.hpp"
@@ -24,6 +26,8 @@ Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed
   state_.level = fixed_level;
   // A rotation error is weighed as the displacement it makes over one rail
   // element, so the tolerance means metres for every DOF.
+  for (auto& cache : responses_)
+    cache.entries.resize(8 * std::max<std::size_t>(1, sys_.contacts.size()));
   error_weight_ = Vector::Ones(n);
   for (int dof : sys_.layout.rail_theta) error_weight_[dof] = sys_.layout.element_length;
 }
@@ -52,8 +56,13 @@ const Vector& Newmark::unit_response(int level, int dof) {
 }
 
 double Newmark::contact_force(const Vector& u, double t) const {
-  if (!sys_.contact) return 0.0;
-  const ContactTerm& c = *sys_.contact;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < sys_.contacts.size(); ++k) sum += contact_force(u, t, k);
+  return sum;
+}
+
+double Newmark::contact_force(const Vector& u, double t, std::size_t k) const {
+  const ContactTerm& c = sys_.contacts[k];
   if (c.law == ContactTerm::Law::kPrescribed) return c.prescribed_at(t);
   ContactTerm::Entry g[5];
   const int ng = c.entries(t, sys_.layout, g);
@@ -73,11 +82,13 @@ void Newmark::update_acceleration(double t) {
   sys_.load_at(t, r);
   sys_.K.multiply_add(-1.0, state_.u, r);
   sys_.C.multiply_add(-1.0, state_.v, r);
-  state_.contact_force = contact_force(state_.u, t);
-  if (sys_.contact) {
+  state_.contact_force = 0.0;
+  for (std::size_t k = 0; k < sys_.contacts.size(); ++k) {
+    const double F = contact_force(state_.u, t, k);
+    state_.contact_force += F;
     ContactTerm::Entry g[5];
-    const int ng = sys_.contact->entries(t, sys_.layout, g);
-    for (int i = 0; i < ng; ++i) r[g[i].dof] -= state_.contact_force * g[i].weight;
+    const int ng = sys_.contacts[k].entries(t, sys_.layout, g);
+    for (int i = 0; i < ng; ++i) r[g[i].dof] -= F * g[i].weight;
   }
   mass_.solve_in_place(r);
   state_.a = r;
@@ -96,8 +107,10 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
 
   const BandCholesky& keff = factor(level);
   double force = 0.0;
-  if (sys_.contact) {
-    const ContactTerm& c = *sys_.contact;
+  if (sys_.contacts.size() > 1) {
+    force = step_contacts(t_end, level);
+  } else if (!sys_.contacts.empty()) {
+    const ContactTerm& c = sys_.contacts.front();
     ContactTerm::Entry g[5];
     const int ng = c.entries(t_end, sys_.layout, g);
     if (c.law == ContactTerm::Law::kPrescribed) {
@@ -125,6 +138,63 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
   out.a = c0 * (out.u - pred_u_);
   out.v = pred_v_ + (kGamma * h) * out.a;
   out.force = force;
+}
+
+double Newmark::step_contacts(double t_end, int level) {
+  // rhs_ holds the right-hand side of the step; on return, u+.
+  const std::size_t n = sys_.contacts.size();
+  const BandCholesky& keff = factor(level);
+  double total = 0.0;
+  if (sys_.contacts.front().law == ContactTerm::Law::kPrescribed) {
+    for (const ContactTerm& c : sys_.contacts) {
+      ContactTerm::Entry g[5];
+      const int ng = c.entries(t_end, sys_.layout, g);
+      const double F = c.prescribed_at(t_end);
+      for (int i = 0; i < ng; ++i) rhs_[g[i].dof] -= F * g[i].weight;
+      total += F;
+    }
+    keff.solve_in_place(rhs_);
+    return total;
+  }
+  keff.solve_in_place(rhs_);  // u0: the step without contact forces
+  ys_.resize(n);
+  std::vector<std::array<ContactTerm::Entry, 5>> gs(n);
+  std::vector<int> ngs(n);
+  std::vector<double> d0(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const ContactTerm& c = sys_.contacts[k];
+    ngs[k] = c.entries(t_end, sys_.layout, gs[k].data());
+    ys_[k].setZero(sys_.layout.size);
+    for (int i = 0; i < ngs[k]; ++i)
+      ys_[k] += gs[k][static_cast<std::size_t>(i)].weight *
+                unit_response(level, gs[k][static_cast<std::size_t>(i)].dof);
+    d0[k] = c.delta0_at(t_end);
+    for (int i = 0; i < ngs[k]; ++i)
+      d0[k] +=
+          gs[k][static_cast<std::size_t>(i)].weight * rhs_[gs[k][static_cast<std::size_t>(i)].dof];
+  }
+  // Flexibility between the contacts: c_jk = g_j . K_eff^-1 g_k.
+  Eigen::MatrixXd flex(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t k = 0; k < n; ++k) {
+      double s = 0;
+      for (int i = 0; i < ngs[j]; ++i)
+        s += gs[j][static_cast<std::size_t>(i)].weight *
+             ys_[k][gs[j][static_cast<std::size_t>(i)].dof];
+      flex(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(k)) = s;
+    }
+  const std::vector<double> F = hertz_solve_coupled(
+      sys_.contacts.front().hertz_constant, d0, [&](std::size_t a, std::size_t b) {
+        return flex(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b));
+      });
+  if (F.size() != n)
+    throw StepFailure("the contact forces of the " + std::to_string(n) +
+                      " wheels did not settle at t = " + std::to_string(t_end) + " s");
+  for (std::size_t k = 0; k < n; ++k) {
+    rhs_ -= F[k] * ys_[k];
+    total += F[k];
+  }
+  return total;
 }
 
 double Newmark::step_length(int level) const {

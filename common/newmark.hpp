@@ -7,11 +7,13 @@
 //
 // Each step is implicit. The linear part uses the constant band matrix
 //   K_eff(h) = K + gamma/(beta h) C + 1/(beta h^2) M,
-// factorised once per step size and cached. The Hertz contact is a rank-one
+// factorised once per step size and cached. A Hertz contact is a rank-one
 // term F(delta) g: with y = K_eff^-1 g the step reduces to one scalar
-// equation in the penetration, solved by Newton to machine precision. y is
-// combined from cached columns of K_eff^-1 for the few DOFs g touches, so a
-// step costs one band solve, and no dense factorisation is ever made.
+// equation in the penetration, solved by Newton to machine precision (with
+// several wheels, one small system in their penetrations, see
+// hertz_solve_coupled). y is combined from cached columns of K_eff^-1 for
+// the few DOFs g touches, so a step costs one band solve, and no dense
+// factorisation is ever made.
 //
 // Step size: h = H / 2^level inside each interval [t, t + H] requested by the
 // caller (a macro step or an output step), so every requested time is hit
@@ -41,7 +43,7 @@ class StepFailure : public std::runtime_error {
 
 struct NewmarkState {
   Vector u, v, a;
-  double contact_force = 0;  // of the contact term at the state's time
+  double contact_force = 0;  // the sum over the contact terms at the state's time
   int level = 0;             // step size H / 2^level for the next step
   long micro_steps = 0;      // accepted steps since the start
   long rejected_steps = 0;
@@ -84,7 +86,9 @@ class Newmark {
     observer_ = std::move(observer);
   }
 
-  // The contact force for displacement u at time t (0 without a contact).
+  // The force of contact k for displacement u at time t.
+  double contact_force(const Vector& u, double t, std::size_t k) const;
+  // Their sum (0 without a contact).
   double contact_force(const Vector& u, double t) const;
 
  private:
@@ -93,6 +97,9 @@ class Newmark {
     double force = 0;
   };
   void step(double t_end, double h, int level, Trial& out);
+  // The contact forces of a step with several contacts: turns rhs_ into u+
+  // and returns the sum of the forces.
+  double step_contacts(double t_end, int level);
   // The step length of a cache slot: H / 2^level, or H / fixed_steps in the
   // extra slot kMaxLevel + 1.
   double step_length(int level) const;
@@ -106,7 +113,7 @@ class Newmark {
       int dof = -1;
       Vector column;
     };
-    std::array<Entry, 8> entries;
+    std::vector<Entry> entries;  // 8 per contact
     std::size_t next = 0;
   };
 
@@ -122,6 +129,7 @@ class Newmark {
   BandCholesky mass_;
   Trial trial_;
   Vector pred_u_, pred_v_, damp_arg_, rhs_, y_;
+  std::vector<Vector> ys_;  // y per contact, with several contacts
   Vector error_weight_;
   std::function<void(double, int)> observer_;
 };

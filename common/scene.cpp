@@ -8,6 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "excitation_toml.hpp"
+
 namespace railcosim {
 namespace {
 
@@ -54,6 +56,21 @@ class Reader {
     return *n->value<std::string>();
   }
 
+  // A table read whole by its own parser (which rejects unknown keys
+  // itself); nullptr if the file has none.
+  const toml::table* whole_table(const std::string& table) {
+    const toml::node* n = root_.get(table);
+    if (!n) return nullptr;
+    const toml::table* t = n->as_table();
+    if (!t) fail(table, "must be a table ([" + table + "])");
+    for (const auto& [k, v] : *t) {
+      (void)v;
+      used_[table].insert(std::string(k.str()));
+    }
+    used_[table];
+    return t;
+  }
+
   // Every table and key in the file must have been read.
   void reject_unknown() const {
     for (const auto& [tname, tnode] : root_) {
@@ -84,6 +101,34 @@ double Scene::winkler_beta() const {
   return std::pow(k / (4.0 * young_modulus * second_moment), 0.25);
 }
 
+VehicleModel Scene::vehicle_model() const {
+  return VehicleModel(vehicle);
+}
+
+int Scene::wheel_count() const {
+  switch (vehicle.type) {
+    case VehicleType::wheel:
+    case VehicleType::quarter:
+      return 1;
+    case VehicleType::car:
+      return 4;
+  }
+  return 1;
+}
+
+std::vector<double> Scene::wheel_offsets() const {
+  if (vehicle.type != VehicleType::car) return {0.0};
+  std::vector<double> x;
+  const VehicleModel model = vehicle_model();
+  for (const WheelDof& w : model.wheels()) x.push_back(w.offset);
+  return x;
+}
+
+std::pair<double, double> Scene::wheel_path() const {
+  const double x0 = rail_start + initial_position;
+  return {x0 + wheel_offsets().back(), x0 + speed * end_time};
+}
+
 void Scene::size_track(double x0) {
   // A point load on a Winkler beam deflects it as exp(-beta x)(cos + sin): at
   // a distance m its influence has fallen below exp(-beta m). A free end that
@@ -93,7 +138,10 @@ void Scene::size_track(double x0) {
   // meets the sleepers where it would on a longer track.
   margin = std::log(1.0 / margin_tolerance) / winkler_beta();
   const double l = sleeper_spacing;
-  rail_start = l * std::floor((x0 - margin) / l);
+  // The track covers every wheel: from the last one at t = 0 to the
+  // leading one at t_end.
+  const double span = -wheel_offsets().back();
+  rail_start = l * std::floor((x0 - span - margin) / l);
   const double rail_end = l * std::ceil((x0 + speed * end_time + margin) / l);
   sleeper_count = static_cast<int>(std::lround((rail_end - rail_start) / l));
   initial_position = x0 - rail_start;
@@ -160,6 +208,15 @@ void Scene::validate() const {
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
     fail("simulation.end_time", "must be a whole number of macro steps (end_time / macro_step = " +
                                     std::to_string(steps) + ")");
+  if (irregularity.model == "csv" && !irregularity.table_x.empty()) {
+    const auto [a, b] = wheel_path();
+    try {
+      TableProfile(irregularity.table_x, irregularity.table_r, irregularity.csv_path)
+          .check_covers(a, b);
+    } catch (const SceneError& e) {
+      fail("irregularity.file", e.what());
+    }
+  }
   positive("cosim.divergence_factor", divergence_factor);
   positive("cosim.amplification_threshold", amplification_threshold);
 
@@ -169,6 +226,14 @@ void Scene::validate() const {
     std::ostringstream s;
     s << "the load starts at x = " << initial_position << " m, outside the rail [0, " << length
       << "] m";
+    fail("vehicle.initial_position", s.str());
+  }
+  const double last_wheel = initial_position + wheel_offsets().back();
+  if (!on_rail(last_wheel)) {
+    std::ostringstream s;
+    s << "the last wheel starts at x = " << last_wheel << " m, outside the rail [0, " << length
+      << "] m (the vehicle spans " << -wheel_offsets().back()
+      << " m behind its leading wheel: move it forward or lengthen the track)";
     fail("vehicle.initial_position", s.str());
   }
   const double x_end = initial_position + speed * end_time;
@@ -195,10 +260,17 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.source = source_name;
   sc.name = r.string_or("scene", "name", "unnamed");
 
-  sc.vehicle_mass = r.number("vehicle", "mass");
-  sc.hertz_constant = r.number("vehicle", "hertz_constant");
-  sc.speed = r.number("vehicle", "speed_kmh") / 3.6;
-  sc.initial_position = r.number("vehicle", "initial_position");
+  const toml::table* vehicle = r.whole_table("vehicle");
+  if (!vehicle) r.fail("vehicle", "missing table (every scene must have one)");
+  sc.vehicle = parse_vehicle(*vehicle, source_name);
+  sc.vehicle_mass = sc.vehicle_model().total_mass();
+  sc.hertz_constant = sc.vehicle.hertz_constant;
+  sc.speed = sc.vehicle.speed;
+  sc.initial_position = sc.vehicle.initial_position;
+  if (const toml::table* irr = r.whole_table("irregularity"))
+    sc.irregularity = parse_irregularity(*irr, source_name);
+  if (const toml::table* flat = r.whole_table("wheel_flat"))
+    sc.wheel_flat = parse_wheel_flat(*flat, source_name, sc.wheel_count());
 
   sc.young_modulus = r.number("rail", "young_modulus");
   sc.second_moment = r.number("rail", "second_moment");
@@ -262,6 +334,11 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.divergence_factor = r.number_or("cosim", "divergence_factor", sc.divergence_factor);
   sc.amplification_threshold =
       r.number_or("cosim", "amplification_threshold", sc.amplification_threshold);
+
+  if (const toml::node* n = r.find("output", "ballast_forces", false)) {
+    if (!n->is_boolean()) r.fail("output.ballast_forces", "must be true or false");
+    sc.ballast_forces = *n->value<bool>();
+  }
 
   r.reject_unknown();
   if (sc.auto_length) {

@@ -2,27 +2,41 @@
 // TOML file (see scenes/paper.toml). The physics never hard-codes a value.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "irregularity.hpp"
+#include "scene_error.hpp"
+#include "vehicle_model.hpp"
+#include "wheel_flat.hpp"
 
 namespace railcosim {
-
-// A user's mistake in a scene file or a scene override: the message names
-// the file and the key to fix.
-class SceneError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct Scene {
   std::string source;  // the file it came from, for messages
   std::string name;
 
-  // [vehicle]: one wheel carrying the static load m_tot * g.
-  double vehicle_mass = 0;      // m_tot, kg (wheel mass and load mass)
-  double hertz_constant = 0;    // K_H, N/m^1.5
+  // [vehicle]: model = "wheel" (one wheel carrying the static load m_tot g,
+  // the paper), "quarter" or "car" (see vehicle_model.hpp). The four fields
+  // below hold for every model; `vehicle` holds the rest.
+  double vehicle_mass = 0;      // m_tot, kg: the whole mass one rail carries
+  double hertz_constant = 0;    // K_H per wheel, N/m^1.5
   double speed = 0;             // v_0, m/s (the file gives km/h)
-  double initial_position = 0;  // x_0, m
+  double initial_position = 0;  // x_0 of the leading wheel, m
+  VehicleParams vehicle;
+
+  // [irregularity] (absent: a smooth rail) and [wheel_flat] (absent: none).
+  // Profile positions are in the scene's frame (x = rail_start + the rail's x).
+  IrregularitySpec irregularity;
+  std::optional<WheelFlatSpec> wheel_flat;
+
+  // [output] ballast_forces = true: the sleepers' participant reports the
+  // force into the ballast under every sleeper at every communication point
+  // (soil_forces.csv and its spectra).
+  bool ballast_forces = false;
 
   // [rail]: Euler–Bernoulli beam, free ends.
   double young_modulus = 0;   // E, Pa
@@ -87,6 +101,14 @@ struct Scene {
   double element_length() const { return sleeper_spacing / elements_per_span; }
   int rail_nodes() const { return sleeper_count * elements_per_span + 1; }
   double load() const { return vehicle_mass * gravity; }
+  // The vehicle model of [vehicle] (its wheels, matrices and loads).
+  VehicleModel vehicle_model() const;
+  int wheel_count() const;
+  // Each wheel's x relative to the leading wheel (0, then <= 0), m.
+  std::vector<double> wheel_offsets() const;
+  // The stretch of rail the wheels run over during the run, in the scene's
+  // frame: from the last wheel at t = 0 to the leading one at t_end.
+  std::pair<double, double> wheel_path() const;
   // Macro steps from 0 to end_time (end_time is a whole number of steps).
   long macro_steps() const;
 

@@ -1,18 +1,27 @@
 #include "subsystem.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "statics.hpp"
 
 namespace railcosim {
 
 int interface_points(const Scene& scene, const InterfaceSpec& i) {
-  return i.kind().moving ? 1 : scene.sleeper_count;
+  return i.kind().moving ? scene.wheel_count() : scene.sleeper_count;
 }
 
-Channels channels_of(const Parts& parts) {
+Channels channels_of(const Scene& scene, const Parts& parts) {
   Channels c;
-  if (parts.has(Component::kVehicle)) c.history = {"wheel_m", "contact_force_N"};
+  if (parts.has(Component::kVehicle)) {
+    c.history = {"wheel_m", "contact_force_N"};
+    if (scene.wheel_count() > 1)
+      for (int k = 1; k <= scene.wheel_count(); ++k)
+        c.history.push_back("force_w" + std::to_string(k) + "_N");
+  }
+  if (parts.has(Component::kSleepers) && scene.ballast_forces)
+    for (int i = 1; i <= scene.sleeper_count; ++i)
+      c.history.push_back("ballast_force_" + std::to_string(i) + "_N");
   if (parts.has(Component::kSoil)) c.history.push_back("soil_peak_m");
   if (parts.has(Component::kRail)) c.results.push_back("rail_w_m");
   if (parts.has(Component::kSoil)) c.results.push_back("soil_m");
@@ -86,16 +95,20 @@ void Subsystem::check_inputs(const CouplingData& in) const {
 Subsystem::Loads Subsystem::loads_of(const CouplingData& in) const {
   Loads r;
   r.load = base_load_;
+  const std::size_t contacts = sys_.contacts.size();
+  r.wheel.assign(contacts, 0.0);
+  r.rail.assign(contacts, 0.0);
+  r.force.assign(contacts, 0.0);
   const auto& ifs = config_.participant.interfaces;
   for (std::size_t j = 0; j < ifs.size(); ++j) {
     const InterfaceSpec& i = ifs[j];
     if (i.kind().moving) {
       if (i.side == CutSide::kUpper)
-        r.rail = in[j].displacement[0];
+        r.rail = in[j].displacement;
       else if (i.receives_force())
-        r.force = in[j].force[0];
+        r.force = in[j].force;
       else
-        r.wheel = in[j].displacement[0];
+        r.wheel = in[j].displacement;
       continue;
     }
     const SpringDamper e = elements_[j];
@@ -114,23 +127,20 @@ void Subsystem::apply_inputs(const CouplingData& in, const CouplingData* end, do
   sys_.load = std::move(start.load);
   sys_.load_time = t0;
   sys_.load_rate.resize(0);
-  double wheel_rate = 0, rail_rate = 0, force_rate = 0;
+  std::optional<Loads> last;
+  const double H = config_.macro_step;
   if (end) {
-    const Loads last = loads_of(*end);
-    const double H = config_.macro_step;
-    sys_.load_rate = (last.load - sys_.load) / H;
-    wheel_rate = (last.wheel - start.wheel) / H;
-    rail_rate = (last.rail - start.rail) / H;
-    force_rate = (last.force - start.force) / H;
+    last = loads_of(*end);
+    sys_.load_rate = (last->load - sys_.load) / H;
   }
-  if (sys_.contact) {
-    ContactTerm& c = *sys_.contact;
-    c.held_wheel = start.wheel;
-    c.held_rail = start.rail;
-    c.prescribed_force = start.force;
-    c.held_wheel_rate = wheel_rate;
-    c.held_rail_rate = rail_rate;
-    c.prescribed_force_rate = force_rate;
+  for (std::size_t k = 0; k < sys_.contacts.size(); ++k) {
+    ContactTerm& c = sys_.contacts[k];
+    c.held_wheel = start.wheel[k];
+    c.held_rail = start.rail[k];
+    c.prescribed_force = start.force[k];
+    c.held_wheel_rate = last ? (last->wheel[k] - start.wheel[k]) / H : 0.0;
+    c.held_rail_rate = last ? (last->rail[k] - start.rail[k]) / H : 0.0;
+    c.prescribed_force_rate = last ? (last->force[k] - start.force[k]) / H : 0.0;
     c.t0 = t0;
   }
   held_ = in;
@@ -177,15 +187,18 @@ CouplingData Subsystem::compute_outputs(const Vector& u, const Vector& v, double
     const InterfaceSpec& i = ifs[j];
     InterfaceData& o = out[j];
     if (i.kind().moving) {
-      if (i.side == CutSide::kLower) {
-        const ContactPoint p = sys_.contact->path.at(t);
-        const auto e = static_cast<std::size_t>(p.element);
-        o.displacement = {p.shape[0] * u[l.rail_w[e]] + p.shape[1] * u[l.rail_theta[e]] +
-                          p.shape[2] * u[l.rail_w[e + 1]] + p.shape[3] * u[l.rail_theta[e + 1]]};
-      } else if (i.sends_force()) {
-        o.force = {newmark_->contact_force(u, t)};
-      } else {
-        o.displacement = {u[l.wheel]};
+      for (std::size_t k = 0; k < sys_.contacts.size(); ++k) {
+        if (i.side == CutSide::kLower) {
+          const ContactPoint p = sys_.contacts[k].path.at(t);
+          const auto e = static_cast<std::size_t>(p.element);
+          o.displacement.push_back(p.shape[0] * u[l.rail_w[e]] + p.shape[1] * u[l.rail_theta[e]] +
+                                   p.shape[2] * u[l.rail_w[e + 1]] +
+                                   p.shape[3] * u[l.rail_theta[e + 1]]);
+        } else if (i.sends_force()) {
+          o.force.push_back(newmark_->contact_force(u, t, k));
+        } else {
+          o.displacement.push_back(u[l.wheels[k]]);
+        }
       }
       continue;
     }
@@ -242,7 +255,24 @@ StepResult Subsystem::report() const {
   for (int dof : l.soil) soil = std::max(soil, std::abs(s.u[dof]));
   r.max_abs_displacement = std::max(m, soil);
   const double t = time(next_step_);
-  if (l.wheel >= 0) r.history = {s.u[l.wheel], newmark_->contact_force(s.u, t)};
+  if (l.wheel >= 0) {
+    r.history = {s.u[l.wheel], newmark_->contact_force(s.u, t)};
+    if (sys_.contacts.size() > 1)
+      for (std::size_t k = 0; k < sys_.contacts.size(); ++k)
+        r.history.push_back(newmark_->contact_force(s.u, t, k));
+  }
+  if (!l.sleeper.empty() && scene_.ballast_forces) {
+    // Below the sleepers: the soil held here, the ground, or the held
+    // values of the ss interface this participant is the upper side of.
+    const std::vector<double>*below_u = nullptr, *below_v = nullptr;
+    const auto& ifs = config_.participant.interfaces;
+    for (std::size_t j = 0; j < ifs.size(); ++j)
+      if (ifs[j].kind().lower == Component::kSoil && ifs[j].side == CutSide::kUpper) {
+        below_u = &held_end_[j].displacement;
+        below_v = &held_end_[j].velocity;
+      }
+    for (double f : ballast_forces(scene_, l, s.u, s.v, below_u, below_v)) r.history.push_back(f);
+  }
   if (!l.soil.empty()) r.history.push_back(soil);
   // After a step (or at the start): the inputs reached at its end.
   r.outputs = compute_outputs(s.u, s.v, t, held_end_);

@@ -32,13 +32,17 @@ struct SubsystemConfig {
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step, see Newmark
 };
 
-// The number of coupling points of an interface (1 at the contact, one per
-// sleeper otherwise).
+// The number of coupling points of an interface (one per wheel at the
+// contact, one per sleeper otherwise).
 int interface_points(const Scene& scene, const InterfaceSpec& i);
 
 // The history channels and result fields a participant holding these parts
-// declares.
-Channels channels_of(const Parts& parts);
+// declares: with the vehicle, wheel_m (the leading wheel) and
+// contact_force_N (the sum over the wheels), and with several wheels
+// force_w1_N, force_w2_N, ...; with the sleepers and [output] ballast_forces,
+// ballast_force_1_N, ... (into the ballast under each sleeper, positive
+// down); with a soil, soil_peak_m.
+Channels channels_of(const Scene& scene, const Parts& parts);
 
 class Subsystem final : public Participant {
  public:
@@ -47,7 +51,7 @@ class Subsystem final : public Participant {
   Subsystem& operator=(const Subsystem&) = delete;
 
   std::string name() const override;
-  Channels channels() const override { return channels_of(config_.participant.parts); }
+  Channels channels() const override { return channels_of(scene_, config_.participant.parts); }
   CouplingData statics(const CouplingData& inputs) override;
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
@@ -71,7 +75,7 @@ class Subsystem final : public Participant {
   void apply_inputs(const CouplingData& in, const CouplingData* end, double t0);
   struct Loads {
     Vector load;
-    double wheel = 0, rail = 0, force = 0;  // the contact's held values
+    std::vector<double> wheel, rail, force;  // the contacts' held values, per wheel
   };
   Loads loads_of(const CouplingData& in) const;
   void accept_inputs(long n, const CouplingData& start, const CouplingData* end);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <optional>
 
 namespace railcosim {
 
@@ -13,7 +14,24 @@ DofLayout make_layout(const Scene& scene, const Parts& parts) {
   const bool rail = parts.has(Component::kRail), sleepers = parts.has(Component::kSleepers),
              soil = parts.has(Component::kSoil);
   int next = 0;
-  if (parts.has(Component::kVehicle)) l.wheel = next++;
+  if (parts.has(Component::kVehicle)) {
+    // The vehicle first, numbered so that its band stays narrow: the car
+    // as front wheelsets, front bogie, body, rear bogie, rear wheelsets
+    // (half-bandwidth 3); the other models in their own order.
+    const VehicleModel v = scene.vehicle_model();
+    l.vehicle.resize(static_cast<std::size_t>(v.dofs()));
+    if (scene.vehicle.type == VehicleType::car) {
+      // Model order: body z, phi, bogie 1 z, phi, bogie 2 z, phi, wheelsets 1-4.
+      static constexpr int kCarOrder[10] = {4, 5, 2, 3, 6, 7, 0, 1, 8, 9};
+      for (int i = 0; i < 10; ++i) l.vehicle[static_cast<std::size_t>(i)] = kCarOrder[i];
+      next = 10;
+    } else {
+      for (auto& d : l.vehicle) d = next++;
+    }
+    for (const WheelDof& w : v.wheels())
+      l.wheels.push_back(l.vehicle[static_cast<std::size_t>(w.dof)]);
+    l.wheel = l.wheels.front();
+  }
   if (sleepers) l.sleeper.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
   if (soil) l.soil.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
   // The sleeper and soil of support i, numbered next to each other.
@@ -73,9 +91,9 @@ ContactPoint ContactPath::at(double t) const {
   return p;
 }
 
-ContactPath contact_path(const Scene& scene) {
+ContactPath contact_path(const Scene& scene, int wheel) {
   ContactPath p;
-  p.x0 = scene.initial_position;
+  p.x0 = scene.initial_position + scene.wheel_offsets()[static_cast<std::size_t>(wheel)];
   p.speed = scene.speed;
   p.element_length = scene.element_length();
   p.elements = scene.rail_nodes() - 1;
@@ -84,7 +102,7 @@ ContactPath contact_path(const Scene& scene) {
 
 int ContactTerm::entries(double t, const DofLayout& layout, Entry out[5]) const {
   int n = 0;
-  if (has_wheel) out[n++] = {layout.wheel, 1.0};
+  if (has_wheel) out[n++] = {layout.wheels[static_cast<std::size_t>(wheel)], 1.0};
   if (has_rail) {
     const ContactPoint p = path.at(t);
     const int e = p.element;
@@ -112,7 +130,20 @@ Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
   const DofLayout& l = s.layout;
   std::vector<Triplet> t;  // lower or upper; symmetric add
 
-  if (parts.has(Component::kVehicle)) t.push_back({l.wheel, l.wheel, scene.vehicle_mass, 0, 0});
+  std::optional<VehicleModel> vehicle;
+  if (parts.has(Component::kVehicle)) {
+    vehicle.emplace(scene.vehicle_model());
+    const auto& M = vehicle->mass();
+    const auto& C = vehicle->damping();
+    const auto& K = vehicle->stiffness();
+    for (int a = 0; a < vehicle->dofs(); ++a)
+      for (int b = 0; b <= a; ++b) {
+        const int i = l.vehicle[static_cast<std::size_t>(a)],
+                  j = l.vehicle[static_cast<std::size_t>(b)];
+        if (a == b || M(a, b) != 0 || C(a, b) != 0 || K(a, b) != 0)
+          t.push_back({std::max(i, j), std::min(i, j), M(a, b), C(a, b), K(a, b)});
+      }
+  }
 
   if (parts.has(Component::kRail)) {
     const double L = scene.element_length();
@@ -182,19 +213,36 @@ Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
     s.K.add(e.i, e.j, e.k);
   }
   s.load = Vector::Zero(l.size);
-  if (parts.has(Component::kVehicle)) s.load[l.wheel] = scene.load();
+  if (vehicle) {
+    const Eigen::VectorXd f = vehicle->gravity_load(scene.gravity);
+    for (int a = 0; a < vehicle->dofs(); ++a) s.load[l.vehicle[static_cast<std::size_t>(a)]] = f[a];
+  }
 
-  // The wheel/rail contact, where either of its ends is held.
+  // The wheel/rail contacts, one per wheel, where either of their ends is held.
   const bool wheel = parts.has(Component::kVehicle), rail = parts.has(Component::kRail);
   if (wheel || rail) {
-    ContactTerm c;
-    c.hertz_constant = scene.hertz_constant;
-    c.has_wheel = wheel;
-    c.has_rail = rail;
-    c.path = contact_path(scene);
-    for (const InterfaceSpec& i : participant.interfaces)
-      if (i.kind().moving && i.receives_force()) c.law = ContactTerm::Law::kPrescribed;
-    if (wheel || rail) s.contact = c;
+    std::shared_ptr<const RailProfile> profile;
+    if (scene.irregularity.model != "none") {
+      // Over the wheels' path, in the scene's frame.
+      const auto [a, b] = scene.wheel_path();
+      profile = make_profile(scene.irregularity, a, b);
+    }
+    std::shared_ptr<const WheelFlat> flat;
+    if (scene.wheel_flat) flat = std::make_shared<const WheelFlat>(*scene.wheel_flat);
+    for (int k = 0; k < scene.wheel_count(); ++k) {
+      ContactTerm c;
+      c.hertz_constant = scene.hertz_constant;
+      c.has_wheel = wheel;
+      c.has_rail = rail;
+      c.wheel = k;
+      c.path = contact_path(scene, k);
+      c.excitation.profile = profile;
+      c.excitation.origin = scene.rail_start;
+      if (flat && scene.wheel_flat->wheel == k) c.excitation.flat = flat;
+      for (const InterfaceSpec& i : participant.interfaces)
+        if (i.kind().moving && i.receives_force()) c.law = ContactTerm::Law::kPrescribed;
+      s.contacts.push_back(std::move(c));
+    }
   }
   return s;
 }
@@ -205,6 +253,24 @@ double rail_displacement_at(const ContactPath& path, double t, const std::vector
   const int e = p.element;
   return p.shape[0] * w[e] + p.shape[1] * theta[e] + p.shape[2] * w[e + 1] +
          p.shape[3] * theta[e + 1];
+}
+
+std::vector<double> ballast_forces(const Scene& scene, const DofLayout& l, const Vector& u,
+                                   const Vector& v, const std::vector<double>* below_u,
+                                   const std::vector<double>* below_v) {
+  std::vector<double> f(l.sleeper.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    double du = u[l.sleeper[i]], dv = v[l.sleeper[i]];
+    if (!l.soil.empty()) {
+      du -= u[l.soil[i]];
+      dv -= v[l.soil[i]];
+    } else if (below_u) {
+      du -= (*below_u)[i];
+      dv -= (*below_v)[i];
+    }
+    f[i] = scene.ballast_stiffness * du + scene.ballast_damping * dv;
+  }
+  return f;
 }
 
 }  // namespace railcosim

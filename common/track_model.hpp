@@ -5,13 +5,15 @@
 // the half of the cut element that it keeps (see subsystem.hpp).
 #pragma once
 
-#include <optional>
+#include <memory>
 #include <vector>
 
 #include "banded_matrix.hpp"
 #include "beam_element.hpp"
+#include "irregularity.hpp"
 #include "model.hpp"
 #include "scene.hpp"
+#include "wheel_flat.hpp"
 
 namespace railcosim {
 
@@ -19,7 +21,9 @@ namespace railcosim {
 // after the rail node above it, and its soil mass right after it, which keeps
 // the half-bandwidth at 4 (2 N_r + 2 with a lumped soil).
 struct DofLayout {
-  int wheel = -1;
+  int wheel = -1;               // the leading wheel (wheels[0])
+  std::vector<int> vehicle;     // per DOF of the vehicle model, in its order
+  std::vector<int> wheels;      // per wheel, front to back
   std::vector<int> rail_w;      // per rail node: vertical displacement
   std::vector<int> rail_theta;  // per rail node: rotation
   std::vector<int> sleeper;     // per sleeper
@@ -57,11 +61,31 @@ struct ContactPath {
   ContactPoint at(double t) const;
 };
 
-// The contact between the wheel and the rail as a rank-one term of the
+// What the wheel rolls over besides the rail's deflection: the rail's
+// vertical profile r(x) (positive down: a dip) and a flat on the wheel, both
+// of which reduce the penetration (see irregularity.hpp).
+struct ContactExcitation {
+  std::shared_ptr<const RailProfile> profile;  // r(x), x in the scene's frame
+  double origin = 0;                           // the rail's x = 0 in the scene's frame
+  std::shared_ptr<const WheelFlat> flat;       // on this wheel, if any
+  // r(x_c) + f(v t) at the contact point x_c (rail frame) and time t.
+  double at(double x_c, double rolled) const {
+    double e = 0;
+    if (profile) e += profile->height(origin + x_c);
+    if (flat) e += flat->loss(rolled);
+    return e;
+  }
+  bool any() const { return profile || flat; }
+};
+
+// The contact between one wheel and the rail as a rank-one term of the
 // equations of motion. With the penetration delta = g(t)^T u + delta0, the
 // contact adds F * g(t) to the internal forces, where g carries +1 on the
 // wheel DOF and -N(x_c(t)) on the rail DOFs. A body not held by the system
-// enters as a held value in delta0 instead.
+// enters as a held value in delta0 instead. The sign convention:
+//   delta = q - w(x_c) - r(x_c) - f(v t)
+// q the wheel's displacement, w the rail's (both positive down), r the
+// rail's profile and f the wheel flat's radial loss.
 struct ContactTerm {
   enum class Law {
     kHertz,       // F = K_H max(delta, 0)^1.5
@@ -78,7 +102,9 @@ struct ContactTerm {
   // (interpolated inputs); the rates are zero for a zero-order hold.
   double held_wheel_rate = 0, held_rail_rate = 0, prescribed_force_rate = 0;
   double t0 = 0;
+  int wheel = 0;  // which wheel of the vehicle (0 = leading)
   ContactPath path;
+  ContactExcitation excitation;
 
   // The sparse vector g(t): up to 5 (dof, weight) entries.
   struct Entry {
@@ -89,8 +115,13 @@ struct ContactTerm {
   double delta0() const { return (has_wheel ? 0.0 : held_wheel) - (has_rail ? 0.0 : held_rail); }
   double delta0_at(double t) const {
     const double dt = t - t0;
-    return (has_wheel ? 0.0 : held_wheel + dt * held_wheel_rate) -
-           (has_rail ? 0.0 : held_rail + dt * held_rail_rate);
+    const double d = (has_wheel ? 0.0 : held_wheel + dt * held_wheel_rate) -
+                     (has_rail ? 0.0 : held_rail + dt * held_rail_rate);
+    return excitation.any() ? d - excitation.at(path.position(t), path.speed * t) : d;
+  }
+  // delta0 of the static state at time t (the held values without ramps).
+  double static_delta0(double t) const {
+    return excitation.any() ? delta0() - excitation.at(path.position(t), path.speed * t) : delta0();
   }
   double prescribed_at(double t) const {
     return prescribed_force + (t - t0) * prescribed_force_rate;
@@ -110,10 +141,10 @@ struct Structure {
     out = load;
     if (load_rate.size() > 0) out += (t - load_time) * load_rate;
   }
-  std::optional<ContactTerm> contact;
+  std::vector<ContactTerm> contacts;  // one per wheel the system touches
 };
 
-// Assembles M, C, K, the gravity load on the wheel and the contact term of a
+// Assembles M, C, K, the gravity loads on the vehicle and the contact terms of a
 // participant (or of the whole model: Parts::all and no interfaces). A layer
 // whose both ends are held is a full element; a layer cut at an interface
 // appears on a side that receives displacements as a spring/damper to held
@@ -125,6 +156,14 @@ Structure assemble(const Scene& scene, const ParticipantSpec& participant);
 double rail_displacement_at(const ContactPath& path, double t, const std::vector<double>& w,
                             const std::vector<double>& theta);
 
-ContactPath contact_path(const Scene& scene);
+// The path of wheel `wheel` (0 = leading) over the rail.
+ContactPath contact_path(const Scene& scene, int wheel = 0);
+
+// The force into the ballast under each sleeper (positive down) of a state
+// holding the sleepers: k_b (u_s - u_below) + c_b (v_s - v_below), below the
+// sleeper the soil mass, the ground or the held values of an ss interface.
+std::vector<double> ballast_forces(const Scene& scene, const DofLayout& layout, const Vector& u,
+                                   const Vector& v, const std::vector<double>* below_u,
+                                   const std::vector<double>* below_v);
 
 }  // namespace railcosim

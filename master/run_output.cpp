@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
+
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include "spectra.hpp"
 
 namespace railcosim {
 namespace {
@@ -109,20 +111,33 @@ std::string deflection_csv(const RunRecord& r) {
   return text;
 }
 
-std::string history_line(const HistoryRow& h) {
+bool is_ballast(const std::string& channel) {
+  return channel.rfind("ballast_force_", 0) == 0;
+}
+
+std::vector<bool> history_mask(const std::vector<std::string>& extra) {
+  std::vector<bool> m;
+  for (const auto& name : extra) m.push_back(!is_ballast(name));
+  return m;
+}
+
+std::string history_line(const HistoryRow& h, const std::vector<bool>& mask) {
   std::string line = num(h.t) + "," + num(h.wheel) + "," + num(h.contact_force);
-  for (double v : h.extra) {
+  for (std::size_t k = 0; k < h.extra.size(); ++k) {
+    if (k < mask.size() && !mask[k]) continue;
     line += ',';
-    line += num(v);
+    line += num(h.extra[k]);
   }
   line += '\n';
   return line;
 }
 
-// The fixed columns, then the further channels the participants declared.
+// The fixed columns, then the further channels the participants declared
+// (the ballast forces go to soil_forces.csv).
 std::string history_header(const std::vector<std::string>& extra) {
   std::string h = "t_s,wheel_m,contact_force_N";
   for (const auto& name : extra) {
+    if (is_ballast(name)) continue;
     h += ',';
     h += name;
   }
@@ -158,6 +173,68 @@ std::string convergence_csv(const RunRecord& r) {
   return text;
 }
 
+}  // namespace
+
+std::string soil_forces_csv(const RunRecord& r) {
+  std::vector<std::size_t> cols;
+  for (std::size_t k = 0; k < r.extra_channels.size(); ++k)
+    if (is_ballast(r.extra_channels[k])) cols.push_back(k);
+  if (cols.empty()) return "";
+  std::string text = "t_s";
+  for (std::size_t i = 0; i < cols.size(); ++i) {
+    text += ',';
+    text += i < r.sleeper_x.size() ? num(r.sleeper_x[i]) : r.extra_channels[cols[i]];
+  }
+  text += '\n';
+  for (const HistoryRow& h : r.history) {
+    text += num(h.t);
+    for (std::size_t k : cols) {
+      text += ',';
+      text += k < h.extra.size() ? num(h.extra[k]) : "";
+    }
+    text += '\n';
+  }
+  return text;
+}
+
+std::string spectra_csv(const RunRecord& r) {
+  if (r.history.size() < 16) return "";
+  const double dt = r.history[1].t - r.history[0].t;
+  const double span = r.history.back().t - r.history.front().t;
+  if (!(dt > 0) || !(span > 0)) return "";
+  std::vector<std::pair<std::string, std::vector<double>>> signals;
+  std::vector<double> total;
+  for (const HistoryRow& h : r.history) total.push_back(h.contact_force);
+  signals.emplace_back("contact_force_N", std::move(total));
+  for (std::size_t k = 0; k < r.extra_channels.size(); ++k) {
+    const std::string& name = r.extra_channels[k];
+    if (!is_ballast(name) && name.rfind("force_w", 0) != 0) continue;
+    std::vector<double> x;
+    for (const HistoryRow& h : r.history) x.push_back(k < h.extra.size() ? h.extra[k] : 0.0);
+    signals.emplace_back(name, std::move(x));
+  }
+  std::string text = "signal,band,centre_Hz,lower_Hz,upper_Hz,rms,level_dB\n";
+  const double f_min = 2.0 / span, f_max = 0.5 / dt;
+  for (const auto& [name, x] : signals) {
+    for (const Band& b : third_octave_spectrum(x, dt, f_min, f_max)) {
+      text += name + "," + std::to_string(b.index) + "," + num(b.centre) + "," + num(b.lower) +
+              "," + num(b.upper) + "," + num(b.rms) + ",";
+      text += std::isfinite(b.level_db) ? num(b.level_db) : "";
+      text += '\n';
+    }
+  }
+  return text;
+}
+
+namespace {
+
+void write_channel_files(const std::filesystem::path& dir, const RunRecord& r) {
+  if (const std::string f = soil_forces_csv(r); !f.empty())
+    write_atomically(dir / "soil_forces.csv", f);
+  if (r.status == "failed") return;
+  if (const std::string s = spectra_csv(r); !s.empty()) write_atomically(dir / "spectra.csv", s);
+}
+
 std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {
   const std::filesystem::path dir = out_dir / name;
   std::error_code ec;
@@ -172,10 +249,12 @@ std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunR
   const std::filesystem::path dir = make_run_dir(out_dir, r.case_name);
   write_atomically(dir / "deflection.csv", deflection_csv(r));
   std::string text = history_header(r.extra_channels);
-  for (const auto& h : r.history) text += history_line(h);
+  const std::vector<bool> mask = history_mask(r.extra_channels);
+  for (const auto& h : r.history) text += history_line(h, mask);
   write_atomically(dir / "history.csv", text);
   if (!r.soil.empty()) write_atomically(dir / "soil.csv", soil_csv(r));
   if (!r.convergence.empty()) write_atomically(dir / "convergence.csv", convergence_csv(r));
+  write_channel_files(dir, r);
   write_atomically(dir / "summary.json", summary_json(r));
   return dir;
 }
@@ -188,12 +267,15 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
   std::filesystem::remove(dir_ / "deflection.csv", ec);
   std::filesystem::remove(dir_ / "soil.csv", ec);
   std::filesystem::remove(dir_ / "convergence.csv", ec);
+  std::filesystem::remove(dir_ / "soil_forces.csv", ec);
+  std::filesystem::remove(dir_ / "spectra.csv", ec);
   history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
   if (!history_) throw std::runtime_error("cannot write " + (dir_ / "history.csv").string());
 }
 
 void RunWriter::channels(const std::vector<std::string>& extra) {
   extra_ = extra;
+  in_history_ = history_mask(extra);
 }
 
 void RunWriter::header() {
@@ -209,7 +291,7 @@ RunWriter::~RunWriter() {
 
 void RunWriter::row(const HistoryRow& row) {
   header();
-  std::fputs(history_line(row).c_str(), history_);
+  std::fputs(history_line(row, in_history_).c_str(), history_);
   std::fflush(history_);
 }
 
@@ -222,6 +304,7 @@ void RunWriter::finish(const RunRecord& r) {
   if (!r.deflection.empty()) write_atomically(dir_ / "deflection.csv", deflection_csv(r));
   if (!r.soil.empty()) write_atomically(dir_ / "soil.csv", soil_csv(r));
   if (!r.convergence.empty()) write_atomically(dir_ / "convergence.csv", convergence_csv(r));
+  write_channel_files(dir_, r);
   write_atomically(dir_ / "summary.json", summary_json(r));
 }
 

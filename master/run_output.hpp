@@ -1,5 +1,8 @@
-// Writes a run's files in DIR/CASE/: deflection.csv, history.csv and
-// summary.json. Each file is written beside its final name and renamed, so a
+// Writes a run's files in DIR/CASE/: deflection.csv, history.csv,
+// summary.json, and with the scene's channels soil.csv, soil_forces.csv
+// (the ballast_force_* channels, one column per sleeper, not repeated in
+// history.csv) and spectra.csv (one-third-octave bands of the contact
+// forces and the ballast forces). Each file is written beside its final name and renamed, so a
 // reader never sees half a file.
 #pragma once
 
@@ -37,11 +40,23 @@ class RunWriter {
   std::filesystem::path dir_;
   std::FILE* history_ = nullptr;
   std::vector<std::string> extra_;
+  std::vector<bool> in_history_;  // per extra channel: written to history.csv
   bool header_written_ = false;
   void header();
 };
 
 std::string summary_json(const RunRecord& run);
+
+// soil_forces.csv: a row per communication point, `t_s` then the force into
+// the ballast under each sleeper (N, positive down), the columns headed by
+// the sleepers' positions x in metres. Empty when the run has none.
+std::string soil_forces_csv(const RunRecord& run);
+// spectra.csv: long format, one row per signal and band:
+// signal,band,centre_Hz,lower_Hz,upper_Hz,rms,level_dB (level re 1 N). The
+// signals: contact_force_N, force_wK_N per wheel, ballast_force_I_N per
+// sleeper. Bands from twice the record's lowest frequency to its Nyquist
+// frequency. Empty when the run is too short (fewer than 16 rows).
+std::string spectra_csv(const RunRecord& run);
 
 // The shortest text that reads back to the same double ("null" if not finite).
 std::string format_double(double v);

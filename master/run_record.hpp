@@ -47,6 +47,7 @@ struct RunRecord {
   std::vector<std::string> extra_channels;  // names of HistoryRow::extra, e.g. "soil_peak_m"
   std::vector<double> soil;                 // soil mass displacements at the last time, if any
   std::vector<double> soil_x;               // their positions (under the sleepers)
+  std::vector<double> sleeper_x;            // positions of the ballast_force_* channels, if any
 };
 
 }  // namespace railcosim

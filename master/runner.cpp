@@ -106,7 +106,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.case_name = "monolithic";
   r.macro_step = o.macro_step;
   r.t_end = scene.end_time;
-  if (scene.builtin_soil()) r.extra_channels = {"soil_peak_m"};
+  r.extra_channels = model.extra_channels();
   if (o.on_channels) o.on_channels(r.extra_channels);
   const long N = steps_to(scene, o.macro_step);
   r.history.reserve(static_cast<std::size_t>(N + 1));
@@ -127,6 +127,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.deflection = model.rail_deflection();
   r.soil = model.soil_deflection();
   if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
+  if (scene.ballast_forces) r.sleeper_x = sleeper_positions(scene);
   r.max_abs_error_m = 0.0;
   r.rel_l2_error = 0.0;
   r.history_error = 0.0;
@@ -302,6 +303,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   }
   r.x = rail_positions(scene);
   if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
+  if (scene.ballast_forces) r.sleeper_x = sleeper_positions(scene);
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
 }

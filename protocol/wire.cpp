@@ -4,6 +4,8 @@
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <algorithm>
 
+#include "scene_numbers.hpp"
+
 namespace railcosim {
 
 std::string encode_frame(const wire::Envelope& envelope, std::size_t max_bytes) {
@@ -169,6 +171,13 @@ wire::SceneParams to_wire(const Scene& s) {
   p.set_soil_coupling_damping(s.soil_coupling_damping);
   p.set_micro_steps(s.micro_steps);
   p.set_restart(s.restart);
+  const ExcitationNumbers x = to_numbers(s);
+  p.set_vehicle_model(x.vehicle_model);
+  for (double v : x.vehicle) p.add_vehicle(v);
+  p.set_irregularity_model(x.irregularity_model);
+  for (double v : x.irregularity) p.add_irregularity(v);
+  for (double v : x.wheel_flat) p.add_wheel_flat(v);
+  p.set_ballast_forces(s.ballast_forces);
   return p;
 }
 
@@ -207,7 +216,15 @@ Scene from_wire(const wire::SceneParams& p, const std::string& source) {
   s.soil_coupling_damping = p.soil_coupling_damping();
   s.micro_steps = p.micro_steps();
   s.restart = p.restart().empty() ? "consistent" : p.restart();
+  s.ballast_forces = p.ballast_forces();
   try {
+    ExcitationNumbers x;
+    x.vehicle_model = p.vehicle_model();
+    x.vehicle.assign(p.vehicle().begin(), p.vehicle().end());
+    x.irregularity_model = p.irregularity_model();
+    x.irregularity.assign(p.irregularity().begin(), p.irregularity().end());
+    x.wheel_flat.assign(p.wheel_flat().begin(), p.wheel_flat().end());
+    from_numbers(x, s, source);
     s.validate();
   } catch (const SceneError& e) {
     throw ProtocolError(wire::Error::BAD_SCENE, e.what());

@@ -71,9 +71,9 @@ TEST(Newmark, ConservesTheEnergyOfAnUndampedLinearSystem) {
   track.interfaces.push_back({find_cut("wr"), CutSide::kLower, Coupling::kXT, 0, "vehicle"});
   Structure s = assemble(scene, track);
   s.C = SymmetricBandMatrix(s.layout.size, s.C.half_bandwidth());
-  s.contact->prescribed_force = scene.load();
+  s.contacts.front().prescribed_force = scene.load();
   const Vector u0 = solve_static(s, Vector::Zero(s.layout.size));
-  s.contact.reset();  // released: no load from then on
+  s.contacts.clear();  // released: no load from then on
 
   auto energy = [&](const NewmarkState& x) {
     Vector Mv, Ku;
