@@ -32,11 +32,16 @@ def num(text):
 
 
 def style(method):
-    """Colour by scheme, line by coupling type; the resolved variant dotted."""
+    """Colour by scheme, line by coupling type; the resolved variant dotted;
+    implicit coupling green, extrapolated inputs brown."""
     colour = "#1f77b4" if "jacobi" in method else "#d62728"
     if method.startswith("wr-xt") or method.startswith("rs-xt"):
         colour = "#ff7f0e" if "jacobi" in method else "#9467bd"
-    dash = ":" if method.endswith("resolved") else ("-" if "-xx-" in method else "--")
+    if "+implicit" in method:
+        colour = "#2ca02c"
+    elif "+explicit-extrapolate" in method:
+        colour = "#8c564b"
+    dash = ":" if "resolved" in method else ("-" if "-xx-" in method else "--")
     return colour, dash
 
 
