@@ -34,13 +34,22 @@ if [[ -z $address ]]; then
   exit 1
 fi
 
-for case in wr-xx+ss-xx-jacobi wr-xt+ss-xt-gauss-seidel ss-xt-jacobi; do
+run_both() {  # CASE [master options]: the same run on the outside and the built-in soil
+  local case=$1
+  shift
   "$bin/master" run --scene "$work/soil.toml" --case "$case" --node "soil=$address" \
-    --out "$work/outside" >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
-  "$bin/master" run --scene "$work/soil.toml" --case "$case" --out "$work/builtin" \
+    --out "$work/outside" "$@" >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
+  "$bin/master" run --scene "$work/soil.toml" --case "$case" --out "$work/builtin" "$@" \
     >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
   grep -q '"transport": "tcp"' "$work/outside/$case/summary.json"
+}
+for case in wr-xx+ss-xx-jacobi wr-xt+ss-xt-gauss-seidel ss-xt-jacobi; do
+  run_both "$case"
 done
+# Implicit coupling with ramped inputs: checkpoints (Save/Restore) and
+# inputs_end through the outside participant.
+run_both ss-xx-jacobi --coupling implicit --inputs linear
+grep -q '"method": "implicit"' "$work/outside/ss-xx-jacobi/summary.json"
 
 /usr/bin/python3 - "$work/builtin" "$work/outside" <<'PY'
 import csv, os, sys

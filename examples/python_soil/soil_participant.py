@@ -91,11 +91,20 @@ class LumpedSoil:
         self.v = np.zeros(n)
         self.a = np.zeros(n)
         self.load = np.zeros(n)
+        self.rate = np.zeros(n)  # d(load)/dt over the macro step when inputs ramp
         self.held = (np.zeros(n), np.zeros(n), np.zeros(n))
         self.micro_steps = 0
 
-    def hold(self, data):
-        """Applies the inputs held over a macro step (or a static solve)."""
+    def hold(self, data, end=None):
+        """Applies the inputs held over a macro step (or a static solve); with
+        `end`, the inputs ramp linearly from `data` to `end` over the step."""
+        self.rate = np.zeros(self.n)
+        if end is not None:
+            self.hold(end)
+            last = self.load
+            self.hold(data)
+            self.rate = (last - self.load) / self.H
+            return
         d, v, f = (np.array(data.displacement), np.array(data.velocity), np.array(data.force))
         want = (0, 0, self.n) if self.receives_force else (self.n, self.n, 0)
         if (len(d), len(v), len(f)) != want:
@@ -116,10 +125,11 @@ class LumpedSoil:
 
     def step(self):
         h = self.h
-        for _ in range(self.m):
+        for k in range(self.m):
             pu = self.u + h * self.v + (h * h * 0.25) * self.a
             pv = self.v + (h * 0.5) * self.a
-            rhs = self.load + self.M @ (self.c0 * pu) + self.C @ (self.c1 * pu - pv)
+            load = self.load + self.rate * ((k + 1) * h)  # at the end of the micro step
+            rhs = load + self.M @ (self.c0 * pu) + self.C @ (self.c1 * pu - pv)
             u = self.Keff_inv @ rhs
             a = self.c0 * (u - pu)
             self.v = pv + (0.5 * h) * a
@@ -144,17 +154,21 @@ class LumpedSoil:
     def save(self, step):
         d, v, f = self.held
         return [float(step), float(self.micro_steps)] + [float(x) for x in np.concatenate(
-            (self.u, self.v, self.a, self.load, d, v, f))]
+            (self.u, self.v, self.a, self.load, self.rate, d, v, f))]
 
     def restore(self, values):
         n = self.n
         nd = 0 if self.receives_force else n
-        if len(values) != 2 + 4 * n + 2 * nd + (n - nd):
+        if len(values) != 2 + 5 * n + 2 * nd + (n - nd):
+            raise SessionError(8, "restore: the state does not fit this participant")
+        if not all(np.isfinite(values[:2])) or not 0 <= values[0] < 2**53 \
+                or not 0 <= values[1] < 2**53:
             raise SessionError(8, "restore: the state does not fit this participant")
         step, self.micro_steps = int(values[0]), int(values[1])
         x = np.array(values[2:])
         self.u, self.v, self.a, self.load = x[:n], x[n:2 * n], x[2 * n:3 * n], x[3 * n:4 * n]
-        rest = x[4 * n:]
+        self.rate = x[4 * n:5 * n]
+        rest = x[5 * n:]
         self.held = (rest[:nd], rest[nd:2 * nd], rest[2 * nd:])
         return step
 
@@ -250,7 +264,8 @@ class Session:
             if msg.step != self.step:
                 raise SessionError(7, "inputs for step %d, the participant is at step %d" %
                                    (msg.step, self.step))
-            m.hold(msg.inputs.interfaces[0])
+            m.hold(msg.inputs.interfaces[0],
+                   msg.inputs_end.interfaces[0] if msg.HasField("inputs_end") else None)
             if not self.carry:  # else keep the integrator's acceleration
                 m.restart()
             if kind == "set_inputs":
