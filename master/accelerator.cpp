@@ -31,7 +31,6 @@ void Accelerator::set_weights(const std::vector<double>&) {}
 
 namespace {
 
-using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 // Common part: the per-entry weights of the current window.
@@ -120,30 +119,42 @@ class IqnIls final : public Weighted {
     for (const Column& c : current_) cols.push_back(&c);
     for (const auto& w : past_)
       for (const Column& c : w) cols.push_back(&c);
-    std::vector<VectorXd> q;  // orthonormal basis of the kept weighted columns
+    // Modified Gram–Schmidt over the weighted columns, newest first: V = Q R
+    // for the kept ones; a column mostly in the span of newer ones is dropped.
+    std::vector<VectorXd> q;
+    std::vector<std::vector<double>> rcols;  // the columns of R
     std::vector<const Column*> kept;
     for (const Column* c : cols) {
       if (static_cast<int>(kept.size()) >= o_.max_columns) break;
-      const VectorXd v = weighted(c->dr);
-      const double norm = v.norm();
+      VectorXd p = weighted(c->dr);
+      const double norm = p.norm();
       if (!(norm > 0)) continue;
-      VectorXd p = v;
-      for (const VectorXd& b : q) p -= b.dot(p) * b;
+      std::vector<double> rc;
+      for (const VectorXd& b : q) {
+        rc.push_back(b.dot(p));
+        p -= rc.back() * b;
+      }
       const double rest = p.norm();
       if (rest < o_.filter_limit * norm) continue;
+      rc.push_back(rest);
       q.push_back(p / rest);
+      rcols.push_back(std::move(rc));
       kept.push_back(c);
     }
     if (kept.empty()) return x + o_.relaxation * r;
 
-    MatrixXd V(r.size(), static_cast<Eigen::Index>(kept.size()));
-    MatrixXd W(r.size(), static_cast<Eigen::Index>(kept.size()));
-    for (std::size_t k = 0; k < kept.size(); ++k) {
-      V.col(static_cast<Eigen::Index>(k)) = weighted(kept[k]->dr);
-      W.col(static_cast<Eigen::Index>(k)) = kept[k]->dg;
+    // alpha minimises ||V alpha + r||: R alpha = -Q^T r, by back substitution.
+    const std::size_t k = kept.size();
+    const VectorXd rw = weighted(r);
+    std::vector<double> alpha(k);
+    for (std::size_t i = 0; i < k; ++i) alpha[i] = -q[i].dot(rw);
+    for (std::size_t i = k; i-- > 0;) {
+      for (std::size_t j = i + 1; j < k; ++j) alpha[i] -= rcols[j][i] * alpha[j];
+      alpha[i] /= rcols[i][i];
     }
-    const VectorXd alpha = V.colPivHouseholderQr().solve(-weighted(r));
-    return gx + W * alpha;
+    VectorXd next = gx;
+    for (std::size_t i = 0; i < k; ++i) next += alpha[i] * kept[i]->dg;
+    return next;
   }
 
   void end_window() override {
