@@ -165,21 +165,25 @@ TEST_P(InterfaceStaticsTest, EqualsTheGlobalStaticSolution) {
   EXPECT_LT(c.outcome.iterations, 200);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    EveryCut, InterfaceStaticsTest,
-    ::testing::Values(
-        std::pair{"paper.toml", "wr-xx-jacobi"}, std::pair{"paper.toml", "wr-xt-jacobi"},
-        std::pair{"paper.toml", "rs-xx-jacobi"}, std::pair{"paper.toml", "rs-xt-jacobi"},
-        std::pair{"soil.toml", "wr-xx-jacobi"}, std::pair{"soil.toml", "rs-xt-jacobi"},
-        std::pair{"soil.toml", "ss-xx-jacobi"}, std::pair{"soil.toml", "ss-xt-jacobi"},
-        std::pair{"soil.toml", "wr-xx+ss-xx-jacobi"}, std::pair{"soil.toml", "wr-xt+ss-xt-jacobi"},
-        std::pair{"soil.toml", "wr-xt+rs-xx+ss-xt-jacobi"}),
-    [](const auto& param_info) {
-      std::string n = std::string(param_info.param.first).substr(0, 4) + "_" + param_info.param.second;
-      for (char& ch : n)
-        if (ch == '-' || ch == '+') ch = '_';
-      return n;
-    });
+INSTANTIATE_TEST_SUITE_P(EveryCut, InterfaceStaticsTest,
+                         ::testing::Values(std::pair{"paper.toml", "wr-xx-jacobi"},
+                                           std::pair{"paper.toml", "wr-xt-jacobi"},
+                                           std::pair{"paper.toml", "rs-xx-jacobi"},
+                                           std::pair{"paper.toml", "rs-xt-jacobi"},
+                                           std::pair{"soil.toml", "wr-xx-jacobi"},
+                                           std::pair{"soil.toml", "rs-xt-jacobi"},
+                                           std::pair{"soil.toml", "ss-xx-jacobi"},
+                                           std::pair{"soil.toml", "ss-xt-jacobi"},
+                                           std::pair{"soil.toml", "wr-xx+ss-xx-jacobi"},
+                                           std::pair{"soil.toml", "wr-xt+ss-xt-jacobi"},
+                                           std::pair{"soil.toml", "wr-xt+rs-xx+ss-xt-jacobi"}),
+                         [](const auto& param_info) {
+                           std::string n = std::string(param_info.param.first).substr(0, 4) + "_" +
+                                           param_info.param.second;
+                           for (char& ch : n)
+                             if (ch == '-' || ch == '+') ch = '_';
+                           return n;
+                         });
 
 TEST(FixedMicroSteps, EveryMacroStepTakesExactlyThatMany) {
   Scene s = soil_scene();

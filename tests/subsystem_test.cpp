@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "schedule.hpp"
 #include "test_support.hpp"
@@ -52,21 +53,8 @@ CouplingData inputs_at(const CouplingData& base, long n) {
 
 // The inputs a participant holds at the coupled static state of its case.
 CouplingData static_inputs(const Scene& scene, const Combo& c) {
-  const auto specs = partition(scene, parse_case(c.case_name));
-  std::vector<std::unique_ptr<Subsystem>> subs;
-  std::vector<Participant*> ps;
-  std::vector<CouplingData> zero;
-  for (const auto& p : specs) {
-    SubsystemConfig cfg;
-    cfg.participant = p;
-    cfg.macro_step = scene.macro_step;
-    cfg.tolerance = scene.tolerance;
-    subs.push_back(std::make_unique<Subsystem>(scene, cfg));
-    ps.push_back(subs.back().get());
-    zero.push_back(zero_inputs(scene, p));
-  }
-  return find_static_state(ps, make_routing(specs), zero)
-      .inputs.at(static_cast<std::size_t>(c.participant));
+  return test::inproc_case_at_statics(scene, c.case_name)
+      .statics.inputs.at(static_cast<std::size_t>(c.participant));
 }
 
 class SubsystemTest : public ::testing::TestWithParam<Combo> {};

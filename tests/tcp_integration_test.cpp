@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "node_launcher.hpp"
+#include "process_support.hpp"
 #include "remote_participant.hpp"
 #include "runner.hpp"
 #include "test_support.hpp"
@@ -127,22 +128,8 @@ INSTANTIATE_TEST_SUITE_P(SoilCases, TcpSoil,
 
 // --- the master program, given a soil node ---------------------------------
 
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Outcome run_master(const std::string& args) {
-  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master " + args + " 2>&1";
-  Outcome o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) o.output += buf.data();
-  const int st = pclose(p);
-  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return o;
-}
+using test::Outcome;
+using test::run_master;
 
 std::string file_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "evaluation.hpp"
 #include "hertz.hpp"
@@ -133,20 +134,9 @@ class CarInterfaceStatics : public ::testing::TestWithParam<const char*> {};
 // points at the wheel/rail cut) equals the global solution, as for one wheel.
 TEST_P(CarInterfaceStatics, EqualsTheGlobalStaticSolution) {
   const Scene s = scene_of(read("scenes/car_irregular.toml"));
-  const auto specs = partition(s, parse_case(GetParam()));
-  std::vector<std::unique_ptr<Subsystem>> subs;
-  std::vector<Participant*> ps;
-  std::vector<CouplingData> zero;
-  for (const auto& p : specs) {
-    SubsystemConfig cfg;
-    cfg.participant = p;
-    cfg.macro_step = s.macro_step;
-    cfg.tolerance = s.tolerance;
-    subs.push_back(std::make_unique<Subsystem>(s, cfg));
-    ps.push_back(subs.back().get());
-    zero.push_back(zero_inputs(s, p));
-  }
-  const StaticsOutcome out = find_static_state(ps, make_routing(specs), zero);
+  test::InprocCase c = test::inproc_case_at_statics(s, GetParam());
+  const std::vector<Participant*>& ps = c.ps;
+  const StaticsOutcome& out = c.statics;
   for (std::size_t p = 0; p < ps.size(); ++p) ps[p]->initialize(out.inputs[p]);
   std::vector<std::unique_ptr<Subsystem>> whole;
   Structure st;
@@ -155,7 +145,7 @@ TEST_P(CarInterfaceStatics, EqualsTheGlobalStaticSolution) {
   for (const auto* dofs :
        {&st.layout.vehicle, &st.layout.rail_w, &st.layout.sleeper, &st.layout.soil})
     for (int d : *dofs) want.push_back(u[d]);
-  const std::vector<double> got = gather(subs);
+  const std::vector<double> got = gather(c.subs);
   ASSERT_EQ(got.size(), want.size());
   double scale = 0, diff = 0;
   for (std::size_t k = 0; k < got.size(); ++k) {

@@ -11,6 +11,7 @@
 
 #include <memory>
 
+#include "../cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "scene.hpp"
 #include "schedule.hpp"
@@ -23,21 +24,8 @@ namespace {
 
 // The inputs of every participant of a case at its coupled static state
 // (values a real session sees), in load order.
-std::vector<CouplingData> static_inputs(const Scene& scene,
-                                        const std::vector<ParticipantSpec>& specs) {
-  std::vector<std::unique_ptr<Subsystem>> owned;
-  std::vector<Participant*> ps;
-  std::vector<CouplingData> zero;
-  for (const ParticipantSpec& p : specs) {
-    SubsystemConfig c;
-    c.participant = p;
-    c.macro_step = scene.macro_step;
-    c.tolerance = scene.tolerance;
-    owned.push_back(std::make_unique<Subsystem>(scene, c));
-    ps.push_back(owned.back().get());
-    zero.push_back(zero_inputs(scene, p));
-  }
-  return find_static_state(ps, make_routing(specs), zero).inputs;
+std::vector<CouplingData> static_inputs(const Scene& scene, const std::string& case_name) {
+  return test::inproc_case_at_statics(scene, case_name).statics.inputs;
 }
 
 CouplingData scaled(CouplingData in, double scale) {
@@ -83,7 +71,7 @@ int main(int argc, char** argv) {
   int n = 0;
   for (const auto& [case_name, role] : sessions) {
     const std::vector<ParticipantSpec> specs = partition(scene, parse_case(case_name));
-    const std::vector<CouplingData> at_rest = static_inputs(scene, specs);
+    const std::vector<CouplingData> at_rest = static_inputs(scene, case_name);
     SubsystemConfig cfg;
     CouplingData in;
     for (std::size_t p = 0; p < specs.size(); ++p)

@@ -1,0 +1,39 @@
+// Test helper: the in-process participants of a case at their coupled static
+// state, found through the interfaces as the master finds it.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "coupled_statics.hpp"
+#include "schedule.hpp"
+#include "subsystem.hpp"
+
+namespace railcosim::test {
+
+struct InprocCase {
+  std::vector<ParticipantSpec> specs;
+  std::vector<std::unique_ptr<Subsystem>> subs;
+  std::vector<Participant*> ps;
+  StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
+};
+
+inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& case_name) {
+  InprocCase c;
+  c.specs = partition(scene, parse_case(case_name));
+  std::vector<CouplingData> zero;
+  for (const ParticipantSpec& p : c.specs) {
+    SubsystemConfig cfg;
+    cfg.participant = p;
+    cfg.macro_step = scene.macro_step;
+    cfg.tolerance = scene.tolerance;
+    c.subs.push_back(std::make_unique<Subsystem>(scene, cfg));
+    c.ps.push_back(c.subs.back().get());
+    zero.push_back(zero_inputs(scene, p));
+  }
+  c.statics = find_static_state(c.ps, make_routing(c.specs), zero);
+  return c;
+}
+
+}  // namespace railcosim::test
