@@ -1,5 +1,6 @@
 #include "report.hpp"
 #include "report_methods.hpp"
+#include "report_spectra.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -328,6 +329,8 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
   }
 
   write_method_sections(md, runs, o.transport);
+  write_spectra_section(md, o.out,
+                        figures && std::filesystem::exists(o.out / "figures" / "spectra.png"));
 
   md << "\n## Every run\n\n| folder | case | feedthrough | H (s) | tolerance (m) | wall (s) | "
         "micro steps | "

@@ -169,6 +169,37 @@ def main(study):
     fig.savefig(os.path.join(out, "contact_force.png"), dpi=110)
     plt.close(fig)
 
+    spectra(os.path.join(study, mono["folder"], "spectra.csv"), out)
+
+
+def spectra(path, out):
+    """One-third-octave band levels of the monolithic run: contact forces and
+    the energy mean of the ballast forces over the sleepers (if written)."""
+    if not os.path.exists(path):
+        return
+    bands = {}
+    for r in read_rows(path):
+        centre, rms = num(r["centre_Hz"]), num(r["rms"])
+        name = r["signal"]
+        if name.startswith("ballast_force_"):
+            name = "ballast force (mean over sleepers)"
+        bands.setdefault(name, {}).setdefault(centre, []).append(rms)
+    fig, ax = plt.subplots(figsize=(11, 4.5))
+    for name, per_band in sorted(bands.items()):
+        xs = sorted(per_band)
+        ys = [math.sqrt(sum(v * v for v in per_band[x]) / len(per_band[x])) for x in xs]
+        pts = [(x, 20 * math.log10(y)) for x, y in zip(xs, ys) if y > 0]
+        if pts:
+            ax.semilogx([p[0] for p in pts], [p[1] for p in pts], "o-", ms=3, lw=1.2, label=name)
+    ax.set_xlabel("one-third-octave band centre (Hz)")
+    ax.set_ylabel("band level (dB re 1 N)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8)
+    ax.set_title("Force spectra of the monolithic run")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "spectra.png"), dpi=110)
+    plt.close(fig)
+
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

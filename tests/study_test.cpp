@@ -95,6 +95,7 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   EXPECT_NE(report.find("## The paper's conclusions"), std::string::npos);
   EXPECT_NE(report.find("## Stability map"), std::string::npos);
   EXPECT_NE(report.find("## Cheapest method per accuracy"), std::string::npos);
+  EXPECT_NE(report.find("## Spectra"), std::string::npos);
   EXPECT_NE(report.find("| carry | "), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "rs-xt-jacobi+implicit-linear-iqn-ils" / "convergence.csv"));
   // Every case ran, so every conclusion of the paper gets a verdict.
@@ -107,7 +108,7 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   // otherwise the report must say why there are none.
   if (report.find("Figures were not drawn") == std::string::npos) {
     for (const char* fig :
-         {"deflection", "errors", "speed_accuracy", "stability_map", "contact_force"}) {
+         {"deflection", "errors", "speed_accuracy", "stability_map", "contact_force", "spectra"}) {
       EXPECT_TRUE(fs::exists(out / "figures" / (std::string(fig) + ".png"))) << fig;
       EXPECT_NE(report.find(std::string("figures/") + fig + ".png"), std::string::npos) << fig;
     }
