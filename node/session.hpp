@@ -47,6 +47,8 @@ class NodeSession {
  private:
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
   wire::Envelope hello_reply(std::uint64_t id) const;
+  // SCENE_MISMATCH unless the hello's fingerprint is the pinned scene's.
+  void check_pinned_scene() const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
 
   NodeOptions options_;
