@@ -341,7 +341,7 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
        << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
        << (x.status == "failed" ? " (" + x.message + ")" : "") << " |\n";
   }
-  std::ofstream(o.out / "REPORT.md") << md.str();
+  write_file_atomically(o.out / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
 
 }  // namespace railcosim
