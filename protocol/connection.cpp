@@ -116,8 +116,7 @@ void Connection::run_until(bool& done, Clock::time_point deadline, Duration time
   io_.restart();
   io_.run();  // let the cancelled operation complete
   if (sig != 0)
-    throw NetError(NetError::Kind::kInterrupted, "interrupted by signal " + std::to_string(sig) +
-                                                     " while waiting for the " + what);
+    throw NetError(NetError::Kind::kInterrupted, "interrupted by signal " + std::to_string(sig));
   throw NetError(NetError::Kind::kTimeout,
                  std::string("no ") + what + " within " + std::to_string(timeout.count()) + " ms");
 }
