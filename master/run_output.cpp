@@ -118,7 +118,7 @@ namespace {
 
 std::string deflection_csv(const RunRecord& r) {
   std::string text = "x_m,w_m\n";
-  for (std::size_t k = 0; k < r.deflection.size(); ++k)
+  for (std::size_t k = 0; k < r.deflection.size() && k < r.x.size(); ++k)
     text += num(r.x[k]) + "," + num(r.deflection[k]) + "\n";
   return text;
 }

@@ -134,6 +134,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   }
 
   void handle(wire::Envelope req) {
+    frame_started_ = false;  // the next frame's deadline starts with its first byte
     if (!said_hello_ || !long_request(req)) {
       bool close = false;
       wire::Envelope reply = session_.handle(req, close);
