@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "excitation_toml.hpp"
+#include "scene_checks.hpp"
 
 namespace railcosim {
 namespace {
@@ -47,6 +48,8 @@ class Reader {
   long integer(const std::string& table, const std::string& key) {
     const toml::node* n = find(table, key, true);
     if (!n->is_integer()) fail(table + "." + key, "must be an integer");
+    if (auto why = integer_range_error(*n->value<int64_t>()); !why.empty())
+      fail(table + "." + key, why);
     return static_cast<long>(*n->value<int64_t>());
   }
   std::string string_or(const std::string& table, const std::string& key, std::string fallback) {
@@ -169,6 +172,7 @@ void Scene::validate() const {
       fail(key, s.str());
     }
   };
+  check_scene_numbers(*this);  // scene_checks.hpp
   positive("vehicle.mass", vehicle_mass);
   positive("vehicle.hertz_constant", hertz_constant);
   non_negative("vehicle.speed_kmh", speed);
@@ -243,6 +247,7 @@ void Scene::validate() const {
       << " s, beyond the rail end at " << length << " m (lengthen the track or shorten the run)";
     fail("simulation.end_time", s.str());
   }
+  check_scene_derived(*this);  // scene_checks.hpp
 }
 
 Scene parse_scene(const std::string& toml_text, const std::string& source_name) {

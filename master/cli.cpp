@@ -73,6 +73,7 @@ void catch_stop_signals() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  set_interrupt_flag(&g_stop);  // a wait on a node ends too
 }
 
 // The addresses the user gave for the participants of a case: --node

@@ -1,6 +1,7 @@
 // How a co-simulation run is judged against the monolithic reference.
 #pragma once
 
+#include "model.hpp"
 #include "run_record.hpp"
 #include "scene.hpp"
 
@@ -12,6 +13,8 @@ struct DeflectionError {
 };
 DeflectionError deflection_error(const std::vector<double>& w, const std::vector<double>& ref);
 
+class MonolithicModel;
+
 // The RMS, over the common rows of the two histories, of the contact force
 // error divided by the static load m_tot g, combined with the wheel
 // displacement error divided by the static wheel displacement:
@@ -22,11 +25,34 @@ DeflectionError deflection_error(const std::vector<double>& w, const std::vector
 double history_error(const std::vector<HistoryRow>& h, const std::vector<HistoryRow>& ref,
                      double static_load, double static_wheel);
 
+// The history error over every coupling quantity of a run: the wheel's two
+// channels, every further history channel (soil_peak_m, per-wheel and
+// ballast forces) and every linear cut of the run (RunRecord::coupling_history),
+// each error divided by the largest magnitude of that quantity (or of its
+// family: all wheels, all sleepers) in the reference run. The result is the
+// largest RMS over the quantities, the contact force and the wheel counted
+// together as one.
+double coupling_history_error(const RunRecord& run, const RunRecord& reference);
+
+// Appends one row of RunRecord::coupling_history: from the outputs of a
+// co-simulation's participants, or from the monolithic model's state.
+void record_coupling(RunRecord& run, const std::vector<ParticipantSpec>& participants,
+                     const std::vector<StepResult>& outputs);
+void record_coupling(RunRecord& run, const MonolithicModel& model);
+
+// A run whose deflection at t_end is further than this from the monolithic
+// one (relative L2) is never `ok`: 25 %, six times the largest error of a
+// consistent case of the paper scene at its macro step (4.3e-2, rs-xx-jacobi).
+inline constexpr double kMaxDeflectionError = 0.25;
+
 // The bound beyond which a displacement means divergence:
 // divergence_factor times the largest static displacement.
 double divergence_bound(const Scene& scene, double largest_static_displacement);
 
-// Fills the errors and the status (ok / amplified) of a finished run.
+// Fills the errors and the status of a finished run: amplified when the
+// history error over every coupling quantity exceeds
+// cosim.amplification_threshold or the deflection error kMaxDeflectionError,
+// ok otherwise.
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 
 }  // namespace railcosim

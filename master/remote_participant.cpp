@@ -17,7 +17,7 @@ std::string node_label(const SubsystemConfig& c) {
 RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
                                      const SubsystemConfig& config, RemoteTimeouts timeouts,
                                      std::optional<std::string> token)
-    : address_(address), config_(config), timeouts_(timeouts) {
+    : address_(address), config_(config), timeouts_(timeouts), shape_(reply_shape(scene, config)) {
   try {
     conn_ = Connection::connect(address, timeouts.connect);
   } catch (const NetError& e) {
@@ -30,6 +30,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   } catch (const NetError& e) {
     fail(std::string("hello: ") + e.what());
   }
+  in_flight_.clear();
   if (reply.has_challenge()) {
     if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
     wire::Envelope auth;
@@ -48,6 +49,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
   channels_.history.assign(declared.history().begin(), declared.history().end());
   channels_.results.assign(declared.results().begin(), declared.results().end());
+  check(declare_channels(shape_, channels_));
 }
 
 RemoteParticipant::~RemoteParticipant() {
@@ -86,6 +88,7 @@ void RemoteParticipant::send(wire::Envelope request, bool expects_ack) {
     fail(e.what());
   }
   if (expects_ack) ++pending_acks_;
+  in_flight_.push_back(request.id());
 }
 
 std::chrono::milliseconds RemoteParticipant::step_deadline() const {
@@ -102,8 +105,12 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
     try {
       reply = conn_->receive(timeout);
     } catch (const NetError& e) {
+      conn_->close();  // half a frame may be in it: no use waiting for a goodbye
       fail(e.what());
     }
+    if (!reply.has_error())
+      check(check_reply_id(reply.id(), in_flight_.empty() ? 0 : in_flight_.front()));
+    if (!in_flight_.empty()) in_flight_.pop_front();
     if (reply.has_error() && reply.error().code() == wire::Error::STEP_FAILED) {
       std::ostringstream s;
       s << name() << ": " << reply.error().message() << " at macro step " << step_;
@@ -128,14 +135,19 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
 CouplingData RemoteParticipant::statics(const CouplingData& inputs) {
   wire::Envelope e;
   *e.mutable_statics()->mutable_inputs() = to_wire(inputs);
-  return from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+  CouplingData out = from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+  check(check_outputs(out, shape_));
+  return out;
 }
 
 StepResult RemoteParticipant::initialize(const CouplingData& inputs) {
   wire::Envelope e;
   *e.mutable_initialize()->mutable_inputs() = to_wire(inputs);
   send(e, false);
-  return from_wire(await(wire::Envelope::kStepReport, "initialize").step_report());
+  const wire::StepReport w = await(wire::Envelope::kStepReport, "initialize").step_report();
+  StepResult r = from_wire(w);
+  check(check_step_report(r, w.step(), w.t(), 0, shape_));
+  return r;
 }
 
 void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
@@ -166,7 +178,9 @@ void RemoteParticipant::flush_inputs() {
 CouplingData RemoteParticipant::outputs() {
   wire::Envelope e;
   e.mutable_get_outputs()->set_step(step_);
-  return from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+  CouplingData out = from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+  check(check_outputs(out, shape_));
+  return out;
 }
 
 void RemoteParticipant::start_step(long n) {
@@ -187,8 +201,10 @@ void RemoteParticipant::start_step(long n) {
 }
 
 StepResult RemoteParticipant::finish_step() {
-  StepResult r =
-      from_wire(await(wire::Envelope::kStepReport, "step", step_deadline()).step_report());
+  const wire::StepReport w =
+      await(wire::Envelope::kStepReport, "step", step_deadline()).step_report();
+  StepResult r = from_wire(w);
+  check(check_step_report(r, w.step(), w.t(), step_ + 1, shape_));
   slowest_step_ = std::max(slowest_step_, std::chrono::steady_clock::now() - step_started_);
   return r;
 }
@@ -207,6 +223,7 @@ ParticipantResults RemoteParticipant::results() {
   ParticipantResults r;
   for (const auto& f : w.fields()) r.fields.emplace_back(f.values().begin(), f.values().end());
   r.micro_steps = w.micro_steps();
+  check(check_results(r, shape_));
   return r;
 }
 
@@ -214,7 +231,9 @@ ParticipantState RemoteParticipant::save() {
   wire::Envelope e;
   e.mutable_save();
   const wire::State w = request(std::move(e), wire::Envelope::kState).state();
-  return ParticipantState{{w.values().begin(), w.values().end()}};
+  ParticipantState st{{w.values().begin(), w.values().end()}};
+  check(check_state(st));
+  return st;
 }
 
 void RemoteParticipant::restore(const ParticipantState& state) {

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <chrono>
+#include <deque>
 #include <memory>
 #include <optional>
 
 #include "connection.hpp"
 #include "participant.hpp"
+#include "reply_check.hpp"
 #include "scene.hpp"
 #include "subsystem.hpp"
 
@@ -65,6 +67,10 @@ class RemoteParticipant final : public Participant {
   }
   std::chrono::milliseconds step_deadline() const;
   [[noreturn]] void fail(const std::string& what) const;
+  // Fails with `why` unless it is empty (see reply_check.hpp).
+  void check(const std::string& why) const {
+    if (!why.empty()) fail("bad reply: " + why);
+  }
   // Flushes held inputs, sends `e`, returns its reply of the expected kind.
   wire::Envelope request(wire::Envelope e, wire::Envelope::BodyCase expected);
   // Sends inputs held back by set_inputs() as a message of their own.
@@ -83,6 +89,8 @@ class RemoteParticipant final : public Participant {
   std::optional<CouplingData> pending_inputs_;
   std::optional<CouplingData> pending_end_;  // inputs that ramp: their value at the step's end
   Channels channels_;                        // as the node declared them
+  ReplyShape shape_;                         // what its replies must look like
+  std::deque<std::uint64_t> in_flight_;      // ids of the requests not answered yet
 };
 
 }  // namespace railcosim

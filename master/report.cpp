@@ -45,6 +45,10 @@ double err(const std::map<std::string, const RunRecord*>& c, const std::string& 
   return it != c.end() && usable(it->second) ? *it->second->rel_l2_error : NAN;
 }
 
+// The Gauss–Seidel gain at the rail/sleepers cut counts as the paper's
+// "almost 10" within this factor of 10.
+constexpr double kGainFactor = 2.0;
+
 // Why the rail/sleepers X-T Gauss–Seidel case breaks two of the paper's
 // general statements here (the paper gives no numbers for it).
 constexpr const char* kRsXtWhy =
@@ -111,6 +115,10 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
         {"Jacobi X-T at the wheel/rail cut is abnormally amplified; its error is the "
          "biggest of all cases",
          ok ? "reproduced" : "not reproduced", e.str()});
+    f.back().paper = "abnormally amplified; the biggest error of the eight cases";
+    f.back().judged =
+        "status amplified (history error over cosim.amplification_threshold, or deflection error "
+        "over 25 %) and a rel. L2 error above every other case's";
   }
   {  // 2. GS X-T at the W/R cut: a similar but weaker tendency.
     const RunRecord* gs = c.at("wr-xt-gauss-seidel");
@@ -138,17 +146,38 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
          : weaker                        ? "partly reproduced"
                                          : "not reproduced",
          e.str()});
+    f.back().paper = "a similar but less amplified tendency than Jacobi X-T";
+    f.back().judged =
+        "history error between Gauss–Seidel X-X's and Jacobi X-T's; reproduced when the case is "
+        "also amplified or diverged at some macro step of the sweep";
   }
   {  // 3. GS instead of Jacobi divides the R/S X-X error by almost 10.
     const double ratio = err(c, "rs-xx-jacobi") / err(c, "rs-xx-gauss-seidel");
+    // Within a factor kGainFactor of the paper's 10; a gain outside it is
+    // reported as what it is (better, but not by almost 10).
+    const bool near = ratio >= 10.0 / kGainFactor && ratio <= 10.0 * kGainFactor;
+    std::string e = "ratio " + sci(ratio, 1) + " (" + err_of(c, "rs-xx-jacobi") + ", " +
+                    err_of(c, "rs-xx-gauss-seidel") + "), restart convention " +
+                    c.at("rs-xx-jacobi")->restart;
+    if (!near && ratio > 1) {
+      char times[32];
+      std::snprintf(times, sizeof times, "%.1f", ratio / 10.0);
+      e += std::string(": Gauss–Seidel is better by ") + times +
+           " times the paper's factor, not by almost 10";
+    }
     f.push_back(
         {"At the rail/sleepers cut with X-X, Gauss–Seidel divides the error of Jacobi by "
          "almost 10",
-         ratio >= 5  ? "reproduced"
+         near        ? "reproduced"
          : ratio > 1 ? "partly reproduced"
                      : "not reproduced",
-         "ratio " + sci(ratio, 1) + " (" + err_of(c, "rs-xx-jacobi") + ", " +
-             err_of(c, "rs-xx-gauss-seidel") + ")"});
+         e});
+    f.back().paper = "almost 10";
+    f.back().judged =
+        "reproduced for a ratio within a factor 2 of 10 (5 to 20), partly reproduced for any "
+        "other ratio above 1; the scene's simulation.restart sets the convention (with 10 fixed "
+        "micro steps per macro step, carry, the paper's, gives about 9.3 and consistent about "
+        "32)";
   }
   {  // 4. GS generally more accurate than Jacobi.
     int better = 0;
@@ -165,6 +194,8 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
                  : better >= 3 ? "partly reproduced"
                                : "not reproduced",
                  std::to_string(better) + " of 4 cut/type pairs (" + e + ")"});
+    f.back().paper = "generally more accurate";
+    f.back().judged = "lower rel. L2 error in 4 of 4 cut/type pairs (3 of 4: partly)";
   }
   {  // 5 and 6. X-X better at W/R, reversed at R/S.
     for (const char* split : {"wr", "rs"}) {
@@ -185,6 +216,9 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
                    : holds == 1 ? "partly reproduced"
                                 : "not reproduced",
                    std::to_string(holds) + " of 2 schemes (" + e + ")"});
+      f.back().paper = wr ? "X-X more accurate than X-T at the wheel/rail cut"
+                          : "X-T more accurate than X-X at the rail/sleepers cut";
+      f.back().judged = "lower rel. L2 error under both schemes (one of two: partly)";
     }
   }
   {  // 7. W/R more accurate than R/S, except Jacobi X-T.
@@ -201,6 +235,8 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
                  : holds > 0    ? "partly reproduced"
                                 : "not reproduced",
                  std::to_string(holds) + " of " + std::to_string(pairs) + " (" + e + ")"});
+    f.back().paper = "the wheel/rail cut more accurate, except Jacobi X-T";
+    f.back().judged = "lower rel. L2 error at W/R in all three pairs (some: partly)";
   }
   {  // 8. R/S more stable: fewer non-ok cells in the sweep.
     std::map<std::string, int> bad, total;
@@ -220,6 +256,9 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
                  "amplified or diverged runs over the macro-step sweep (lagged methods): W/R " +
                      std::to_string(bad["wr"]) + " of " + std::to_string(total["wr"]) + ", R/S " +
                      std::to_string(bad["rs"]) + " of " + std::to_string(total["rs"])});
+    f.back().paper = "the rail/sleepers cut remains more stable";
+    f.back().judged =
+        "fewer amplified or diverged runs at R/S than at W/R over the sweep (equal: partly)";
   }
   {  // Beyond the paper: the resolved feedthrough.
     const RunRecord* r = c.at("wr-xt-jacobi-resolved");
@@ -231,6 +270,8 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
              : "not reproduced",
          "status " + r->status + ", " + err_of(c, "wr-xt-jacobi-resolved") + " against " +
              err_of(c, "wr-xx-jacobi")});
+    f.back().paper = "– (not in the paper)";
+    f.back().judged = "status ok and an error below twice Jacobi X-X's at the same cut";
   }
   return f;
 }
@@ -269,9 +310,11 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
      << "speed/accuracy chart measures every run against a converged monolithic run (tolerance "
      << o.converged_tolerance << " m) instead.\n\n";
 
-  md << "## The paper's conclusions\n\n| conclusion | verdict | numbers |\n|---|---|---|\n";
+  md << "## The paper's conclusions\n\n| conclusion | paper | ours | judged with | verdict "
+        "|\n|---|---|---|---|---|\n";
   for (const Finding& f : check_findings(runs))
-    md << "| " << f.claim << " | **" << f.verdict << "** | " << f.evidence << " |\n";
+    md << "| " << f.claim << " | " << f.paper << " | " << f.evidence << " | " << f.judged << " | **"
+       << f.verdict << "** |\n";
 
   md << "\n## Runs at H = " << scene.macro_step << " s\n\n"
      << "| method | status | rel. L2 error | max abs error (m) | history error | wall (s) | micro "
@@ -347,7 +390,7 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
        << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
        << (x.status == "failed" ? " (" + x.message + ")" : "") << " |\n";
   }
-  std::ofstream(o.out / "REPORT.md") << md.str();
+  write_file_atomically(o.out / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
 
 }  // namespace railcosim

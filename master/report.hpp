@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "study.hpp"
@@ -11,9 +12,13 @@ namespace railcosim {
 
 // One of the paper's conclusions, checked against this study's runs.
 struct Finding {
+  Finding(std::string claim_, std::string verdict_, std::string evidence_)
+      : claim(std::move(claim_)), verdict(std::move(verdict_)), evidence(std::move(evidence_)) {}
   std::string claim;     // as the paper puts it
   std::string verdict;   // "reproduced", "partly reproduced", "not reproduced", "not checked"
-  std::string evidence;  // the numbers that say so
+  std::string evidence;  // ours: the numbers that say so
+  std::string paper;     // what the paper found (its number, where it gives one)
+  std::string judged;    // the tolerance the verdict is judged with
 };
 
 std::vector<Finding> check_findings(const std::vector<StudyRun>& runs);

@@ -1,8 +1,9 @@
 #include "run_output.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -45,19 +46,41 @@ std::string json_opt(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? num(*v) : "null";
 }
 
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".part";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-    f << text;
-    f.flush();
-    if (!f) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  std::filesystem::rename(tmp, path);
+// Why the last C library call failed, e.g. "No space left on device".
+std::string reason() {
+  return std::strerror(errno);
+}
+
+// Writes all of `text` to an open file and closes it; false (errno set) if
+// any byte could not be written.
+bool write_and_close(std::FILE* f, const std::string& text) {
+  const bool wrote = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const bool flushed = wrote && std::fflush(f) == 0;
+  const int saved = errno;
+  const bool closed = std::fclose(f) == 0;
+  if (!flushed) errno = saved;
+  return flushed && closed;
 }
 
 }  // namespace
+
+void write_file_atomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".part";
+  std::FILE* f = std::fopen(tmp.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path.string() + ": " + reason());
+  if (!write_and_close(f, text)) {
+    const std::string why = reason();
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);  // no stray half file
+    throw std::runtime_error("cannot write " + path.string() + ": " + why);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  }
+}
 
 std::string format_double(double v) {
   return std::isfinite(v) ? num(v) : "null";
@@ -106,7 +129,7 @@ namespace {
 
 std::string deflection_csv(const RunRecord& r) {
   std::string text = "x_m,w_m\n";
-  for (std::size_t k = 0; k < r.deflection.size(); ++k)
+  for (std::size_t k = 0; k < r.deflection.size() && k < r.x.size(); ++k)
     text += num(r.x[k]) + "," + num(r.deflection[k]) + "\n";
   return text;
 }
@@ -230,9 +253,9 @@ namespace {
 
 void write_channel_files(const std::filesystem::path& dir, const RunRecord& r) {
   if (const std::string f = soil_forces_csv(r); !f.empty())
-    write_atomically(dir / "soil_forces.csv", f);
+    write_file_atomically(dir / "soil_forces.csv", f);
   if (r.status == "failed") return;
-  if (const std::string s = spectra_csv(r); !s.empty()) write_atomically(dir / "spectra.csv", s);
+  if (const std::string s = spectra_csv(r); !s.empty()) write_file_atomically(dir / "spectra.csv", s);
 }
 
 std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {
@@ -247,15 +270,15 @@ std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const s
 
 std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& r) {
   const std::filesystem::path dir = make_run_dir(out_dir, r.case_name);
-  write_atomically(dir / "deflection.csv", deflection_csv(r));
+  write_file_atomically(dir / "deflection.csv", deflection_csv(r));
   std::string text = history_header(r.extra_channels);
   const std::vector<bool> mask = history_mask(r.extra_channels);
   for (const auto& h : r.history) text += history_line(h, mask);
-  write_atomically(dir / "history.csv", text);
-  if (!r.soil.empty()) write_atomically(dir / "soil.csv", soil_csv(r));
-  if (!r.convergence.empty()) write_atomically(dir / "convergence.csv", convergence_csv(r));
+  write_file_atomically(dir / "history.csv", text);
+  if (!r.soil.empty()) write_file_atomically(dir / "soil.csv", soil_csv(r));
+  if (!r.convergence.empty()) write_file_atomically(dir / "convergence.csv", convergence_csv(r));
   write_channel_files(dir, r);
-  write_atomically(dir / "summary.json", summary_json(r));
+  write_file_atomically(dir / "summary.json", summary_json(r));
   return dir;
 }
 
@@ -269,8 +292,19 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
   std::filesystem::remove(dir_ / "convergence.csv", ec);
   std::filesystem::remove(dir_ / "soil_forces.csv", ec);
   std::filesystem::remove(dir_ / "spectra.csv", ec);
+  // Room for the summary, taken before the history can fill the disk: the
+  // summary overwrites this placeholder, so a run that fails on a full disk
+  // still says why.
+  const std::filesystem::path reserve = dir_ / "summary.json.part";
+  std::FILE* r = std::fopen(reserve.c_str(), "w");
+  if (!r || !write_and_close(r, std::string(kSummaryReserve, ' '))) {
+    const std::string why = reason();
+    std::filesystem::remove(reserve, ec);
+    throw std::runtime_error("cannot write " + (dir_ / "summary.json").string() + ": " + why);
+  }
   history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
-  if (!history_) throw std::runtime_error("cannot write " + (dir_ / "history.csv").string());
+  if (!history_)
+    throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + reason());
 }
 
 void RunWriter::channels(const std::vector<std::string>& extra) {
@@ -278,34 +312,68 @@ void RunWriter::channels(const std::vector<std::string>& extra) {
   in_history_ = history_mask(extra);
 }
 
+void RunWriter::put(const std::string& text) {
+  if (!history_) return;
+  if (std::fputs(text.c_str(), history_) < 0 || std::fflush(history_) != 0) {
+    const std::string why = reason();
+    std::fclose(history_);
+    history_ = nullptr;
+    std::error_code ec;
+    if (!wrote_history_) std::filesystem::remove(dir_ / "history.csv", ec);  // not even a header
+    throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + why);
+  }
+  wrote_history_ = true;
+}
+
 void RunWriter::header() {
   if (header_written_ || !history_) return;
-  std::fputs(history_header(extra_).c_str(), history_);
-  std::fflush(history_);
   header_written_ = true;
+  put(history_header(extra_));
 }
 
 RunWriter::~RunWriter() {
   if (history_) std::fclose(history_);
+  std::error_code ec;
+  std::filesystem::remove(dir_ / "summary.json.part", ec);  // unused reserve
 }
 
 void RunWriter::row(const HistoryRow& row) {
   header();
-  std::fputs(history_line(row, in_history_).c_str(), history_);
-  std::fflush(history_);
+  put(history_line(row, in_history_));
 }
 
-void RunWriter::finish(const RunRecord& r) {
-  if (history_) {
+void RunWriter::finish(const RunRecord& run) {
+  RunRecord r = run;
+  // Every file that can be written is; the first that cannot fails the run,
+  // and the summary (written last, into its reserved room) says why.
+  std::string error;
+  auto attempt = [&](auto&& write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      if (error.empty()) error = e.what();
+    }
+  };
+  attempt([&] {
     header();
-    std::fclose(history_);
+    if (history_ && std::fclose(history_) != 0) {
+      history_ = nullptr;
+      throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + reason());
+    }
     history_ = nullptr;
+  });
+  if (!r.deflection.empty())
+    attempt([&] { write_file_atomically(dir_ / "deflection.csv", deflection_csv(r)); });
+  if (!r.soil.empty()) attempt([&] { write_file_atomically(dir_ / "soil.csv", soil_csv(r)); });
+  if (!r.convergence.empty())
+    attempt([&] { write_file_atomically(dir_ / "convergence.csv", convergence_csv(r)); });
+  attempt([&] { write_channel_files(dir_, r); });
+  if (!error.empty() && r.status != "failed") {
+    r.status = "failed";
+    r.message = error;
   }
-  if (!r.deflection.empty()) write_atomically(dir_ / "deflection.csv", deflection_csv(r));
-  if (!r.soil.empty()) write_atomically(dir_ / "soil.csv", soil_csv(r));
-  if (!r.convergence.empty()) write_atomically(dir_ / "convergence.csv", convergence_csv(r));
-  write_channel_files(dir_, r);
-  write_atomically(dir_ / "summary.json", summary_json(r));
+  write_file_atomically(dir_ / "summary.json", summary_json(r));
+  if (!error.empty()) throw std::runtime_error(error);
 }
 
 }  // namespace railcosim

@@ -44,6 +44,9 @@ struct RunRecord {
   std::vector<double> x;           // rail node positions
   std::vector<double> deflection;  // rail node displacements at the last time
   std::vector<HistoryRow> history;
+  // Per linear cut ("rs", "ss"): the largest displacement of its lower side
+  // over the coupling points, one value per history row (evaluation.hpp).
+  std::map<std::string, std::vector<double>> coupling_history;
   std::vector<std::string> extra_channels;  // names of HistoryRow::extra, e.g. "soil_peak_m"
   std::vector<double> soil;                 // soil mass displacements at the last time, if any
   std::vector<double> soil_x;               // their positions (under the sleepers)

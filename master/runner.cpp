@@ -112,6 +112,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.history.reserve(static_cast<std::size_t>(N + 1));
   auto record_row = [&](const HistoryRow& row) {
     r.history.push_back(row);
+    record_coupling(r, model);  // evaluation.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
   record_row(model.history_row(0));
@@ -232,6 +233,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
     r.history.push_back(row);
+    record_coupling(r, specs, m);  // evaluation.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
   const std::vector<StepResult> initial = schedule->initialize(statics.inputs);

@@ -145,8 +145,7 @@ std::vector<double> default_macro_steps(const Scene& scene) {
 }
 
 void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs) {
-  std::ofstream f(file);
-  if (!f) throw std::runtime_error("cannot write " + file.string());
+  std::ostringstream f;  // written whole, checked, at the end
   f << "group,folder,method,case,split,coupling,scheme,feedthrough,macro_step_s,tolerance_m,"
        "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
        "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
@@ -178,6 +177,7 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
       << "\n";
   }
+  write_file_atomically(file, f.str());
 }
 
 namespace {

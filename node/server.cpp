@@ -1,12 +1,10 @@
 #include "server.hpp"
 
-#include <CLI/CLI.hpp>
 #include <array>
 #include <cstdio>
-#include <deque>
 
-#include "auth.hpp"
 #include "log.hpp"
+#include "work_budget.hpp"
 
 namespace railcosim {
 
@@ -28,8 +26,12 @@ const std::string& component(const std::string& role) {
 
 }  // namespace
 
-// One accepted connection. Reads frames, hands them to the session, writes
-// the replies in order; ends the session on error, shutdown or EOF.
+// One accepted connection. Reads a frame, hands it to the session (the long
+// requests on the server's worker thread, so that the node still answers
+// signals and turns other clients away meanwhile), writes its reply, and only
+// then reads on: a peer that does not read its replies stops being read
+// (backpressure), so a session holds at most one request and one reply.
+// Every wait is a deadline for a whole message (see ServerLimits).
 class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
  public:
   Conn(NodeServer& server, tcp::socket socket)
@@ -39,19 +41,22 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         decoder_(server.limits_.max_frame_bytes),
         session_(server.options_),
         log_(logger(component(server.options_.role))),
-        idle_(socket_.get_executor()) {}
+        deadline_(socket_.get_executor()) {}
 
   void start() {
     boost::system::error_code ec;
     socket_.set_option(tcp::no_delay(true), ec);
     log_->info("session {} from {} started", server_.sessions_, peer_);
-    arm_idle_timer(server_.limits_.handshake_timeout, "complete the hello");
-    read();
+    // One deadline for the whole opening, authentication included: bytes
+    // that trickle in do not extend it.
+    arm(server_.limits_.handshake_timeout, "complete the hello");
+    pump();
   }
 
   // Refuses a connection that arrived while another session runs.
   void refuse_busy(const std::string& active_peer) {
     closing_ = true;
+    arm(server_.limits_.message_timeout, "read the refusal");
     queue(encode_frame(error_envelope(0, wire::Error::BUSY,
                                       "this node already serves a session (from " + active_peer +
                                           "); try again when it has ended")));
@@ -66,10 +71,44 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   }
 
  private:
+  // Moves the session on: handles the next buffered frame, or reads.
+  void pump() {
+    if (finished_ || closing_ || busy_ || writing_) return;
+    wire::Envelope req;
+    const auto st = decoder_.next(req);
+    if (st == FrameDecoder::Status::kTooLarge) {
+      fail(wire::Error::FRAME_TOO_LARGE, "a frame of " + std::to_string(decoder_.announced()) +
+                                             " bytes exceeds the limit of " +
+                                             std::to_string(server_.limits_.max_frame_bytes));
+      return;
+    }
+    if (st == FrameDecoder::Status::kBadFrame) {
+      fail(wire::Error::BAD_FRAME, "a frame did not decode as a message");
+      return;
+    }
+    if (st == FrameDecoder::Status::kFrame) {
+      handle(std::move(req));
+      return;
+    }
+    // Between frames the peer may stay silent for the idle timeout; a frame
+    // it has begun must arrive whole within the message timeout.
+    if (said_hello_) {
+      if (decoder_.buffered() == 0) {
+        frame_started_ = false;
+        arm(server_.limits_.idle_timeout, "send anything");
+      } else if (!frame_started_) {
+        frame_started_ = true;
+        arm(server_.limits_.message_timeout, "send the rest of its request");
+      }
+    }
+    read();
+  }
+
   void read() {
     auto self = shared_from_this();
     socket_.async_read_some(asio::buffer(buf_), [this, self](boost::system::error_code ec,
                                                              std::size_t n) {
+      if (finished_) return;
       if (ec) {
         if (ec == asio::error::eof && decoder_.buffered() > 0) {
           // The peer stopped sending inside a frame: say so before closing.
@@ -85,59 +124,90 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         return;
       }
       decoder_.feed(buf_.data(), n);
-      if (!drain()) return;
-      arm_idle_timer(said_hello_ ? server_.limits_.idle_timeout : server_.limits_.handshake_timeout,
-                     said_hello_ ? "send anything" : "complete the hello");
-      read();
+      pump();
     });
   }
 
-  // Handles every complete frame; false once the session is over.
-  bool drain() {
-    wire::Envelope req;
-    while (true) {
-      const auto st = decoder_.next(req);
-      if (st == FrameDecoder::Status::kNeedMore) return true;
-      if (st == FrameDecoder::Status::kTooLarge) {
-        fail(wire::Error::FRAME_TOO_LARGE, "a frame of " + std::to_string(decoder_.announced()) +
-                                               " bytes exceeds the limit of " +
-                                               std::to_string(server_.limits_.max_frame_bytes));
-        return false;
-      }
-      if (st == FrameDecoder::Status::kBadFrame) {
-        fail(wire::Error::BAD_FRAME, "a frame did not decode as a message");
-        return false;
-      }
-      bool close = false;
-      const wire::Envelope reply = session_.handle(req, close);
-      if (reply.has_hello_reply()) said_hello_ = true;
-      if (reply.has_error())
-        log_->warn("session from {}: {} rejected at macro step {}: {}", peer_, body_name(req),
-                   session_.step(), reply.error().message());
-      else if (req.has_step())
-        log_->debug("{} macro step {} (t = {} s) done", session_.description(), req.step().step(),
-                    req.step().t());
-      else if (req.has_configure())
-        log_->info("session from {} configured: {}", peer_, session_.description());
-      if (close) {
-        // Free the node for the next session before the reply leaves, so a
-        // client that got this reply can connect again at once.
-        closing_ = true;
-        server_.session_ended(this);
-      }
-      queue(encode_frame(reply, server_.limits_.max_frame_bytes));
-      if (close) return false;
-    }
+  // Requests that may take long run on the worker thread.
+  static bool long_request(const wire::Envelope& req) {
+    return req.has_step() || req.has_statics() || req.has_initialize() || req.has_configure();
   }
 
-  // (Re)starts the deadline by which the peer must have sent something.
-  void arm_idle_timer(std::chrono::milliseconds limit, const char* what) {
-    idle_.expires_after(limit);
+  void handle(wire::Envelope req) {
+    frame_started_ = false;  // the next frame's deadline starts with its first byte
+    if (!said_hello_ || !long_request(req)) {
+      bool close = false;
+      wire::Envelope reply = session_.handle(req, close);
+      answer(req, std::move(reply), close);
+      return;
+    }
+    busy_ = true;
+    deadline_.cancel();  // the peer waits for us now
     auto self = shared_from_this();
-    idle_.async_wait([this, self, limit, what](boost::system::error_code ec) {
-      if (ec || finished_ || closing_) return;
-      fail(wire::Error::TIMEOUT, std::string("the peer did not ") + what + " within " +
-                                     std::to_string(limit.count()) + " ms; closing the session");
+    server_.run_on_worker([this, self, req = std::move(req)] {
+      bool close = false;
+      wire::Envelope reply;
+      {
+        ScopedWorkBudget budget(server_.limits_.max_step_time, &server_.stopping_);
+        reply = session_.handle(req, close);
+      }
+      asio::post(socket_.get_executor(),
+                 [this, self, req, reply = std::move(reply), close]() mutable {
+                   busy_ = false;
+                   if (!finished_) answer(req, std::move(reply), close);
+                 });
+    });
+  }
+
+  void answer(const wire::Envelope& req, wire::Envelope reply, bool close) {
+    if (reply.has_hello_reply()) said_hello_ = true;
+    if (reply.has_error())
+      log_->warn("session from {}: {} rejected at macro step {}: {}", peer_, body_name(req),
+                 session_.step(), reply.error().message());
+    else if (req.has_step())
+      log_->debug("{} macro step {} (t = {} s) done", session_.description(), req.step().step(),
+                  req.step().t());
+    else if (req.has_configure())
+      log_->info("session from {} configured: {}", peer_, session_.description());
+    std::string frame;
+    try {
+      frame = encode_frame(reply, server_.limits_.max_frame_bytes);
+    } catch (const ProtocolError& e) {
+      // A reply over this node's own limit is an error reply, not a crash.
+      const std::string why = "the reply to " + body_name(req) + " (" +
+                              std::to_string(reply.ByteSizeLong()) +
+                              " bytes) exceeds this node's --max-frame-bytes of " +
+                              std::to_string(server_.limits_.max_frame_bytes);
+      log_->warn("session from {}: {}; closing it", peer_, why);
+      frame = encode_frame(
+          error_envelope(req.id(), wire::Error::FRAME_TOO_LARGE, why, session_.step()));
+      close = true;
+    }
+    if (close) {
+      // Free the node for the next session before the reply leaves, so a
+      // client that got this reply can connect again at once.
+      closing_ = true;
+      server_.session_ended(this);
+    }
+    if (said_hello_) arm(server_.limits_.message_timeout, "read the reply");
+    queue(std::move(frame));
+  }
+
+  // (Re)starts the one deadline the session runs against.
+  void arm(std::chrono::milliseconds limit, const char* what) {
+    deadline_.expires_after(limit);
+    auto self = shared_from_this();
+    deadline_.async_wait([this, self, limit, what](boost::system::error_code ec) {
+      if (ec || finished_ || busy_) return;
+      const std::string why = std::string("the peer did not ") + what + " within " +
+                              std::to_string(limit.count()) + " ms; closing the session";
+      if (closing_ || writing_) {
+        // It does not read what it is sent: nothing more can reach it.
+        log_->warn("session from {}: {}", peer_, why);
+        finish();
+        return;
+      }
+      fail(wire::Error::TIMEOUT, why);
     });
   }
 
@@ -145,38 +215,31 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
     log_->warn("session from {}: {}; closing it", peer_, message);
     closing_ = true;
     server_.session_ended(this);
+    arm(server_.limits_.message_timeout, "read the error");
     queue(encode_frame(error_envelope(0, code, message, session_.step())));
   }
 
   void queue(std::string frame) {
-    out_.push_back(std::move(frame));
-    if (!writing_) write();
-  }
-
-  void write() {
+    out_ = std::move(frame);
     writing_ = true;
     auto self = shared_from_this();
-    asio::async_write(socket_, asio::buffer(out_.front()),
+    asio::async_write(socket_, asio::buffer(out_),
                       [this, self](boost::system::error_code ec, std::size_t) {
-                        out_.pop_front();
-                        if (ec) {
-                          writing_ = false;
+                        writing_ = false;
+                        out_.clear();
+                        out_.shrink_to_fit();
+                        if (ec || closing_) {
                           finish();
                           return;
                         }
-                        if (!out_.empty()) {
-                          write();
-                          return;
-                        }
-                        writing_ = false;
-                        if (closing_) finish();
+                        pump();
                       });
   }
 
   void finish() {
     if (finished_) return;
     finished_ = true;
-    idle_.cancel();
+    deadline_.cancel();
     close();
     server_.session_ended(this);
   }
@@ -188,12 +251,14 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   NodeSession session_;
   std::shared_ptr<spdlog::logger> log_;
   std::array<char, 65536> buf_{};
-  std::deque<std::string> out_;
+  std::string out_;  // the one reply being written
   bool writing_ = false;
+  bool busy_ = false;  // a request runs on the worker
   bool closing_ = false;
   bool finished_ = false;
   bool said_hello_ = false;
-  asio::steady_timer idle_;
+  bool frame_started_ = false;
+  asio::steady_timer deadline_;
 };
 
 NodeServer::NodeServer(NodeOptions options, const Address& listen, ServerLimits limits)
@@ -209,9 +274,40 @@ NodeServer::NodeServer(NodeOptions options, const Address& listen, ServerLimits 
   if (!ec) acceptor_.bind(ep, ec);
   if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error("cannot listen on " + listen.str() + ": " + ec.message());
+  worker_ = std::thread([this] { work(); });
 }
 
-NodeServer::~NodeServer() = default;
+NodeServer::~NodeServer() {
+  stopping_ = true;
+  {
+    std::lock_guard<std::mutex> lock(jobs_mutex_);
+    quit_ = true;
+  }
+  jobs_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+void NodeServer::run_on_worker(std::function<void()> job) {
+  {
+    std::lock_guard<std::mutex> lock(jobs_mutex_);
+    jobs_.push_back(std::move(job));
+  }
+  jobs_cv_.notify_one();
+}
+
+void NodeServer::work() {
+  while (true) {
+    std::function<void()> job;
+    {
+      std::unique_lock<std::mutex> lock(jobs_mutex_);
+      jobs_cv_.wait(lock, [this] { return quit_ || !jobs_.empty(); });
+      if (jobs_.empty()) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    job();
+  }
+}
 
 Address NodeServer::local_address() const {
   const auto ep = acceptor_.local_endpoint();
@@ -259,86 +355,13 @@ void NodeServer::run(bool handle_signals) {
 }
 
 void NodeServer::stop() {
+  stopping_ = true;  // a step in progress gives up at once
   asio::post(io_, [this] {
     boost::system::error_code ec;
     acceptor_.close(ec);
     if (active_) active_->close();
     io_.stop();
   });
-}
-
-int node_main(const std::string& default_role, int argc, char** argv) {
-  std::string role = default_role;
-  CLI::App app{"Serves the " + default_role +
-               " participant of a vehicle/track/soil co-simulation to a master, one session at a "
-               "time."};
-  std::string listen = "127.0.0.1:0";
-  app.add_option("--role", role,
-                 "The participant this node serves: vehicle, track, rail, soil, or any (whatever "
-                 "the master asks for)")
-      ->check(CLI::IsMember({"vehicle", "track", "rail", "soil", "any"}))
-      ->capture_default_str();
-  std::string scene_path;
-  std::size_t max_frame = kDefaultMaxFrameBytes;
-  std::string level = "info";
-  double idle_seconds = 60.0;
-  long max_micro_steps = Newmark::kMaxStepsPerInterval;
-  std::string token_file;
-  app.add_option("--listen", listen, "HOST:PORT to listen on (port 0: the system chooses)")
-      ->capture_default_str();
-  app.add_option("--scene", scene_path,
-                 "Scene file: when given, only a master running this very scene is accepted")
-      ->check(CLI::ExistingFile);
-  app.add_option("--max-frame-bytes", max_frame, "Largest frame accepted")->capture_default_str();
-  app.add_option("--token-file", token_file,
-                 "File holding a shared secret (16+ characters): a master must prove it knows it "
-                 "before anything else. Required to listen on a non-loopback address")
-      ->check(CLI::ExistingFile);
-  app.add_option("--max-micro-steps", max_micro_steps,
-                 "Micro steps a subsystem may take in one macro step before it gives up "
-                 "(STEP_FAILED: the run diverges)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  app.add_option("--idle-timeout", idle_seconds,
-                 "Seconds a session may stay silent before the node closes it")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  app.add_option("--log-level", level, "trace, debug, info, warn, error or off")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
-      ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  }
-  spdlog::set_level(spdlog::level::from_str(level));
-  const std::string who = default_role;
-  try {
-    NodeOptions options;
-    options.role = role;
-    options.name = who + "_node";
-    options.max_micro_steps = max_micro_steps;
-    if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
-    const Address address = parse_address(listen, "--listen");
-    if (!token_file.empty()) options.token = read_token_file(token_file);
-    if (!options.token && !is_loopback(address.host))
-      throw std::runtime_error(
-          "refusing to listen on " + address.str() +
-          " without --token-file: any host that reaches this address could drive the node. "
-          "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
-    ServerLimits limits;
-    limits.max_frame_bytes = max_frame;
-    limits.idle_timeout = std::chrono::milliseconds(static_cast<long>(idle_seconds * 1000));
-    limits.handshake_timeout = std::min(limits.handshake_timeout, limits.idle_timeout);
-    NodeServer server(options, address, limits);
-    std::printf("listening on %s\n", server.local_address().str().c_str());
-    std::fflush(stdout);
-    server.run(true);
-    return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s_node: %s\n", who.c_str(), e.what());
-    return 2;
-  }
 }
 
 }  // namespace railcosim

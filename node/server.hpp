@@ -4,21 +4,38 @@
 
 #include <utility>  // before Asio: its headers use std::exchange
 
+#include <atomic>
 #include <boost/asio.hpp>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
 #include <memory>
+#include <mutex>
+#include <thread>
 
 #include "connection.hpp"
 #include "session.hpp"
 
 namespace railcosim {
 
+// Every limit is a deadline for a whole message or a whole piece of work:
+// bytes that trickle in do not extend it.
 struct ServerLimits {
+  // Frames in either direction; a reply over it becomes a FRAME_TOO_LARGE
+  // error reply.
   std::size_t max_frame_bytes = kDefaultMaxFrameBytes;
-  // A session that sends nothing for this long is closed (TIMEOUT).
+  // A session that sends nothing between requests for this long is closed (TIMEOUT).
   std::chrono::milliseconds idle_timeout{60000};
-  // A peer that connects must complete the hello this fast.
+  // A peer that connects must complete the hello (and the authentication)
+  // this fast after connecting.
   std::chrono::milliseconds handshake_timeout{10000};
+  // A request, once begun, must arrive whole this fast; a reply must be read
+  // whole this fast (a peer that does not read is dropped).
+  std::chrono::milliseconds message_timeout{10000};
+  // The work of one request (a macro step) may take this long; beyond it the
+  // step fails (STEP_FAILED).
+  std::chrono::milliseconds max_step_time{30000};
 };
 
 class NodeServer {
@@ -41,6 +58,9 @@ class NodeServer {
   class Conn;
   void accept();
   void session_ended(Conn* c);
+  // Runs `job` on the worker thread (one job at a time, in order).
+  void run_on_worker(std::function<void()> job);
+  void work();
 
   NodeOptions options_;
   ServerLimits limits_;
@@ -48,6 +68,12 @@ class NodeServer {
   boost::asio::ip::tcp::acceptor acceptor_;
   std::shared_ptr<Conn> active_;
   long sessions_ = 0;
+  std::atomic<bool> stopping_{false};  // cancels the work running on the worker
+  std::mutex jobs_mutex_;
+  std::condition_variable jobs_cv_;
+  std::deque<std::function<void()>> jobs_;
+  bool quit_ = false;
+  std::thread worker_;  // last: joined before anything above is destroyed
 };
 
 // The whole program of a node: parses the command line, prints

@@ -26,6 +26,16 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
   return reply;
 }
 
+void NodeSession::check_pinned_scene() const {
+  if (!options_.pinned_scene) return;
+  const std::uint64_t mine = scene_fingerprint(*options_.pinned_scene);
+  if (fingerprint_ != mine)
+    throw ProtocolError(wire::Error::SCENE_MISMATCH,
+                        "the master's scene (fingerprint " + hex(fingerprint_) +
+                            ") differs from this node's " + options_.pinned_scene->source +
+                            " (fingerprint " + hex(mine) + ")");
+}
+
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
   wire::Error::Code code = wire::Error::INTERNAL;
@@ -85,15 +95,9 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       if (h.participant().empty())
         throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
       participant_ = h.participant();
-      if (options_.pinned_scene) {
-        const std::uint64_t mine = scene_fingerprint(*options_.pinned_scene);
-        if (h.scene_fingerprint() != mine)
-          throw ProtocolError(wire::Error::SCENE_MISMATCH,
-                              "the master's scene (fingerprint " + hex(h.scene_fingerprint()) +
-                                  ") differs from this node's " + options_.pinned_scene->source +
-                                  " (fingerprint " + hex(mine) + ")");
-      }
       fingerprint_ = h.scene_fingerprint();
+      // Nothing about the scene before the peer has proved it knows the secret.
+      if (!options_.token) check_pinned_scene();
       if (options_.token) {
         nonce_ = random_nonce();
         state_ = State::kAwaitAuth;
@@ -110,6 +114,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
         throw ProtocolError(wire::Error::UNAUTHORIZED,
                             "this node requires the shared secret of its --token-file; the answer "
                             "to its challenge was missing or wrong");
+      check_pinned_scene();
       state_ = State::kAwaitConfigure;
       return hello_reply(req.id());
     }

@@ -14,15 +14,14 @@
 #include <string>
 
 #include "scene.hpp"
+#include "scene_checks.hpp"
 #include "subsystem.hpp"
 #include "wire.hpp"
 
 namespace railcosim {
 
-// The largest mesh a node accepts (about 100,000 DOFs; the band matrices and
-// their cached factorisations then take some hundreds of MB at most).
-inline constexpr int kMaxSleepers = 20000;
-inline constexpr int kMaxElementsPerSpan = 16;
+// The largest mesh a node accepts: kMaxSleepers, kMaxElementsPerSpan
+// (scene_checks.hpp, where the master applies them too).
 
 struct NodeOptions {
   std::string role = "vehicle";       // the participant this node serves, or "any"
@@ -47,6 +46,8 @@ class NodeSession {
  private:
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
   wire::Envelope hello_reply(std::uint64_t id) const;
+  // SCENE_MISMATCH unless the hello's fingerprint is the pinned scene's.
+  void check_pinned_scene() const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
 
   NodeOptions options_;

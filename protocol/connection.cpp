@@ -6,6 +6,23 @@ namespace railcosim {
 
 namespace asio = boost::asio;
 using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::atomic<const std::atomic<int>*> g_interrupt{nullptr};
+
+// The signal that asks to stop, or 0.
+int interrupted() {
+  const std::atomic<int>* flag = g_interrupt.load();
+  return flag ? flag->load() : 0;
+}
+
+}  // namespace
+
+void set_interrupt_flag(const std::atomic<int>* flag) {
+  g_interrupt.store(flag);
+}
 
 Address parse_address(const std::string& text, const std::string& what) {
   const auto colon = text.rfind(':');
@@ -71,6 +88,9 @@ std::unique_ptr<Connection> Connection::connect(const Address& address, Duration
       return c;
     }
     last = ec.message();
+    if (const int sig = interrupted())
+      throw NetError(NetError::Kind::kInterrupted, "interrupted by signal " + std::to_string(sig) +
+                                                       " while connecting to " + address.str());
     if (std::chrono::steady_clock::now() + pause > deadline) break;
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, Duration(500));
@@ -80,17 +100,25 @@ std::unique_ptr<Connection> Connection::connect(const Address& address, Duration
                                                std::to_string(timeout.count()) + " ms)");
 }
 
-void Connection::run_until(bool& done, Duration timeout, const char* what) {
-  io_.restart();
-  io_.run_for(timeout);
-  if (!done) {
-    boost::system::error_code ec;
-    socket_.cancel(ec);
+void Connection::run_until(bool& done, Clock::time_point deadline, Duration timeout,
+                           const char* what) {
+  int sig = 0;
+  while (!done) {
+    const auto now = Clock::now();
+    sig = interrupted();
+    if (sig != 0 || now >= deadline) break;
     io_.restart();
-    io_.run();  // let the cancelled operation complete
-    throw NetError(NetError::Kind::kTimeout, std::string("no ") + what + " within " +
-                                                 std::to_string(timeout.count()) + " ms");
+    io_.run_for(std::min<Clock::duration>(deadline - now, kInterruptPoll));
   }
+  if (done) return;
+  boost::system::error_code ec;
+  socket_.cancel(ec);
+  io_.restart();
+  io_.run();  // let the cancelled operation complete
+  if (sig != 0)
+    throw NetError(NetError::Kind::kInterrupted, "interrupted by signal " + std::to_string(sig));
+  throw NetError(NetError::Kind::kTimeout,
+                 std::string("no ") + what + " within " + std::to_string(timeout.count()) + " ms");
 }
 
 void Connection::send(const wire::Envelope& envelope, Duration timeout) {
@@ -105,11 +133,13 @@ void Connection::send_raw(const std::string& bytes, Duration timeout) {
                       result = ec;
                       done = true;
                     });
-  run_until(done, timeout, "write completion");
+  run_until(done, Clock::now() + timeout, timeout, "write completion");
   if (result) throw NetError(NetError::Kind::kClosed, "cannot send: " + result.message());
 }
 
 wire::Envelope Connection::receive(Duration timeout) {
+  // One deadline for the whole frame, however it is cut into reads.
+  const auto deadline = Clock::now() + timeout;
   wire::Envelope e;
   while (true) {
     switch (decoder_.next(e)) {
@@ -133,7 +163,7 @@ wire::Envelope Connection::receive(Duration timeout) {
                               got = n;
                               done = true;
                             });
-    run_until(done, timeout, "reply");
+    run_until(done, deadline, timeout, "reply");
     if (result) {
       if (result == asio::error::eof || result == asio::error::connection_reset)
         throw NetError(NetError::Kind::kClosed,

@@ -5,6 +5,7 @@
 #include <utility>  // before Asio: its headers use std::exchange
 
 #include <array>
+#include <atomic>
 #include <boost/asio.hpp>
 #include <chrono>
 #include <cstdint>
@@ -20,7 +21,7 @@ namespace railcosim {
 // or sent something that is not a frame.
 class NetError : public std::runtime_error {
  public:
-  enum class Kind { kConnect, kClosed, kTimeout, kIo, kProtocol };
+  enum class Kind { kConnect, kClosed, kTimeout, kIo, kProtocol, kInterrupted };
   NetError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
   Kind kind() const { return kind_; }
 
@@ -38,6 +39,13 @@ struct Address {
 // naming `what` (e.g. "--listen").
 Address parse_address(const std::string& text, const std::string& what);
 
+// A process-wide stop flag (a signal number once set, e.g. by a SIGINT
+// handler). Every wait of every Connection looks at it at least every
+// kInterruptPoll and gives up with NetError(kInterrupted) once it is set, so
+// a master blocked on a silent or dripping node still stops within a second.
+void set_interrupt_flag(const std::atomic<int>* flag);
+inline constexpr std::chrono::milliseconds kInterruptPoll{100};
+
 class Connection {
  public:
   using Duration = std::chrono::milliseconds;
@@ -50,6 +58,8 @@ class Connection {
   Connection(const Connection&) = delete;
   Connection& operator=(const Connection&) = delete;
 
+  // Every timeout bounds a whole message: a peer that sends a reply one byte
+  // at a time does not restart it.
   // Writes one frame. Throws NetError on failure or after `timeout`.
   void send(const wire::Envelope& envelope, Duration timeout = Duration(10000));
   // Writes raw bytes (tests use it to send malformed frames).
@@ -64,7 +74,10 @@ class Connection {
 
  private:
   explicit Connection(Address peer);
-  void run_until(bool& done, Duration timeout, const char* what);
+  // Runs the pending operation until done or `deadline`; throws NetError
+  // (kTimeout, naming `what` and `timeout`, or kInterrupted).
+  void run_until(bool& done, std::chrono::steady_clock::time_point deadline, Duration timeout,
+                 const char* what);
 
   Address peer_;
   boost::asio::io_context io_;
