@@ -12,6 +12,8 @@
 
 #include "log.hpp"
 #include "run_output.hpp"
+#include "scene.hpp"
+#include "study_plan.hpp"
 
 namespace railcosim {
 namespace {
@@ -75,8 +77,8 @@ std::string find_python() {
   return "";
 }
 
-std::string figure_script(const StudyOptions& o) {
-  if (!o.figure_script.empty()) return o.figure_script;
+std::string figure_script(const std::string& given) {
+  if (!given.empty()) return given;
   if (const char* env = std::getenv("RAILCOSIM_FIGURES")) return env;
   return std::string(RAILCOSIM_SOURCE_DIR) + "/scripts/figures.py";
 }
@@ -100,17 +102,20 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
     const RunRecord* a = c.at("wr-xt-jacobi");
     bool biggest = usable(a);
     double second = 0;
-    for (const auto& [k, r] : c)
-      if (k != "wr-xt-jacobi" && k != "wr-xt-jacobi-resolved" && usable(r) && usable(a)) {
-        second = std::max(second, *r->rel_l2_error);
-        biggest = biggest && *a->rel_l2_error > *r->rel_l2_error;
-      }
+    // Against the paper's other cases only (a scene may add cuts and methods).
+    for (const Method& m : methods) {
+      const std::string k = m.label();
+      const RunRecord* r = c.at(k);
+      if (k == "wr-xt-jacobi" || k == "wr-xt-jacobi-resolved" || !usable(r) || !usable(a)) continue;
+      second = std::max(second, *r->rel_l2_error);
+      biggest = biggest && *a->rel_l2_error > *r->rel_l2_error;
+    }
     const bool ok = a->status == "amplified" && biggest;
     std::ostringstream e;
     e << "status " << a->status << ", history error "
       << (a->history_error ? sci(*a->history_error) : "n/a") << ", rel. L2 error "
       << (usable(a) ? sci(*a->rel_l2_error) : "n/a") << " against at most " << sci(second)
-      << " for the other cases";
+      << " for the paper's other cases";
     f.push_back(
         {"Jacobi X-T at the wheel/rail cut is abnormally amplified; its error is the "
          "biggest of all cases",
@@ -276,47 +281,57 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
   return f;
 }
 
-void write_report(const Scene& scene, const StudyOptions& o, const std::vector<StudyRun>& runs,
-                  const RunRecord& converged) {
+namespace {
+
+// Draws FOLDER/figures/*.png from FOLDER/summary.csv. Returns "" when drawn,
+// otherwise the sentence saying why not.
+std::string draw_figures(const std::filesystem::path& folder, const std::string& script) {
   auto log = logger("master");
-  (void)converged;
-  // Figures first: the report says whether they exist.
-  std::string figures_note;
+  std::string note;
   const std::string py = find_python();
-  const std::string script = figure_script(o);
-  bool figures = false;
   if (py.empty()) {
-    figures_note =
+    note =
         "Figures were not drawn: no Python with matplotlib was found (install Debian's "
-        "python3-matplotlib). Every CSV is written; run `" +
-        std::string("/usr/bin/python3 scripts/figures.py ") + o.out.string() +
-        "` once it is installed.";
-    log->warn("{}", figures_note);
-  } else if (!shell(py + " " + quote(script) + " " + quote(o.out.string()))) {
-    figures_note = "Figures were not drawn: " + script + " failed (see the messages above).";
-    log->warn("{}", figures_note);
-  } else {
-    figures = true;
+        "python3-matplotlib). Every CSV is written; run `/usr/bin/python3 scripts/figures.py ";
+    note += folder.string();
+    note += "` once it is installed.";
+  } else if (!shell(py + " " + quote(script) + " " + quote(folder.string()))) {
+    note = "Figures were not drawn: ";
+    note += script;
+    note += " failed on ";
+    note += folder.string();
+    note += " (see the messages above).";
   }
+  if (!note.empty()) log->warn("{}", note);
+  return note;
+}
 
+std::string scene_line(const Scene& s) {
   std::ostringstream md;
-  md << "# Study of the `" << scene.name << "` scene\n\n";
-  md << "Scene file `" << scene.source << "`: " << scene.sleeper_count << " sleepers ("
-     << scene.track_length() << " m of rail), " << scene.speed * 3.6
-     << " km/h, t_end = " << scene.end_time << " s, macro step H = " << scene.macro_step
-     << " s, micro-step tolerance " << scene.tolerance << " m. Co-simulation runs over `"
-     << o.transport << "`. Errors are relative L2 norms of the "
-     << "rail deflection at t_end against the monolithic run with the same H and tolerance; the "
-     << "speed/accuracy chart measures every run against a converged monolithic run (tolerance "
-     << o.converged_tolerance << " m) instead.\n\n";
+  md << s.sleeper_count << " sleepers (" << s.track_length() << " m of rail), " << s.speed * 3.6
+     << " km/h, t_end = " << s.end_time << " s, macro step H = " << s.macro_step
+     << " s, micro-step tolerance " << s.tolerance << " m";
+  return md.str();
+}
 
-  md << "## The paper's conclusions\n\n| conclusion | paper | ours | judged with | verdict "
+// The sections of one scene (the study's, or one variant of a sweep), headed
+// at level H; FIGURES is the figures' folder relative to REPORT.md.
+void scene_sections(std::ostringstream& md, const std::string& h, const Scene& scene,
+                    const std::vector<StudyRun>& runs, const std::string& transport,
+                    const std::string& figures, const std::string& figures_note,
+                    const std::filesystem::path& dir) {
+  md << h
+     << " The paper's conclusions\n\n| conclusion | paper | ours | judged with | verdict "
         "|\n|---|---|---|---|---|\n";
-  for (const Finding& f : check_findings(runs))
+  std::vector<StudyRun> there;  // a missing case leaves the comparison "not checked"
+  for (const StudyRun& r : runs)
+    if (r.record.status != "missing") there.push_back(r);
+  for (const Finding& f : check_findings(there))
     md << "| " << f.claim << " | " << f.paper << " | " << f.evidence << " | " << f.judged << " | **"
        << f.verdict << "** |\n";
 
-  md << "\n## Runs at H = " << scene.macro_step << " s\n\n"
+  md << "\n"
+     << h << " Runs at H = " << scene.macro_step << " s\n\n"
      << "| method | status | rel. L2 error | max abs error (m) | history error | wall (s) | micro "
         "steps |\n"
      << "|---|---|---|---|---|---|---|\n";
@@ -333,19 +348,20 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
        << micro << " |\n";
   }
 
-  md << "\n## Figures\n\n";
-  if (figures) {
+  md << "\n" << h << " Figures\n\n";
+  if (figures_note.empty()) {
     md << "Rail deflection at t_end, every case over the monolithic one (the paper's Figure 5):\n\n"
-       << "![deflection](figures/deflection.png)\n\n"
+       << "![deflection](" << figures << "/deflection.png)\n\n"
        << "Deflection error against the monolithic run, per cut and schedule (the paper's Figure "
           "6):\n\n"
-       << "![errors](figures/errors.png)\n\n"
+       << "![errors](" << figures << "/errors.png)\n\n"
        << "Speed against accuracy: each point a macro step of the sweep; the monolithic run across "
           "tolerances is the reference curve:\n\n"
-       << "![speed and accuracy](figures/speed_accuracy.png)\n\n"
-       << "Stability map: macro step against method:\n\n![stability](figures/stability_map.png)\n\n"
+       << "![speed and accuracy](" << figures << "/speed_accuracy.png)\n\n"
+       << "Stability map: macro step against method:\n\n![stability](" << figures
+       << "/stability_map.png)\n\n"
        << "Contact force: the monolithic run, the best and the worst co-simulation:\n\n"
-       << "![contact force](figures/contact_force.png)\n";
+       << "![contact force](" << figures << "/contact_force.png)\n";
   } else {
     md << figures_note << "\n";
   }
@@ -355,12 +371,12 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
   std::map<std::string, std::map<double, std::string>> map;
   std::vector<std::string> order;
   for (const auto& r : runs) {
-    if (r.group == "tolerance" || r.method == "monolithic") continue;
+    if (r.group == "tolerance" || r.group == "converged" || r.method == "monolithic") continue;
     hs.insert(r.record.macro_step);
     if (!map.count(r.method)) order.push_back(r.method);
     map[r.method][r.record.macro_step] = r.record.status;
   }
-  md << "\n## Stability map\n\n| method |";
+  md << "\n" << h << " Stability map\n\n| method |";
   for (double H : hs) md << " H = " << H << " s |";
   md << "\n|---|";
   for (std::size_t i = 0; i < hs.size(); ++i) md << "---|";
@@ -371,26 +387,104 @@ void write_report(const Scene& scene, const StudyOptions& o, const std::vector<S
     md << "\n";
   }
 
-  write_method_sections(md, runs, o.transport);
-  write_spectra_section(md, o.out,
-                        figures && std::filesystem::exists(o.out / "figures" / "spectra.png"));
+  write_method_sections(md, runs, transport, h);
+  const bool spectra_figure =
+      figures_note.empty() && std::filesystem::exists(dir / "figures" / "spectra.png");
+  write_spectra_section(md, dir, spectra_figure ? figures + "/spectra.png" : "", h);
+}
 
-  md << "\n## Every run\n\n| folder | case | feedthrough | H (s) | tolerance (m) | wall (s) | "
-        "micro steps | "
-        "rel. L2 error | error vs converged | status "
-        "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+// Runs that are missing or failed, and a stage still to run.
+void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
+                        const std::vector<StudyRun>& runs) {
+  int missing = 0, failed = 0;
+  for (const auto& r : runs) {
+    missing += r.record.status == "missing";
+    failed += r.record.status == "failed";
+  }
+  if (missing + failed > 0) {
+    md << "## Incomplete study\n\n"
+       << missing << " of " << runs.size() << " runs are missing and " << failed
+       << " failed; the tables below are drawn from the runs there are.\n\n"
+       << "| folder | status | why |\n|---|---|---|\n";
+    for (const auto& r : runs)
+      if (r.record.status == "missing" || r.record.status == "failed")
+        md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
+    md << "\n";
+  }
+  const std::string other = info.transport == "tcp" ? "inproc" : "tcp";
+  if (info.stage2_pending)
+    md << "Stage 2 of the plan, the cheapest methods rerun over `" << other
+       << "`, is written to `plan-2.txt` and not run yet: run its commands like those of "
+          "`plan.txt`, then collect again.\n\n";
+  else if (!info.stage1_complete)
+    md << "Stage 2 of the plan (the cheapest methods rerun over `" << other
+       << "`) is planned once every run of stage 1 is there.\n\n";
+}
+
+}  // namespace
+
+void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs) {
+  const std::string script = figure_script(info.figure_script);
+  const bool swept = !info.sweeps.empty();
+  const Scene base = load_scene((info.dir / "scene.toml").string());
+
+  std::ostringstream md;
+  md << "# Study of the `" << base.name << "` scene\n\n";
+  md << "Scene file `" << info.source_scene << "` (copied to `scene.toml`): " << scene_line(base)
+     << ". Co-simulation runs over `" << info.transport << "`. Errors are relative L2 norms of the "
+     << "rail deflection at t_end against the monolithic run with the same H and tolerance; the "
+     << "speed/accuracy chart measures every run against a converged monolithic run (tolerance "
+     << info.converged_tolerance << " m) instead.\n\n";
+  if (swept) {
+    md << "Swept scene values:";
+    for (const SweepAxis& a : info.sweeps) {
+      md << " `" << a.key << "` =";
+      for (std::size_t i = 0; i < a.values.size(); ++i) md << (i ? ", " : " ") << a.values[i];
+      md << ";";
+    }
+    md << " each combination is a scene variant with its own folder, `scene.toml`, "
+          "`summary.csv`, figures and section below.\n\n";
+  }
+  incomplete_section(md, info, runs);
+
+  for (const auto& [label, vdir] : info.variants) {
+    std::vector<StudyRun> vr;  // folders relative to the variant's, as figures.py reads them
+    for (const StudyRun& r : runs)
+      if (r.variant == label) {
+        vr.push_back(r);
+        if (!vdir.empty()) vr.back().folder = r.folder.substr(vdir.size() + 1);
+      }
+    if (swept) {
+      write_summary_csv(info.dir / vdir / "summary.csv", vr);
+      const std::string note = draw_figures(info.dir / vdir, script);
+      const Scene scene = load_scene((info.dir / vdir / "scene.toml").string());
+      md << "## " << label << "\n\nScene variant `" << vdir << "/scene.toml`: " << scene_line(scene)
+         << ".\n\n";
+      scene_sections(md, "###", scene, vr, info.transport, vdir + "/figures", note,
+                     info.dir / vdir);
+      md << "\n";
+    } else {
+      const std::string note = draw_figures(info.dir, script);
+      scene_sections(md, "##", base, vr, info.transport, "figures", note, info.dir);
+    }
+  }
+
+  md << "\n## Every run\n\n| folder |" << (swept ? " variant |" : "")
+     << " case | feedthrough | H (s) | tolerance (m) | wall (s) | micro steps | rel. L2 error | "
+        "error vs converged | status |\n|---|"
+     << (swept ? "---|" : "") << "---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : runs) {
     const RunRecord& x = r.record;
     long micro = 0;
     for (const auto& [k, v] : x.micro_steps) micro += v;
     const bool has = x.status == "ok" || x.status == "amplified";
-    md << "| " << r.folder << " | " << x.case_name << " | " << x.feedthrough.value_or("–") << " | "
-       << x.macro_step << " | " << r.tolerance << " | " << sci(x.wall_s) << " | " << micro << " | "
-       << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–") << " | "
-       << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
-       << (x.status == "failed" ? " (" + x.message + ")" : "") << " |\n";
+    md << "| " << r.folder << " | " << (swept ? r.variant + " | " : "") << x.case_name << " | "
+       << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
+       << sci(x.wall_s) << " | " << micro << " | " << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–")
+       << " | " << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
+       << (x.status == "failed" || x.status == "missing" ? " (" + x.message + ")" : "") << " |\n";
   }
-  write_file_atomically(o.out / "REPORT.md", md.str());  // checked: never a 0-byte report
+  write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
 
 }  // namespace railcosim

@@ -23,9 +23,10 @@ inline const std::vector<double>& accuracy_levels() {
 const StudyRun* cheapest_reaching(const std::vector<StudyRun>& runs, double level);
 
 // Markdown sections: "Cheapest method per accuracy", "Largest stable macro
-// step per method" and "Restart convention and the paper's 'almost 10'".
+// step per method" and "Restart convention and the paper's 'almost 10'",
+// headed at level `h` ("##", or "###" within a scene variant's section).
 void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
-                           const std::string& transport);
+                           const std::string& transport, const std::string& h = "##");
 
 // Jacobi over Gauss–Seidel error of rs-xx at H = 1e-4 s under a restart
 // convention, from the study's "restart" runs.

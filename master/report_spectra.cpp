@@ -27,8 +27,9 @@ std::string db(double rms) {
 
 }  // namespace
 
-void write_spectra_section(std::ostream& md, const std::filesystem::path& out, bool figure) {
-  std::ifstream in(out / "monolithic" / "spectra.csv");
+void write_spectra_section(std::ostream& md, const std::filesystem::path& dir,
+                           const std::string& figure, const std::string& h) {
+  std::ifstream in(dir / "monolithic" / "spectra.csv");
   if (!in) return;
   std::string line;
   std::getline(in, line);  // signal,band,centre_Hz,lower_Hz,upper_Hz,rms,level_dB
@@ -53,11 +54,13 @@ void write_spectra_section(std::ostream& md, const std::filesystem::path& out, b
     }
   }
   if (centre.empty()) return;
-  md << "\n## Spectra\n\nOne-third-octave band levels (dB re 1 N, band RMS) of the monolithic "
+  md << "\n"
+     << h
+     << " Spectra\n\nOne-third-octave band levels (dB re 1 N, band RMS) of the monolithic "
         "run: the total contact force and, where the scene writes them, the forces into the "
         "ballast under the sleepers (energy mean over the sleepers): what a soil solver "
         "receives. Every run's bands are in its `spectra.csv`.\n\n";
-  if (figure) md << "![spectra](figures/spectra.png)\n\n";
+  if (!figure.empty()) md << "![spectra](" << figure << ")\n\n";
   md << "| band centre (Hz) | contact force (dB) | ballast force, mean (dB) |\n|---|---|---|\n";
   for (const auto& [b, f] : centre) {
     const auto k = contact.find(b);

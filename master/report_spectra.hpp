@@ -5,11 +5,13 @@
 
 #include <filesystem>
 #include <ostream>
+#include <string>
 
 namespace railcosim {
 
-// Writes "## Spectra" when OUT/monolithic/spectra.csv exists; `figure` says
-// whether figures/spectra.png was drawn.
-void write_spectra_section(std::ostream& md, const std::filesystem::path& out, bool figure);
+// Writes "H Spectra" (H: "##" or "###") when DIR/monolithic/spectra.csv
+// exists; `figure` is the drawn figure's path relative to the report, or empty.
+void write_spectra_section(std::ostream& md, const std::filesystem::path& dir,
+                           const std::string& figure, const std::string& h);
 
 }  // namespace railcosim

@@ -17,6 +17,7 @@ packages=(
   libcli11-dev
   python3 python3-matplotlib python3-protobuf python3-numpy
   iproute2
+  parallel          # runs a study plan (master study --plan), and its test
 )
 
 missing=()

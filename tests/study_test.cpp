@@ -87,8 +87,9 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   EXPECT_TRUE(fs::exists(out / "summary.csv"));
   EXPECT_TRUE(fs::exists(out / "REPORT.md"));
   for (const char* run :
-       {"monolithic", "wr-xx-jacobi", "wr-xt-jacobi", "wr-xt-jacobi-resolved", "rs-xt-gauss-seidel",
-        "sweep/H_0.0005/rs-xx-jacobi", "sweep/tol_1e-08/monolithic"})
+       {"monolithic", "wr-xx-jacobi", "wr-xt-jacobi", "resolved/wr-xt-jacobi", "rs-xt-gauss-seidel",
+        "sweep/H_0.0005/rs-xx-jacobi", "sweep/tol_1e-08/monolithic", "converged/monolithic",
+        "restart/carry/rs-xx-jacobi"})
     for (const char* file : {"deflection.csv", "history.csv", "summary.json"})
       EXPECT_TRUE(fs::exists(out / run / file)) << run << "/" << file;
   const std::string report = read_file(out / "REPORT.md");
@@ -97,7 +98,11 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   EXPECT_NE(report.find("## Cheapest method per accuracy"), std::string::npos);
   EXPECT_NE(report.find("## Spectra"), std::string::npos);
   EXPECT_NE(report.find("| carry | "), std::string::npos);
-  EXPECT_TRUE(fs::exists(out / "rs-xt-jacobi+implicit-linear-iqn-ils" / "convergence.csv"));
+  EXPECT_TRUE(fs::exists(out / "implicit-linear-iqn-ils" / "rs-xt-jacobi" / "convergence.csv"));
+  // The plan the study ran, and stage 2 (the other-transport reruns).
+  EXPECT_TRUE(fs::exists(out / "plan.txt"));
+  EXPECT_TRUE(fs::exists(out / "plan-2.txt"));
+  EXPECT_TRUE(fs::exists(out / "restart" / "carry" / "scene.toml"));
   // Every case ran, so every conclusion of the paper gets a verdict.
   EXPECT_EQ(report.find("not checked"), std::string::npos) << report.substr(0, 3000);
   for (const char* claim :
@@ -139,8 +144,10 @@ TEST_F(StudyTest, SummaryCsvMatchesEveryRunsSummaryJson) {
   // 10 paper methods, and per Jacobi case of each cut an implicit and an
   // extrapolated one: 18 methods at each of the 2 macro steps; the
   // monolithic case; 2 tolerances; the rail/sleepers pair under 2 restart
-  // conventions; the cheapest methods (1 to 3) over the other transport.
+  // conventions; the converged reference; the cheapest methods (1 to 3)
+  // over the other transport.
   EXPECT_EQ(rows["case"], 19);
+  EXPECT_EQ(rows["converged"], 1);
   EXPECT_EQ(rows["sweep"], 18);
   EXPECT_EQ(rows["tolerance"], 2);
   EXPECT_EQ(rows["restart"], 4);
