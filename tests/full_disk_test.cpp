@@ -15,36 +15,17 @@
 #include <fstream>
 #include <sstream>
 
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
 namespace {
 
+using test::Outcome;
+using test::read_file;
+using test::run_master;
+
 namespace fs = std::filesystem;
-
-struct Outcome {
-  int status = -1;
-  std::string output;
-};
-
-Outcome run_master(const std::string& args) {
-  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master " + args + " 2>&1";
-  Outcome o;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return o;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) o.output += buf.data();
-  const int st = pclose(p);
-  o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return o;
-}
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class FullDiskTest : public ::testing::Test {
  protected:

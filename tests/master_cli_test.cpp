@@ -23,14 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 using test::Outcome;
+using test::read_file;
 using test::run_master;
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 fs::path temp_dir(const std::string& name) {
   const fs::path d =

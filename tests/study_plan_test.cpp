@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "process_support.hpp"
 #include "scene.hpp"
 #include "study.hpp"
 #include "study_plan.hpp"
@@ -24,14 +25,10 @@
 namespace railcosim {
 namespace {
 
-namespace fs = std::filesystem;
+using test::read_file;
+using test::split_csv;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+namespace fs = std::filesystem;
 
 struct Result {
   int status = -1;
@@ -47,24 +44,6 @@ Result sh(const fs::path& dir, const std::string& cmd) {
   const int st = p ? pclose(p) : -1;
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool quoted = false;
-  for (char c : line) {
-    if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
 }
 
 using Row = std::map<std::string, std::string>;

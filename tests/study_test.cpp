@@ -12,39 +12,17 @@
 #include <sstream>
 
 #include "evaluation.hpp"
+#include "process_support.hpp"
 #include "runner.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
 namespace {
 
+using test::read_file;
+using test::split_csv;
+
 namespace fs = std::filesystem;
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Splits one CSV line; a field may be quoted (no quotes inside).
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool quoted = false;
-  for (char c : line) {
-    if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
 
 // The text of a scalar in our flat summary.json ("" for null).
 std::string json_value(const std::string& json, const std::string& key) {
