@@ -79,11 +79,12 @@ double coupling_history_error(const RunRecord& run, const RunRecord& ref) {
         add([&](std::size_t i) { return run.history[i].extra.at(c); },
             [&](std::size_t i) { return ref.history[i].extra.at(d); },
             family_scale[family(ref.extra_channels[d])]);
-  for (const auto& [cut, values] : run.coupling_history) {
-    const auto it = ref.coupling_history.find(cut);
-    if (it == ref.coupling_history.end() || it->second.size() < n || values.size() < n) continue;
+  for (const auto& entry : run.coupling_history) {
+    const auto it = ref.coupling_history.find(entry.first);
+    const std::vector<double>& got = entry.second;
+    if (it == ref.coupling_history.end() || it->second.size() < n || got.size() < n) continue;
     const std::vector<double>& want = it->second;
-    add([&](std::size_t i) { return values[i]; }, [&](std::size_t i) { return want[i]; });
+    add([&](std::size_t i) { return got[i]; }, [&](std::size_t i) { return want[i]; });
   }
   // The worst quantity decides: the RMS of each series on its own, except
   // the contact force and the wheel (the first two), judged together as the
