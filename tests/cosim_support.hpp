@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,20 @@ struct InprocCase {
   std::vector<Participant*> ps;
   StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
 };
+
+// The configuration of participant `role` in a case; throws if the case has
+// no such participant.
+inline SubsystemConfig config_of(const Scene& scene, const std::string& case_name,
+                                 const std::string& role) {
+  SubsystemConfig cfg;
+  for (const ParticipantSpec& p : partition(scene, parse_case(case_name)))
+    if (p.role == role) cfg.participant = p;
+  if (cfg.participant.role != role)
+    throw std::logic_error(case_name + " has no " + role + " participant");
+  cfg.macro_step = scene.macro_step;
+  cfg.tolerance = scene.tolerance;
+  return cfg;
+}
 
 inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& case_name) {
   InprocCase c;

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "connection.hpp"
+#include "cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "remote_participant.hpp"
 #include "server.hpp"
@@ -66,13 +67,7 @@ class NodeTest : public ::testing::Test {
 
   // The configuration of the participant named `role` in a case.
   SubsystemConfig config(const char* case_name, const std::string& participant) const {
-    SubsystemConfig cfg;
-    for (const ParticipantSpec& p : partition(scene_, parse_case(case_name)))
-      if (p.role == participant) cfg.participant = p;
-    EXPECT_EQ(cfg.participant.role, participant) << case_name;
-    cfg.macro_step = scene_.macro_step;
-    cfg.tolerance = scene_.tolerance;
-    return cfg;
+    return test::config_of(scene_, case_name, participant);
   }
 
   // Hello, then configure with `conf`; expects Configured.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "model.hpp"
 #include "runner.hpp"
@@ -91,28 +92,12 @@ TEST(Partition, ParticipantsHoldOnlyTheirOwnDofs) {
   EXPECT_EQ(assemble(s, ps[2]).layout.size, n);
 }
 
-struct Coupled {
-  std::vector<std::unique_ptr<Subsystem>> subs;
-  std::vector<ParticipantSpec> specs;
-  StaticsOutcome outcome;
-};
+using Coupled = test::InprocCase;
 
+// The case's in-process participants, started from their coupled static state.
 Coupled coupled_statics(const Scene& scene, const std::string& name) {
-  Coupled c;
-  c.specs = partition(scene, parse_case(name));
-  std::vector<Participant*> ps;
-  std::vector<CouplingData> zero;
-  for (const auto& p : c.specs) {
-    SubsystemConfig cfg;
-    cfg.participant = p;
-    cfg.macro_step = scene.macro_step;
-    cfg.tolerance = scene.tolerance;
-    c.subs.push_back(std::make_unique<Subsystem>(scene, cfg));
-    ps.push_back(c.subs.back().get());
-    zero.push_back(zero_inputs(scene, p));
-  }
-  c.outcome = find_static_state(ps, make_routing(c.specs), zero);
-  for (std::size_t p = 0; p < ps.size(); ++p) ps[p]->initialize(c.outcome.inputs[p]);
+  Coupled c = test::inproc_case_at_statics(scene, name);
+  for (std::size_t p = 0; p < c.ps.size(); ++p) c.ps[p]->initialize(c.statics.inputs[p]);
   return c;
 }
 
@@ -160,9 +145,9 @@ TEST_P(InterfaceStaticsTest, EqualsTheGlobalStaticSolution) {
     scale = std::max(scale, std::abs(want[k]));
     diff = std::max(diff, std::abs(got[k] - want[k]));
   }
-  EXPECT_LT(diff, 1e-9 * scale) << case_name << " after " << c.outcome.iterations
+  EXPECT_LT(diff, 1e-9 * scale) << case_name << " after " << c.statics.iterations
                                 << " interface iterations";
-  EXPECT_LT(c.outcome.iterations, 200);
+  EXPECT_LT(c.statics.iterations, 200);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryCut, InterfaceStaticsTest,

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cosim_support.hpp"
 #include "node_launcher.hpp"
 #include "process_support.hpp"
 #include "remote_participant.hpp"
@@ -37,16 +38,7 @@ Scene soil_scene() {
   return s;
 }
 
-// The configuration of participant `role` in a case.
-SubsystemConfig config_of(const Scene& scene, const char* case_name, const std::string& role) {
-  SubsystemConfig cfg;
-  for (const ParticipantSpec& p : partition(scene, parse_case(case_name)))
-    if (p.role == role) cfg.participant = p;
-  EXPECT_EQ(cfg.participant.role, role) << case_name;
-  cfg.macro_step = scene.macro_step;
-  cfg.tolerance = scene.tolerance;
-  return cfg;
-}
+using test::config_of;
 
 // Runs a case in-process and over TCP and expects the same record bit for bit.
 void expect_tcp_equals_inproc(const Scene& scene, const std::string& name, Feedthrough feedthrough,
