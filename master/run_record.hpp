@@ -35,9 +35,9 @@ struct RunRecord {
   std::optional<long> iterations_max, not_converged_steps;
   std::vector<std::string> convergence_quantities;
   struct ConvergenceRow {
-    long step = 0;
-    int iteration = 0;
-    std::vector<double> residual;
+    long step = 0;                 // macro step n: the window [nH, (n+1)H]
+    int iteration = 0;             // 1, 2, ...
+    std::vector<double> residual;  // relative residual per quantity (window_schedule.hpp)
   };
   std::vector<ConvergenceRow> convergence;
 

@@ -46,7 +46,7 @@ void check_stop(const RunOptions& o, long n) {
 // that did not converge is not ok.
 void record_convergence(RunRecord& r, const ConvergenceLog& log, const RunOptions& o) {
   r.convergence_quantities = log.quantities;
-  for (const auto& row : log.rows) r.convergence.push_back({row.step, row.iteration, row.residual});
+  r.convergence = log.rows;
   long sum = 0, most = 0;
   for (int k : log.iterations) {
     sum += k;

@@ -54,9 +54,13 @@ WindowSchedule::WindowSchedule(std::vector<Participant*> participants, Routing r
       links_.push_back(
           {p, j, static_cast<std::size_t>(r.participant), static_cast<std::size_t>(r.interface)});
     }
+  position_.assign(links_.size(), -1);
   if (o_.method == CouplingMethod::kImplicit)
     for (std::size_t k = 0; k < links_.size(); ++k)
-      if (iterated(links_[k])) iterated_.push_back(k);
+      if (iterated(links_[k])) {
+        position_[k] = static_cast<int>(iterated_.size());
+        iterated_.push_back(k);
+      }
 }
 
 bool WindowSchedule::iterated(const Link& l) const {
@@ -109,8 +113,7 @@ std::vector<StepResult> WindowSchedule::pass(long n, const std::vector<Interface
         continue;
       }
       if (!x.empty()) {
-        for (std::size_t m = 0; m < iterated_.size(); ++m)
-          if (iterated_[m] == k) end[l.j] = &x[m];
+        if (position_[k] >= 0) end[l.j] = &x[static_cast<std::size_t>(position_[k])];
         continue;
       }
       const InterfaceData& now = start_[l.q][l.i];

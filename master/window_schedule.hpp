@@ -19,18 +19,15 @@
 #include <vector>
 
 #include "coupling_options.hpp"
+#include "run_record.hpp"
 #include "schedule.hpp"
 
 namespace railcosim {
 
 // What an implicit run's iterations did.
 struct ConvergenceLog {
-  std::vector<std::string> quantities;  // e.g. "track_to_vehicle_displacement"
-  struct Row {
-    long step = 0;                 // macro step n: the window [nH, (n+1)H]
-    int iteration = 0;             // 1, 2, ...
-    std::vector<double> residual;  // ||G(x) - x|| / (largest ||G(x)|| so far) per quantity
-  };
+  std::vector<std::string> quantities;    // e.g. "track_to_vehicle_displacement"
+  using Row = RunRecord::ConvergenceRow;  // step, iteration, residual per quantity
   std::vector<Row> rows;
   std::vector<int> iterations;  // per macro step
   long not_converged = 0;       // macro steps that hit the iteration limit
@@ -64,6 +61,7 @@ class WindowSchedule final : public Schedule {
   double macro_step_;
   std::vector<Link> links_;                      // every routed value
   std::vector<std::size_t> iterated_;            // indices into links_ of x's values
+  std::vector<int> position_;                    // per link: its index in x, or -1
   std::vector<std::vector<CouplingData>> past_;  // outputs at t_{n-1}, t_{n-2}
   std::vector<CouplingData> start_;              // outputs at t_n
   std::unique_ptr<Accelerator> accel_;
