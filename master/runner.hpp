@@ -8,6 +8,7 @@
 
 #include "cosim_case.hpp"
 #include "coupling_options.hpp"
+#include "data_plane.hpp"
 #include "participant.hpp"
 #include "run_record.hpp"
 #include "scene.hpp"
@@ -20,6 +21,9 @@ struct RunOptions {
   double tolerance = 0;   // micro-step local error bound, m
   Feedthrough feedthrough = Feedthrough::kLagged;
   CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
+  // Over TCP: the nodes exchange directly in windows of macro steps where every
+  // node can and the coupling is explicit with held inputs; otherwise relayed.
+  DataPlane data_plane = DataPlane::kRelay;
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;

@@ -91,6 +91,16 @@ std::string body_name(const wire::Envelope& e) {
       return "configured";
     case wire::Envelope::kStatics:
       return "statics";
+    case wire::Envelope::kLinks:
+      return "links";
+    case wire::Envelope::kWindow:
+      return "window";
+    case wire::Envelope::kReports:
+      return "reports";
+    case wire::Envelope::kWindowDone:
+      return "window_done";
+    case wire::Envelope::kPeerData:
+      return "peer_data";
     case wire::Envelope::BODY_NOT_SET:
       break;
   }

@@ -1,0 +1,25 @@
+// How coupling data travels between participants in separate processes.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace railcosim {
+
+enum class DataPlane {
+  kRelay,   // lock-step: every value goes node -> master -> node, one macro step per request
+  kDirect,  // the nodes send each other their data; the master grants windows of steps
+};
+
+inline std::string to_string(DataPlane d) {
+  return d == DataPlane::kRelay ? "relay" : "direct";
+}
+
+// Throws std::invalid_argument naming the accepted values.
+inline DataPlane parse_data_plane(const std::string& s) {
+  if (s == "relay") return DataPlane::kRelay;
+  if (s == "direct") return DataPlane::kDirect;
+  throw std::invalid_argument("--data-plane must be relay or direct, not '" + s + "'");
+}
+
+}  // namespace railcosim
