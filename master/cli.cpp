@@ -46,6 +46,8 @@ struct RunArgs {
   std::string out = "results";
   std::string token_file;
   std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
+  std::string data_plane = "direct";
+  long window_steps = 0;
   CouplingOptions c;  // the numbers; the names above are parsed into it
 };
 
@@ -174,6 +176,8 @@ int do_run(const RunArgs& a) {
   o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
   o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
   check(o.coupling);
+  o.data_plane = parse_data_plane(a.data_plane);
+  o.direct.window_steps = a.window_steps;
   if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(
         "--feedthrough resolved applies to explicit coupling with held inputs only");
@@ -374,6 +378,17 @@ int master_main(int argc, char** argv) {
   run->add_option("--transport", ra.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
       ->check(CLI::IsMember({"inproc", "tcp"}))
+      ->capture_default_str();
+  run->add_option("--data-plane", ra.data_plane,
+                  "tcp: direct (the nodes send each other their data; the master grants windows "
+                  "of macro steps and takes their reports; explicit coupling with held inputs, "
+                  "when every node offers it) or relay (every value through the master, one "
+                  "request per macro step)")
+      ->check(CLI::IsMember({"direct", "relay"}))
+      ->capture_default_str();
+  run->add_option("--window-steps", ra.window_steps,
+                  "Direct data plane: macro steps per window (0: the whole run in one window)")
+      ->check(CLI::Range(0L, 1000000000L))
       ->capture_default_str();
   run->add_option("--node", ra.nodes,
                   "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "

@@ -1,6 +1,7 @@
 // How coupling data travels between participants in separate processes.
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +15,12 @@ enum class DataPlane {
 inline std::string to_string(DataPlane d) {
   return d == DataPlane::kRelay ? "relay" : "direct";
 }
+
+// The windows of the direct data plane.
+struct DirectOptions {
+  long window_steps = 0;            // macro steps per window (0: the whole run in one)
+  std::uint32_t report_steps = 64;  // a node reports at least every this many steps
+};
 
 // Throws std::invalid_argument naming the accepted values.
 inline DataPlane parse_data_plane(const std::string& s) {

@@ -37,13 +37,16 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
     auth.mutable_auth()->set_mac(
         auth_answer(*token, config.participant.role, reply.challenge().nonce()));
     send(auth, false);
-    await(wire::Envelope::kHelloReply, "auth");
+    const wire::Envelope accepted = await(wire::Envelope::kHelloReply, "auth");
+    for (const auto& c : accepted.hello_reply().capabilities()) direct_ = direct_ || c == "direct";
   } else if (reply.has_error()) {
     fail("hello failed: " + wire::Error::Code_Name(reply.error().code()) + ": " +
          reply.error().message());
   } else if (!reply.has_hello_reply()) {
     fail("unexpected " + body_name(reply) + " in reply to hello");
   }
+  if (reply.has_hello_reply())
+    for (const auto& c : reply.hello_reply().capabilities()) direct_ = direct_ || c == "direct";
 
   send(configure_envelope(scene, config), false);
   const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
@@ -244,6 +247,49 @@ void RemoteParticipant::restore(const ParticipantState& state) {
   for (double v : state.values) r->add_values(v);
   send(e, true);
   await(wire::Envelope::kAck, "restore");
+}
+
+void RemoteParticipant::set_links(const wire::Links& links) {
+  wire::Envelope e;
+  *e.mutable_links() = links;
+  send(e, true);
+  await(wire::Envelope::kAck, "links");
+}
+
+void RemoteParticipant::grant(const wire::Window& window) {
+  step_ = static_cast<long>(window.first_step());
+  wire::Envelope e;
+  *e.mutable_window() = window;
+  send(e, false);
+}
+
+StepResult RemoteParticipant::accept_report(const wire::StepReport& w) {
+  StepResult r = from_wire(w);
+  check(check_step_report(r, w.step(), w.t(), step_ + 1, shape_));
+  step_ = static_cast<long>(w.step());
+  return r;
+}
+
+void RemoteParticipant::window_reply(const wire::Envelope& reply) {
+  if (!reply.has_error())
+    check(check_reply_id(reply.id(), in_flight_.empty() ? 0 : in_flight_.front()));
+  if (!in_flight_.empty()) in_flight_.pop_front();
+  if (reply.has_error()) {
+    const auto& err = reply.error();
+    if (err.step() >= 0) step_ = static_cast<long>(err.step());
+    if (err.code() == wire::Error::STEP_FAILED) {
+      std::ostringstream s;
+      s << name() << ": " << err.message() << " at macro step " << step_;
+      throw StepFailure(s.str());
+    }
+    fail("window failed: " + wire::Error::Code_Name(err.code()) + ": " + err.message());
+  }
+  if (!reply.has_window_done()) fail("unexpected " + body_name(reply) + " in reply to window");
+}
+
+void RemoteParticipant::fail_at(long step, const std::string& what) {
+  step_ = step;
+  fail(what);
 }
 
 }  // namespace railcosim

@@ -55,6 +55,25 @@ class RemoteParticipant final : public Participant {
   ParticipantState save() override;
   void restore(const ParticipantState& state) override;
 
+  // The direct data plane (direct_exchange.hpp) drives these.
+  bool direct_capable() const { return direct_; }
+  const Address& address() const { return address_; }
+  const std::string& role() const { return config_.participant.role; }
+  double macro_step() const { return config_.macro_step; }
+  const RemoteTimeouts& timeouts() const { return timeouts_; }
+  Connection& connection() { return *conn_; }
+  // Sends the links and waits for the node's ack.
+  void set_links(const wire::Links& links);
+  // Sends a window; its reports and its reply are read through connection().
+  void grant(const wire::Window& window);
+  // One report of the window, checked as a step's reply is.
+  StepResult accept_report(const wire::StepReport& report);
+  // The window's reply: true when it is the WindowDone of the window granted;
+  // an error reply becomes StepFailure or NodeFailure as a step's would.
+  void window_reply(const wire::Envelope& reply);
+  // Fails with `what` at macro step `step`.
+  [[noreturn]] void fail_at(long step, const std::string& what);
+
  private:
   // Sends a request; replies are read later, in order.
   void send(wire::Envelope request, bool expects_ack);
@@ -91,6 +110,7 @@ class RemoteParticipant final : public Participant {
   Channels channels_;                        // as the node declared them
   ReplyShape shape_;                         // what its replies must look like
   std::deque<std::uint64_t> in_flight_;      // ids of the requests not answered yet
+  bool direct_ = false;                      // the node offers the direct data plane
 };
 
 }  // namespace railcosim

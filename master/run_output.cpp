@@ -111,6 +111,7 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
+  if (!r.data_plane.empty()) s << "  \"data_plane\": " << json_string(r.data_plane) << ",\n";
   s << "  \"restart\": " << json_string(r.restart) << ",\n";
   s << "  \"method\": " << json_string(r.method) << ",\n";
   s << "  \"inputs\": " << json_string(r.inputs) << ",\n";
@@ -255,7 +256,8 @@ void write_channel_files(const std::filesystem::path& dir, const RunRecord& r) {
   if (const std::string f = soil_forces_csv(r); !f.empty())
     write_file_atomically(dir / "soil_forces.csv", f);
   if (r.status == "failed") return;
-  if (const std::string s = spectra_csv(r); !s.empty()) write_file_atomically(dir / "spectra.csv", s);
+  if (const std::string s = spectra_csv(r); !s.empty())
+    write_file_atomically(dir / "spectra.csv", s);
 }
 
 std::filesystem::path make_run_dir(const std::filesystem::path& out_dir, const std::string& name) {

@@ -25,6 +25,7 @@ struct RunRecord {
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
   std::optional<double> history_error;
   std::string transport = "inproc";
+  std::string data_plane;              // over TCP: "direct" or "relay"
   std::string restart = "consistent";  // at communication points: consistent or carry
   // How the macro step was coupled (coupling_options.hpp): explicit or
   // implicit, hold/linear/extrapolate1/extrapolate2, and the accelerator.

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "coupled_statics.hpp"
+#include "direct_exchange.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
 #include "monolithic.hpp"
@@ -242,12 +243,25 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
   const double bound = divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
+  std::unique_ptr<DirectExchange> direct;
+  if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
+    const bool windows =
+        o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
+    if (windows)
+      direct = DirectExchange::make(ps, routing, spec.scheme, o.feedthrough, initial, bound, N,
+                                    o.direct);
+    if (!direct)
+      log->info("{}: relayed data plane ({})", r.case_name,
+                windows ? "a node does not offer the direct one"
+                        : "this coupling decides every macro step at the master");
+  }
+  if (transport == "tcp") r.data_plane = to_string(direct ? DataPlane::kDirect : DataPlane::kRelay);
   long n = 0;
   for (; n < N; ++n) {
     check_stop(o, n);
     std::vector<StepResult> m;
     try {
-      m = schedule->advance(n);
+      m = direct ? direct->advance(n) : schedule->advance(n);
     } catch (const StepFailure& e) {
       // A subsystem whose micro steps run away: the co-simulation diverges.
       std::ostringstream s;
@@ -284,6 +298,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
   }
   r.macro_steps = n;
+  if (direct) direct->drain();
   if (const auto* w = dynamic_cast<const WindowSchedule*>(schedule.get());
       w && o.coupling.method == CouplingMethod::kImplicit)
     record_convergence(r, w->log(), o);

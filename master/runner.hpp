@@ -23,7 +23,8 @@ struct RunOptions {
   CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
   // Over TCP: the nodes exchange directly in windows of macro steps where every
   // node can and the coupling is explicit with held inputs; otherwise relayed.
-  DataPlane data_plane = DataPlane::kRelay;
+  DataPlane data_plane = DataPlane::kDirect;
+  DirectOptions direct;  // windows and reports of the direct data plane
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;

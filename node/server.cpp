@@ -3,6 +3,9 @@
 #include <array>
 #include <cstdio>
 
+#include <unistd.h>
+
+#include "fd_channel.hpp"
 #include "log.hpp"
 #include "work_budget.hpp"
 
@@ -41,7 +44,16 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         decoder_(server.limits_.max_frame_bytes),
         session_(server.options_),
         log_(logger(component(server.options_.role))),
-        deadline_(socket_.get_executor()) {}
+        deadline_(socket_.get_executor()) {
+    // A window's step reports are written by the worker while this
+    // connection waits for the window's reply (nothing else writes then).
+    session_.set_report_sink([this](const std::string& frame) {
+      write_all(socket_.native_handle(), frame, server_.limits_.message_timeout,
+                "the master at " + peer_);
+    });
+  }
+
+  const std::shared_ptr<PeerInbox>& inbox() const { return session_.inbox(); }
 
   void start() {
     boost::system::error_code ec;
@@ -130,7 +142,8 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
 
   // Requests that may take long run on the worker thread.
   static bool long_request(const wire::Envelope& req) {
-    return req.has_step() || req.has_statics() || req.has_initialize() || req.has_configure();
+    return req.has_step() || req.has_statics() || req.has_initialize() || req.has_configure() ||
+           req.has_window();
   }
 
   void handle(wire::Envelope req) {
@@ -320,6 +333,16 @@ void NodeServer::accept() {
       if (ec != asio::error::operation_aborted) accept();
       return;
     }
+    if (active_ && active_->inbox()->waiting()) {
+      // A peer link of the session's direct data plane: its worker checks
+      // the hello and the secret.
+      const std::string from = endpoint_text(socket);
+      const int fd = ::dup(socket.native_handle());
+      socket.close(ec);
+      if (fd >= 0) active_->inbox()->offer(fd, from);
+      accept();
+      return;
+    }
     auto conn = std::make_shared<Conn>(*this, std::move(socket));
     if (active_) {
       logger(component(options_.role))
@@ -359,7 +382,10 @@ void NodeServer::stop() {
   asio::post(io_, [this] {
     boost::system::error_code ec;
     acceptor_.close(ec);
-    if (active_) active_->close();
+    if (active_) {
+      active_->inbox()->shut_down_links();
+      active_->close();
+    }
     io_.stop();
   });
 }

@@ -23,6 +23,42 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
   r->set_protocol_version(kProtocolVersion);
   r->set_participant(participant_);
   r->set_name(options_.name);
+  r->add_capabilities("direct");
+  return reply;
+}
+
+wire::Envelope NodeSession::links(const wire::Envelope& req) {
+  if (step_ != 0 || runner_)
+    throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                        "links are set once, after initialize and before the first step");
+  links_ = links_from_wire(req.links(), outputs_.size(), participant_);
+  bool accepts = false;
+  for (const LinkPlan& l : links_->links) accepts = accepts || !l.connect;
+  inbox_->set_waiting(accepts);
+  wire::Envelope reply;
+  reply.set_id(req.id());
+  reply.mutable_ack();
+  return reply;
+}
+
+wire::Envelope NodeSession::window(const wire::Envelope& req) {
+  if (!runner_) {
+    if (!links_) throw ProtocolError(wire::Error::OUT_OF_ORDER, "a window needs links first");
+    if (!report_)
+      throw ProtocolError(wire::Error::BAD_REQUEST, "this connection cannot stream reports");
+    LinkIdentity me{participant_, options_.token, options_.name};
+    runner_ = std::make_unique<WindowRunner>(*subsystem_, *links_, open_links(*links_, me, *inbox_),
+                                             macro_step_, outputs_, step_);
+  }
+  wire::Envelope reply;
+  reply.set_id(req.id());
+  try {
+    *reply.mutable_window_done() = runner_->run(req.window(), req.id(), report_);
+  } catch (...) {
+    step_ = runner_->point();
+    throw;
+  }
+  step_ = runner_->point();
   return reply;
 }
 
@@ -53,6 +89,9 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     message = e.what();
   } catch (const BadInputError& e) {
     code = wire::Error::BAD_REQUEST;
+    message = e.what();
+  } catch (const LinkError& e) {
+    code = wire::Error::PEER_FAILED;
     message = e.what();
   } catch (const std::exception& e) {
     message = std::string("internal error: ") + e.what();
@@ -94,6 +133,10 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                                 " participant");
       if (h.participant().empty())
         throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
+      if (h.role() == "peer")
+        throw ProtocolError(wire::Error::WRONG_ROLE,
+                            "a peer link from the " + h.peer_of() +
+                                " participant reached a node that has no session expecting it");
       participant_ = h.participant();
       fingerprint_ = h.scene_fingerprint();
       // Nothing about the scene before the peer has proved it knows the secret.
@@ -197,6 +240,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
     case E::kInitialize: {
       const StepResult r = sub.initialize(from_wire(req.initialize().inputs()));
       step_ = 0;
+      outputs_ = r.outputs;
       *reply.mutable_step_report() = to_wire(r, 0, 0.0);
       return reply;
     }
@@ -257,6 +301,10 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       reply.mutable_ack();
       return reply;
     }
+    case E::kLinks:
+      return links(req);
+    case E::kWindow:
+      return window(req);
     case E::kHello:
     case E::kConfigure:
       throw ProtocolError(wire::Error::OUT_OF_ORDER,

@@ -9,13 +9,16 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "peer_links.hpp"
 #include "scene.hpp"
 #include "scene_checks.hpp"
 #include "subsystem.hpp"
+#include "window_runner.hpp"
 #include "wire.hpp"
 
 namespace railcosim {
@@ -43,12 +46,20 @@ class NodeSession {
   long step() const { return step_; }
   const std::string& description() const { return description_; }
 
+  // Direct data plane: where other nodes' peer links are handed over, and how
+  // a window's step reports reach the master (one encoded frame per call,
+  // from the thread that handles the window).
+  const std::shared_ptr<PeerInbox>& inbox() const { return inbox_; }
+  void set_report_sink(std::function<void(const std::string&)> sink) { report_ = std::move(sink); }
+
  private:
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
   wire::Envelope hello_reply(std::uint64_t id) const;
   // SCENE_MISMATCH unless the hello's fingerprint is the pinned scene's.
   void check_pinned_scene() const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
+  wire::Envelope links(const wire::Envelope& request);
+  wire::Envelope window(const wire::Envelope& request);
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -59,6 +70,11 @@ class NodeSession {
   double macro_step_ = 0;
   long step_ = -1;
   std::string description_ = "not configured";
+  CouplingData outputs_;  // at the current point, for the first window
+  std::shared_ptr<PeerInbox> inbox_ = std::make_shared<PeerInbox>();
+  std::optional<LinksPlan> links_;
+  std::unique_ptr<WindowRunner> runner_;
+  std::function<void(const std::string&)> report_;
 };
 
 }  // namespace railcosim

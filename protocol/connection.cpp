@@ -2,6 +2,12 @@
 
 #include <thread>
 
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 namespace railcosim {
 
 namespace asio = boost::asio;
@@ -47,6 +53,46 @@ Connection::Connection(Address peer) : peer_(std::move(peer)), socket_(io_), dec
 
 Connection::~Connection() {
   close();
+}
+
+bool Connection::next_buffered(wire::Envelope& out) {
+  switch (decoder_.next(out)) {
+    case FrameDecoder::Status::kFrame:
+      return true;
+    case FrameDecoder::Status::kNeedMore:
+      return false;
+    case FrameDecoder::Status::kTooLarge:
+      throw NetError(NetError::Kind::kProtocol,
+                     peer_.str() + " sent a frame over the size limit (" +
+                         std::to_string(decoder_.announced()) + " bytes)");
+    case FrameDecoder::Status::kBadFrame:
+      break;
+  }
+  throw NetError(NetError::Kind::kProtocol, peer_.str() + " sent a frame that is not a message");
+}
+
+bool Connection::read_now() {
+  while (true) {
+    const ssize_t n = ::recv(socket_.native_handle(), buffer_.data(), buffer_.size(), MSG_DONTWAIT);
+    if (n > 0) {
+      decoder_.feed(buffer_.data(), static_cast<std::size_t>(n));
+      return true;
+    }
+    if (n == 0) return false;
+    if (errno == EINTR) continue;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) return true;
+    if (errno == ECONNRESET) return false;
+    throw NetError(NetError::Kind::kIo,
+                   "cannot read from " + peer_.str() + ": " + std::strerror(errno));
+  }
+}
+
+int Connection::release_fd() {
+  if (!socket_.is_open()) return -1;
+  const int fd = ::dup(socket_.native_handle());
+  boost::system::error_code ec;
+  socket_.close(ec);
+  return fd;
 }
 
 void Connection::shutdown_send() {

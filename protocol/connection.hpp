@@ -68,6 +68,18 @@ class Connection {
   wire::Envelope receive(Duration timeout);
 
   const Address& peer() const { return peer_; }
+
+  // For a caller that waits on several connections at once (poll on fd()):
+  int fd() { return socket_.native_handle(); }
+  // A frame already read and buffered, if any. Throws NetError(kProtocol).
+  bool next_buffered(wire::Envelope& out);
+  // One read of what the socket holds now, without waiting; false when the
+  // peer has closed the connection. Throws NetError(kIo).
+  bool read_now();
+  // Hands the socket over as a plain descriptor (this connection is closed
+  // without shutting the TCP connection down). -1 if it is not open.
+  int release_fd();
+
   // Stops sending (the peer sees end of stream) but keeps reading.
   void shutdown_send();
   void close();

@@ -1,0 +1,237 @@
+#include "direct_exchange.hpp"
+
+#include <poll.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "auth.hpp"
+
+namespace railcosim {
+
+using std::chrono::milliseconds;
+
+namespace {
+
+bool sends_force(const CouplingData& outputs) {
+  for (const InterfaceData& d : outputs)
+    if (!d.force.empty()) return true;
+  return false;
+}
+
+}  // namespace
+
+std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
+                                                     const Routing& routing, Scheme scheme,
+                                                     Feedthrough feedthrough,
+                                                     const std::vector<StepResult>& initial,
+                                                     double bound, long total,
+                                                     DirectOptions options) {
+  std::vector<RemoteParticipant*> nodes;
+  for (Participant* p : ps) {
+    auto* r = dynamic_cast<RemoteParticipant*>(p);
+    if (!r || !r->direct_capable()) return nullptr;
+    nodes.push_back(r);
+  }
+  const std::size_t P = nodes.size();
+  const bool resolved = scheme == Scheme::kJacobi && feedthrough == Feedthrough::kResolved;
+  std::vector<bool> refresh(P, false);
+  for (std::size_t p = 0; p < P; ++p) refresh[p] = resolved && sends_force(initial[p].outputs);
+
+  const std::string session = random_nonce();
+  const auto& t = nodes.front()->timeouts();
+  // A node waits for a peer longer than the master waits for any node, so
+  // that the master, which sees every node, names the one that fell silent.
+  const auto link_timeout = t.step_max + t.reply;
+  std::vector<wire::Links> links(P);
+  for (std::size_t p = 0; p < P; ++p) {
+    links[p].set_session(session);
+    links[p].set_refresh(refresh[p]);
+    links[p].set_timeout_ms(static_cast<std::uint32_t>(link_timeout.count()));
+  }
+  // One link per pair of participants that share a cut; the one loaded first
+  // connects. Both ends list their interfaces in the same order.
+  for (std::size_t p = 0; p < P; ++p)
+    for (std::size_t q = p + 1; q < P; ++q) {
+      wire::PeerLink* mine = nullptr;
+      wire::PeerLink* theirs = nullptr;
+      for (std::size_t j = 0; j < routing[p].size(); ++j) {
+        const Route& r = routing[p][j];
+        if (static_cast<std::size_t>(r.participant) != q) continue;
+        if (!mine) {
+          mine = links[p].add_links();
+          mine->set_peer(nodes[q]->role());
+          mine->set_host(nodes[q]->address().host);
+          mine->set_port(nodes[q]->address().port);
+          mine->set_ahead(scheme == Scheme::kGaussSeidel && q < p);
+          mine->set_refreshes(refresh[q]);
+          theirs = links[q].add_links();
+          theirs->set_peer(nodes[p]->role());
+          theirs->set_ahead(scheme == Scheme::kGaussSeidel && p < q);
+          theirs->set_refreshes(refresh[p]);
+        }
+        mine->add_interfaces(static_cast<int>(j));
+        theirs->add_interfaces(r.interface);
+      }
+    }
+  for (std::size_t p = 0; p < P; ++p) nodes[p]->set_links(links[p]);
+  return std::unique_ptr<DirectExchange>(new DirectExchange(nodes, bound, total, options));
+}
+
+DirectExchange::DirectExchange(std::vector<RemoteParticipant*> nodes, double bound, long total,
+                               DirectOptions options)
+    : bound_(bound), total_(total), options_(options) {
+  for (RemoteParticipant* p : nodes) {
+    nodes_.emplace_back();
+    nodes_.back().p = p;
+  }
+  progress_ = nodes.front()->timeouts().step_max;
+}
+
+void DirectExchange::grant(long n) {
+  const long end = options_.window_steps > 0 ? std::min(total_, n + options_.window_steps) : total_;
+  wire::Window w;
+  w.set_first_step(n);
+  w.set_end_step(end);
+  w.set_divergence_bound(bound_);
+  w.set_report_steps(options_.report_steps);
+  for (Node& node : nodes_) {
+    node.p->grant(w);
+    node.in_window = true;
+    node.done_step = -1;
+    node.done_reason.clear();
+  }
+}
+
+void DirectExchange::take(Node& node, const wire::Envelope& e) {
+  if (e.has_reports()) {
+    for (const auto& w : e.reports().reports()) {
+      node.reports.push_back(node.p->accept_report(w));
+      node.reported = static_cast<long>(w.step());
+    }
+    return;
+  }
+  node.in_window = false;
+  try {
+    node.p->window_reply(e);
+    node.done_step = static_cast<long>(e.window_done().step());
+    node.done_reason = e.window_done().reason();
+  } catch (const StepFailure& f) {
+    node.failed = true;
+    node.step_failure = true;
+    node.fail_step = e.error().step();
+    node.fail_text = f.what();
+  } catch (const NodeFailure& f) {
+    node.failed = true;
+    node.fail_step = e.has_error() && e.error().step() >= 0 ? e.error().step() : node.reported;
+    node.fail_text = f.what();
+  }
+}
+
+bool DirectExchange::read(milliseconds timeout) {
+  std::vector<pollfd> fds;
+  std::vector<Node*> who;
+  for (Node& node : nodes_)
+    if (node.in_window && !node.closed) {
+      fds.push_back(pollfd{node.p->connection().fd(), POLLIN, 0});
+      who.push_back(&node);
+    }
+  if (fds.empty()) return true;
+  int ready = -1;
+  do {
+    ready = ::poll(fds.data(), fds.size(), static_cast<int>(timeout.count()));
+  } while (ready < 0 && errno == EINTR);
+  if (ready == 0) return false;
+  for (std::size_t k = 0; k < fds.size(); ++k) {
+    if (fds[k].revents == 0) continue;
+    Node& node = *who[k];
+    Connection& c = node.p->connection();
+    bool open = true;
+    try {
+      open = c.read_now();
+      wire::Envelope e;
+      while (node.in_window && c.next_buffered(e)) take(node, e);
+    } catch (const NetError& e) {
+      open = false;
+      node.fail_text = e.what();
+    } catch (const NodeFailure& e) {
+      node.failed = true;
+      node.fail_step = node.reported;
+      node.fail_text = e.what();
+      node.in_window = false;
+    }
+    if (!open && node.in_window) {
+      node.closed = true;
+      node.in_window = false;
+      node.failed = true;
+      node.fail_step = node.reported;
+      std::ostringstream s;
+      s << node.p->name() << ": the node closed the connection in the middle of a window"
+        << (node.fail_text.empty() ? "" : " (" + node.fail_text + ")")
+        << "; its last step report was for macro step " << node.reported
+        << " (t = " << static_cast<double>(node.reported) * node.p->macro_step() << " s)";
+      node.fail_text = s.str();
+    }
+  }
+  return true;
+}
+
+void DirectExchange::silence(long n, milliseconds waited) {
+  // The node that reported least is the one the others wait for.
+  Node* slow = &nodes_.front();
+  for (Node& node : nodes_)
+    if (node.reported < slow->reported) slow = &node;
+  std::ostringstream s;
+  s << "sent no step report for " << waited.count() << " ms (its last was for macro step "
+    << slow->reported << "; the run waits for macro step " << n + 1 << ")";
+  slow->p->fail_at(n, s.str());
+}
+
+std::vector<StepResult> DirectExchange::advance(long n) {
+  while (true) {
+    bool ready = true;
+    for (const Node& node : nodes_) ready = ready && !node.reports.empty();
+    if (ready) {
+      std::vector<StepResult> out;
+      out.reserve(nodes_.size());
+      for (Node& node : nodes_) {
+        out.push_back(std::move(node.reports.front()));
+        node.reports.pop_front();
+      }
+      return out;
+    }
+    // A step that failed first, in load order (as the schedules would see it).
+    for (const Node& node : nodes_)
+      if (node.failed && node.step_failure && node.fail_step <= n)
+        throw StepFailure(node.fail_text);
+    for (const Node& node : nodes_)
+      if (node.failed && node.fail_step <= n) throw NodeFailure(node.fail_text);
+    bool any_in_window = false;
+    for (const Node& node : nodes_) any_in_window = any_in_window || node.in_window;
+    if (!any_in_window) {
+      // Nothing more can come from a node that failed, whatever its step.
+      for (const Node& node : nodes_)
+        if (node.failed) throw NodeFailure(node.fail_text);
+      for (Node& node : nodes_)
+        if (node.reports.empty() && !node.done_reason.empty())
+          node.p->fail_at(n, "stopped at macro step " + std::to_string(node.done_step) + ": " +
+                                 node.done_reason);
+      grant(n);
+      continue;
+    }
+    if (!read(progress_)) silence(n, progress_);
+  }
+}
+
+void DirectExchange::drain() {
+  const auto deadline = std::chrono::steady_clock::now() + milliseconds(5000);
+  while (std::chrono::steady_clock::now() < deadline) {
+    bool any = false;
+    for (const Node& node : nodes_) any = any || (node.in_window && !node.closed);
+    if (!any) return;
+    if (!read(milliseconds(200))) continue;
+    for (Node& node : nodes_) node.reports.clear();
+  }
+}
+
+}  // namespace railcosim

@@ -1,0 +1,76 @@
+// The master's side of the direct data plane. The nodes send each other their
+// coupling data over peer links; the master hands out the links, grants
+// windows of macro steps, and takes the step reports the nodes stream to it,
+// one macro step at a time, exactly as a schedule's advance() returns them:
+// the run's loop (divergence, history, progress) is the same on both planes.
+//
+// Used for explicit coupling with held inputs when every participant is a
+// remote node that offers it; the other couplings decide on every step
+// centrally (implicit iterations) or ramp inputs, and stay relayed.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cosim_case.hpp"
+#include "data_plane.hpp"
+#include "model.hpp"
+#include "participant.hpp"
+#include "remote_participant.hpp"
+#include "schedule.hpp"
+
+namespace railcosim {
+
+class DirectExchange {
+ public:
+  // nullptr unless every participant is a RemoteParticipant whose node offers
+  // the direct data plane. Otherwise sends the links to every node.
+  // `initial`: what initialize() returned; `bound`: the divergence bound (m).
+  static std::unique_ptr<DirectExchange> make(const std::vector<Participant*>& participants,
+                                              const Routing& routing, Scheme scheme,
+                                              Feedthrough feedthrough,
+                                              const std::vector<StepResult>& initial, double bound,
+                                              long total_steps, DirectOptions options = {});
+
+  // The results of macro step n, from the nodes' reports (granting the next
+  // window when the last one has ended). Throws StepFailure for a node whose
+  // step failed and NodeFailure for one that closed, broke or fell silent.
+  std::vector<StepResult> advance(long n);
+  // Waits (a few seconds at most) for every window in progress to end, so
+  // the sessions take requests again (final results after a divergence).
+  void drain();
+
+ private:
+  struct Node {
+    RemoteParticipant* p = nullptr;
+    std::deque<StepResult> reports;
+    long reported = 0;  // the last point reported
+    bool in_window = false;
+    long done_step = -1;  // where its last window ended
+    std::string done_reason;
+    bool closed = false;  // its connection is gone
+    // A failure that ends the run once the master reaches its step.
+    bool failed = false;
+    bool step_failure = false;
+    long fail_step = 0;
+    std::string fail_text;
+  };
+  DirectExchange(std::vector<RemoteParticipant*> nodes, double bound, long total,
+                 DirectOptions options);
+  void grant(long n);
+  // Waits for frames from the nodes in a window; false on silence.
+  bool read(std::chrono::milliseconds timeout);
+  void take(Node& node, const wire::Envelope& e);
+  [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
+
+  std::vector<Node> nodes_;
+  double bound_;
+  long total_;
+  DirectOptions options_;
+  std::chrono::milliseconds progress_;
+};
+
+}  // namespace railcosim

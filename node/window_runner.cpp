@@ -1,0 +1,170 @@
+#include "window_runner.hpp"
+
+#include <limits>
+
+#include "work_budget.hpp"
+
+namespace railcosim {
+
+using Clock = std::chrono::steady_clock;
+
+WindowRunner::WindowRunner(Subsystem& subsystem, LinksPlan plan,
+                           std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
+                           CouplingData outputs, long point)
+    : sub_(subsystem),
+      refresh_(plan.refresh),
+      timeout_(plan.timeout),
+      macro_step_(macro_step),
+      outputs_(std::move(outputs)),
+      point_(point) {
+  for (std::size_t k = 0; k < links.size(); ++k)
+    links_.push_back(Link{std::move(links[k]), plan.links[k], -1, {}, -1, {}});
+}
+
+void WindowRunner::send_outputs(const CouplingData& outputs, bool last, bool refresh) {
+  for (Link& l : links_) {
+    wire::Envelope e;
+    auto* d = e.mutable_peer_data();
+    d->set_point(point_);
+    d->set_last(last);
+    d->set_refresh(refresh);
+    auto* data = d->mutable_data();
+    for (int i : l.plan.interfaces) {
+      const InterfaceData& x = outputs[static_cast<std::size_t>(i)];
+      auto* w = data->add_interfaces();
+      w->mutable_displacement()->Add(x.displacement.begin(), x.displacement.end());
+      w->mutable_velocity()->Add(x.velocity.begin(), x.velocity.end());
+      w->mutable_force()->Add(x.force.begin(), x.force.end());
+    }
+    l.channel->send(e, timeout_);
+  }
+  if (!refresh) sent_ = point_;
+  sent_last_ = sent_last_ || last;
+}
+
+void WindowRunner::send_stop() {
+  if (sent_last_) return;
+  sent_last_ = true;
+  for (Link& l : links_) {
+    wire::Envelope e;
+    e.mutable_peer_data()->set_point(point_);
+    e.mutable_peer_data()->set_last(true);
+    try {
+      l.channel->send(e, std::chrono::milliseconds(1000));
+    } catch (const LinkError&) {
+      // That peer is gone already.
+    }
+  }
+}
+
+bool WindowRunner::await(Link& l, long need, bool fresh) {
+  while ((fresh ? l.fresh_have : l.have) < need) {
+    if (end_ < need) return false;
+    const wire::Envelope e = l.channel->receive(timeout_);
+    if (!e.has_peer_data())
+      throw LinkError(LinkError::Kind::kProtocol,
+                      l.channel->what() + " sent " + body_name(e) + " on its peer link");
+    const wire::PeerData& d = e.peer_data();
+    if (d.last() && d.point() < end_) {
+      end_ = d.point();
+      why_ = l.channel->what() + " stops at macro step " + std::to_string(end_);
+    }
+    if (d.data().interfaces_size() == 0) continue;  // a marker only
+    if (static_cast<std::size_t>(d.data().interfaces_size()) != l.plan.interfaces.size())
+      throw LinkError(LinkError::Kind::kProtocol,
+                      l.channel->what() + " sent " + std::to_string(d.data().interfaces_size()) +
+                          " interfaces on a link of " + std::to_string(l.plan.interfaces.size()));
+    (d.refresh() ? l.fresh : l.data) = from_wire(d.data());
+    (d.refresh() ? l.fresh_have : l.have) = d.point();
+  }
+  return true;
+}
+
+CouplingData WindowRunner::inputs(bool fresh) const {
+  CouplingData in(outputs_.size());
+  for (const Link& l : links_) {
+    const CouplingData& d = fresh && l.plan.refreshes ? l.fresh : l.data;
+    for (std::size_t e = 0; e < l.plan.interfaces.size(); ++e)
+      in[static_cast<std::size_t>(l.plan.interfaces[e])] = d[e];
+  }
+  return in;
+}
+
+void WindowRunner::flush(std::uint64_t id, const std::function<void(const std::string&)>& report) {
+  if (pending_.reports_size() == 0) return;
+  wire::Envelope e;
+  e.set_id(id);
+  e.mutable_reports()->Swap(&pending_);
+  report(encode_frame(e));
+}
+
+wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
+                                   const std::function<void(const std::string&)>& report) {
+  if (w.first_step() != point_)
+    throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                        "window from macro step " + std::to_string(w.first_step()) +
+                            ", but this participant is at " + std::to_string(point_));
+  if (w.end_step() <= w.first_step())
+    throw ProtocolError(wire::Error::BAD_REQUEST, "a window must hold at least one macro step");
+  end_ = w.end_step();
+  why_.clear();
+  const double bound = w.divergence_bound();
+  const std::size_t every = w.report_steps() > 0 ? w.report_steps() : 64;
+  auto last_flush = Clock::now();
+  WorkBudget& budget = current_work_budget();
+  try {
+    if (sent_ < point_) send_outputs(outputs_, false, false);
+    while (point_ < end_) {
+      const long n = point_;
+      bool go = true;
+      for (Link& l : links_) go = go && await(l, n + (l.plan.ahead ? 1 : 0), false);
+      if (!go || n >= end_) break;
+      sub_.set_inputs(n, inputs(false));
+      if (refresh_) send_outputs(sub_.outputs(), false, true);
+      bool again = false;
+      for (Link& l : links_)
+        if (l.plan.refreshes) {
+          if (!await(l, n, true)) go = false;
+          again = true;
+        }
+      if (!go) break;
+      if (again) sub_.set_inputs(n, inputs(true));
+      if (budget.limit.count() > 0) budget.deadline = Clock::now() + budget.limit;
+      StepResult r;
+      try {
+        r = sub_.step(n);
+      } catch (const StepFailure&) {
+        send_stop();
+        flush(id, report);
+        throw;
+      }
+      point_ = n + 1;
+      outputs_ = r.outputs;
+      const bool diverged = bound > 0 && (!r.finite || r.max_abs_displacement > bound);
+      if (diverged) {
+        end_ = point_;
+        why_ = "diverged at macro step " + std::to_string(point_);
+      }
+      send_outputs(outputs_, diverged, false);
+      *pending_.add_reports() = to_wire(r, point_, static_cast<double>(point_) * macro_step_);
+      const auto now = Clock::now();
+      if (static_cast<std::size_t>(pending_.reports_size()) >= every ||
+          now - last_flush >= std::chrono::milliseconds(20)) {
+        flush(id, report);
+        last_flush = now;
+      }
+    }
+  } catch (const LinkError&) {
+    send_stop();
+    flush(id, report);
+    throw;
+  }
+  if (point_ < w.end_step()) send_stop();
+  flush(id, report);
+  wire::WindowDone done;
+  done.set_step(point_);
+  if (point_ < w.end_step()) done.set_reason(why_);
+  return done;
+}
+
+}  // namespace railcosim

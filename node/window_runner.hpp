@@ -1,0 +1,79 @@
+// A participant's own part of the schedule on the direct data plane: it runs
+// a window of macro steps, taking its inputs from the peers' data and sending
+// them its outputs at every communication point, in the order the master's
+// Jacobi or Gauss–Seidel schedule would (the results are bitwise the same),
+// and streams its step reports to the master.
+//
+// Per macro step n, on every link: receive the peer's outputs at point n (at
+// n + 1 when the peer steps first under Gauss–Seidel), set the inputs, step,
+// send the outputs at n + 1. Under Jacobi with resolved feedthrough a
+// participant that sends forces sends its outputs again once it has the
+// step's inputs, and its peers set their inputs again from them.
+//
+// Stopping: a participant whose step diverges (its largest |u| over the
+// window's bound, or a value not finite) marks its data at that point as the
+// last; one that fails a step or is told to stop sends a marker with no data.
+// A participant stops when it reaches the point a peer said it stops at.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fd_channel.hpp"
+#include "peer_links.hpp"
+#include "subsystem.hpp"
+#include "wire.hpp"
+
+namespace railcosim {
+
+class WindowRunner {
+ public:
+  // `outputs`: the participant's outputs at communication point `point` (its
+  // initialize() result before the first window).
+  WindowRunner(Subsystem& subsystem, LinksPlan plan, std::vector<std::unique_ptr<FdChannel>> links,
+               double macro_step, CouplingData outputs, long point);
+
+  // Runs steps from the current point to w.end_step(). `report` sends one
+  // encoded frame to the master. Returns where it stopped and why; throws
+  // StepFailure (the step's integrator gave up: the peers and the reports
+  // already know) or LinkError (a link broke: the peers are told to stop).
+  wire::WindowDone run(const wire::Window& w, std::uint64_t id,
+                       const std::function<void(const std::string&)>& report);
+  long point() const { return point_; }
+
+ private:
+  struct Link {
+    std::unique_ptr<FdChannel> channel;
+    LinkPlan plan;
+    long have = -1;  // the point of `data`
+    CouplingData data;
+    long fresh_have = -1;  // resolved feedthrough: the second sending
+    CouplingData fresh;
+  };
+  // Sends the outputs at the current point on every link.
+  void send_outputs(const CouplingData& outputs, bool last, bool refresh);
+  void send_stop();
+  // Reads link `l` until it holds the peer's data at `need`; false if the
+  // peer stops before that point.
+  bool await(Link& l, long need, bool fresh);
+  CouplingData inputs(bool fresh) const;
+  void flush(std::uint64_t id, const std::function<void(const std::string&)>& report);
+
+  Subsystem& sub_;
+  std::vector<Link> links_;
+  bool refresh_;
+  std::chrono::milliseconds timeout_;
+  double macro_step_;
+  CouplingData outputs_;
+  long point_;
+  long sent_ = -1;  // the last point whose data went out
+  bool sent_last_ = false;
+  long end_ = 0;     // where this participant stops
+  std::string why_;  // why it stops before the window's end
+  wire::Reports pending_;
+};
+
+}  // namespace railcosim
