@@ -125,6 +125,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     node.failed = true;
     node.fail_step = e.has_error() && e.error().step() >= 0 ? e.error().step() : node.reported;
     node.fail_text = f.what();
+    node.peer_failed = e.has_error() && e.error().code() == wire::Error::PEER_FAILED;
   }
 }
 
@@ -200,18 +201,18 @@ std::vector<StepResult> DirectExchange::advance(long n) {
       }
       return out;
     }
-    // A step that failed first, in load order (as the schedules would see it).
-    for (const Node& node : nodes_)
-      if (node.failed && node.step_failure && node.fail_step <= n)
-        throw StepFailure(node.fail_text);
-    for (const Node& node : nodes_)
-      if (node.failed && node.fail_step <= n) throw NodeFailure(node.fail_text);
+    if (const Node* f = culprit(n, false)) {
+      fail_with(*f);
+      continue;
+    }
     bool any_in_window = false;
     for (const Node& node : nodes_) any_in_window = any_in_window || node.in_window;
     if (!any_in_window) {
       // Nothing more can come from a node that failed, whatever its step.
-      for (const Node& node : nodes_)
-        if (node.failed) throw NodeFailure(node.fail_text);
+      if (const Node* f = culprit(n, true)) {
+        fail_with(*f);
+        continue;
+      }
       for (Node& node : nodes_)
         if (node.reports.empty() && !node.done_reason.empty())
           node.p->fail_at(n, "stopped at macro step " + std::to_string(node.done_step) + ": " +
@@ -221,6 +222,31 @@ std::vector<StepResult> DirectExchange::advance(long n) {
     }
     if (!read(progress_)) silence(n, progress_);
   }
+}
+
+const DirectExchange::Node* DirectExchange::culprit(long n, bool any_step) const {
+  const Node* first = nullptr;
+  for (const Node& node : nodes_)
+    if (node.failed && (any_step || node.fail_step <= n) && !first) first = &node;
+  if (!first) return nullptr;
+  for (const Node& node : nodes_)
+    if (node.failed && node.step_failure && node.fail_step <= n) return &node;
+  for (const Node& node : nodes_)
+    if (node.closed) return &node;
+  return first;
+}
+
+void DirectExchange::fail_with(const Node& node) {
+  if (node.step_failure) throw StepFailure(node.fail_text);
+  if (!node.peer_failed) throw NodeFailure(node.fail_text);
+  const auto now = std::chrono::steady_clock::now();
+  if (first_peer_failure_ == std::chrono::steady_clock::time_point{}) first_peer_failure_ = now;
+  const auto left =
+      milliseconds(1000) - std::chrono::duration_cast<milliseconds>(now - first_peer_failure_);
+  bool open = false;
+  for (const Node& x : nodes_) open = open || (x.in_window && !x.closed);
+  if (left.count() <= 0 || !open) throw NodeFailure(node.fail_text);
+  read(left);  // the culprit's own failure, if it comes, is preferred next time
 }
 
 void DirectExchange::drain() {

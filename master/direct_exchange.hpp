@@ -55,6 +55,7 @@ class DirectExchange {
     // A failure that ends the run once the master reaches its step.
     bool failed = false;
     bool step_failure = false;
+    bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
     long fail_step = 0;
     std::string fail_text;
   };
@@ -65,12 +66,20 @@ class DirectExchange {
   bool read(std::chrono::milliseconds timeout);
   void take(Node& node, const wire::Envelope& e);
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
+  // The failure that ends macro step n (or, with any_step, any failure): a
+  // failed step first, in load order, then a node that closed its
+  // connection, then the others. nullptr if none.
+  const Node* culprit(long n, bool any_step) const;
+  // Throws the culprit's failure. A node that only lost a peer is given a
+  // moment for the peer's own failure to arrive, which names the cause.
+  void fail_with(const Node& node);
 
   std::vector<Node> nodes_;
   double bound_;
   long total_;
   DirectOptions options_;
   std::chrono::milliseconds progress_;
+  std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 
 }  // namespace railcosim

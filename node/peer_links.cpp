@@ -87,9 +87,22 @@ void PeerInbox::shut_down_links() {
   for (int fd : live_) ::shutdown(fd, SHUT_RDWR);
 }
 
+void PeerInbox::cancel() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cancelled_ = true;
+  }
+  cv_.notify_all();
+}
+
 PeerInbox::Offered PeerInbox::take(Clock::time_point deadline) {
   std::unique_lock<std::mutex> lock(mutex_);
-  if (!cv_.wait_until(lock, deadline, [this] { return !queue_.empty(); })) return {};
+  if (!cv_.wait_until(lock, deadline, [this] { return cancelled_ || !queue_.empty(); }) ||
+      queue_.empty()) {
+    Offered none;
+    none.cancelled = cancelled_;
+    return none;
+  }
   Offered o = std::move(queue_.front());
   queue_.pop_front();
   return o;
@@ -208,7 +221,8 @@ int accept_link(const LinksPlan& plan, const LinkIdentity& me, FdChannel& ch,
 }  // namespace
 
 std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const LinkIdentity& me,
-                                                   PeerInbox& inbox) {
+                                                   PeerInbox& inbox,
+                                                   const std::function<bool()>& abandoned) {
   const auto deadline = Clock::now() + plan.timeout;
   std::vector<std::unique_ptr<FdChannel>> out(plan.links.size());
   std::vector<bool> open(plan.links.size(), false);
@@ -224,7 +238,12 @@ std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const 
         open[k] = true;
       }
     while (to_accept > 0) {
-      PeerInbox::Offered o = inbox.take(deadline);
+      PeerInbox::Offered o = inbox.take(std::min(deadline, Clock::now() + milliseconds(100)));
+      if (o.cancelled) throw ProtocolError(wire::Error::PEER_FAILED, "the node stops");
+      if (o.fd < 0 && abandoned && abandoned())
+        throw ProtocolError(wire::Error::PEER_FAILED,
+                            "the master ended the session while the peer links were opening");
+      if (o.fd < 0 && Clock::now() < deadline) continue;
       if (o.fd < 0) {
         std::string missing;
         for (std::size_t k = 0; k < plan.links.size(); ++k)

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -51,6 +52,7 @@ class PeerInbox {
   struct Offered {
     int fd = -1;
     std::string from;
+    bool cancelled = false;
   };
   // The next socket, or fd -1 once `deadline` has passed.
   Offered take(std::chrono::steady_clock::time_point deadline);
@@ -58,10 +60,13 @@ class PeerInbox {
   // blocked on a peer then ends at once): any thread.
   void track(int fd);
   void shut_down_links();
+  // The node stops: take() returns at once from now on.
+  void cancel();
 
  private:
   mutable std::mutex mutex_;
   std::vector<int> live_;
+  bool cancelled_ = false;
   std::condition_variable cv_;
   bool waiting_ = false;
   std::deque<Offered> queue_;
@@ -78,7 +83,10 @@ struct LinkIdentity {
 // is not one of the expected peers is refused with an error reply that says
 // why, and the wait goes on. Throws ProtocolError naming the peer when a link
 // cannot be made within the plan's timeout.
+// `abandoned` is asked every 100 ms while the links open: true when the
+// master has gone (the wait then ends with PEER_FAILED).
 std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const LinkIdentity& me,
-                                                   PeerInbox& inbox);
+                                                   PeerInbox& inbox,
+                                                   const std::function<bool()>& abandoned);
 
 }  // namespace railcosim

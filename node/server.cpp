@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdio>
 
+#include <poll.h>
 #include <unistd.h>
 
 #include "fd_channel.hpp"
@@ -50,6 +51,11 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
     session_.set_report_sink([this](const std::string& frame) {
       write_all(socket_.native_handle(), frame, server_.limits_.message_timeout,
                 "the master at " + peer_);
+    });
+    session_.set_master_gone([this] {
+      if (!socket_.is_open()) return true;
+      pollfd p{socket_.native_handle(), POLLRDHUP, 0};
+      return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
     });
   }
 
@@ -383,6 +389,7 @@ void NodeServer::stop() {
     boost::system::error_code ec;
     acceptor_.close(ec);
     if (active_) {
+      active_->inbox()->cancel();
       active_->inbox()->shut_down_links();
       active_->close();
     }

@@ -47,7 +47,8 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
     if (!report_)
       throw ProtocolError(wire::Error::BAD_REQUEST, "this connection cannot stream reports");
     LinkIdentity me{participant_, options_.token, options_.name};
-    runner_ = std::make_unique<WindowRunner>(*subsystem_, *links_, open_links(*links_, me, *inbox_),
+    runner_ = std::make_unique<WindowRunner>(*subsystem_, *links_,
+                                             open_links(*links_, me, *inbox_, master_gone_),
                                              macro_step_, outputs_, step_);
   }
   wire::Envelope reply;

@@ -51,6 +51,8 @@ class NodeSession {
   // from the thread that handles the window).
   const std::shared_ptr<PeerInbox>& inbox() const { return inbox_; }
   void set_report_sink(std::function<void(const std::string&)> sink) { report_ = std::move(sink); }
+  // Whether the master has closed its connection (asked while links open).
+  void set_master_gone(std::function<bool()> probe) { master_gone_ = std::move(probe); }
 
  private:
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
@@ -75,6 +77,7 @@ class NodeSession {
   std::optional<LinksPlan> links_;
   std::unique_ptr<WindowRunner> runner_;
   std::function<void(const std::string&)> report_;
+  std::function<bool()> master_gone_;
 };
 
 }  // namespace railcosim

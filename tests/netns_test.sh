@@ -17,7 +17,9 @@ ns_s=rcs_s_$id
 out=$(mktemp -d)
 pids=()
 
+forward_before=$(cat /proc/sys/net/ipv4/ip_forward 2>/dev/null || echo 0)
 cleanup() {
+  echo "$forward_before" >/proc/sys/net/ipv4/ip_forward 2>/dev/null
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
   wait 2>/dev/null
   ip netns del "$ns_v" 2>/dev/null
@@ -47,13 +49,18 @@ link() {  # ns side subnet
   ip link set "$b" netns "$ns" || return 1
   ip addr add "$net.1/24" dev "$a" && ip link set "$a" up || return 1
   ip netns exec "$ns" ip addr add "$net.2/24" dev "$b" || return 1
-  ip netns exec "$ns" ip link set "$b" up && ip netns exec "$ns" ip link set lo up
+  ip netns exec "$ns" ip link set "$b" up && ip netns exec "$ns" ip link set lo up || return 1
+  # The nodes talk to each other directly (the direct data plane): through
+  # this host, which routes between the hosts' links.
+  ip netns exec "$ns" ip route add default via "$net.1"
 }
 if ! link "$ns_v" "rv${id}a" "rv${id}b" 10.231.1 || ! link "$ns_t" "rt${id}a" "rt${id}b" 10.231.2 ||
   ! link "$ns_s" "rs${id}a" "rs${id}b" 10.231.3; then
   echo "SKIP: cannot create veth links here"
   exit 77
 fi
+
+echo 1 >/proc/sys/net/ipv4/ip_forward || { echo "SKIP: cannot route between the hosts"; exit 77; }
 
 # Nodes off loopback require a shared secret.
 head -c 32 /dev/urandom | base64 >"$out/token"
@@ -88,7 +95,15 @@ for f in deflection.csv history.csv; do
   fi
 done
 grep -q '"transport": "tcp"' "$out/tcp/$case/summary.json" || { echo "FAIL: transport"; exit 1; }
-echo "PASS: $case across two network hosts equals the in-process run bit for bit"
+grep -q '"data_plane": "direct"' "$out/tcp/$case/summary.json" || { echo "FAIL: not direct"; exit 1; }
+echo "PASS: $case across two network hosts (nodes exchanging directly) equals the in-process run bit for bit"
+# The same over the relayed data plane.
+"$bin/master" run --scene "$scene" --case $case --vehicle 10.231.1.2:7001 --track 10.231.2.2:7002 \
+  --token-file "$out/token" --data-plane relay --out "$out/relay" >/dev/null ||
+  { echo "FAIL: the relayed run across hosts failed"; exit 1; }
+cmp -s "$out/relay/$case/history.csv" "$out/inproc/$case/history.csv" ||
+  { echo "FAIL: the relayed history differs"; exit 1; }
+grep -q '"data_plane": "relay"' "$out/relay/$case/summary.json" || { echo "FAIL: not relayed"; exit 1; }
 
 # Three hosts: vehicle, track and soil each on its own (the same vehicle and
 # track nodes serve this session after the first).
@@ -105,4 +120,5 @@ for f in deflection.csv history.csv soil.csv; do
   fi
 done
 grep -q '"s3"' "$out/tcp3/$case/summary.json" || { echo "FAIL: three participants"; exit 1; }
+grep -q '"data_plane": "direct"' "$out/tcp3/$case/summary.json" || { echo "FAIL: not direct"; exit 1; }
 echo "PASS: $case across three network hosts equals the in-process run bit for bit"

@@ -42,11 +42,14 @@ using test::config_of;
 
 // Runs a case in-process and over TCP and expects the same record bit for bit.
 void expect_tcp_equals_inproc(const Scene& scene, const std::string& name, Feedthrough feedthrough,
-                              NodePool& pool) {
+                              NodePool& pool, DataPlane plane = DataPlane::kDirect,
+                              long window_steps = 0) {
   RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   o.feedthrough = feedthrough;
+  o.data_plane = plane;
+  o.direct.window_steps = window_steps;
   const CaseSpec spec = parse_case(name);
   const RunRecord local = run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
   const RunRecord remote = run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
@@ -67,6 +70,7 @@ void expect_tcp_equals_inproc(const Scene& scene, const std::string& name, Feedt
     EXPECT_EQ(remote.history[i].extra, local.history[i].extra) << i;
   }
   EXPECT_EQ(remote.transport, "tcp");
+  EXPECT_EQ(remote.data_plane, to_string(plane));
 }
 
 std::string test_name(const char* case_name, Feedthrough f) {
@@ -84,8 +88,25 @@ class TcpIntegration : public ::testing::TestWithParam<std::pair<const char*, Fe
   static inline std::unique_ptr<NodePool> pool_;
 };
 
+// Direct data plane: the nodes exchange with each other in one window.
 TEST_P(TcpIntegration, PaperCaseBitwiseEqualToInProcess) {
   expect_tcp_equals_inproc(test::paper_scene(), GetParam().first, GetParam().second, *pool_);
+}
+
+// The master relays every value, one request per macro step.
+TEST_P(TcpIntegration, PaperCaseRelayedBitwiseEqualToInProcess) {
+  expect_tcp_equals_inproc(test::paper_scene(), GetParam().first, GetParam().second, *pool_,
+                           DataPlane::kRelay);
+}
+
+// Windows of 7 macro steps (2500 is not a multiple): the nodes carry their
+// state and the data in flight from one window to the next.
+TEST(TcpWindows, ManyWindowsBitwiseEqualToInProcess) {
+  NodePool pool;
+  expect_tcp_equals_inproc(test::paper_scene(), "rs-xt-gauss-seidel", Feedthrough::kLagged, pool,
+                           DataPlane::kDirect, 7);
+  expect_tcp_equals_inproc(test::paper_scene(), "wr-xt-jacobi", Feedthrough::kResolved, pool,
+                           DataPlane::kDirect, 7);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCases, TcpIntegration,
@@ -109,14 +130,20 @@ TEST_P(TcpSoil, ThreeNodesBitwiseEqualToInProcess) {
   expect_tcp_equals_inproc(soil_scene(), GetParam().first, GetParam().second, *pool_);
 }
 
-INSTANTIATE_TEST_SUITE_P(SoilCases, TcpSoil,
-                         ::testing::Values(std::pair{"wr-xx+ss-xx-jacobi", Feedthrough::kLagged},
-                                           std::pair{"wr-xt+ss-xt-gauss-seidel",
-                                                     Feedthrough::kLagged},
-                                           std::pair{"wr-xt+ss-xt-jacobi", Feedthrough::kResolved}),
-                         [](const auto& param_info) {
-                           return test_name(param_info.param.first, param_info.param.second);
-                         });
+TEST_P(TcpSoil, ThreeNodesRelayedBitwiseEqualToInProcess) {
+  expect_tcp_equals_inproc(soil_scene(), GetParam().first, GetParam().second, *pool_,
+                           DataPlane::kRelay);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    SoilCases, TcpSoil,
+    ::testing::Values(std::pair{"wr-xx+ss-xx-jacobi", Feedthrough::kLagged},
+                      std::pair{"wr-xt+ss-xt-gauss-seidel", Feedthrough::kLagged},
+                      std::pair{"wr-xt+ss-xt-jacobi", Feedthrough::kResolved},
+                      std::pair{"wr-xx+rs-xx+ss-xx-gauss-seidel", Feedthrough::kLagged}),
+    [](const auto& param_info) {
+      return test_name(param_info.param.first, param_info.param.second);
+    });
 
 // --- the master program, given a soil node ---------------------------------
 

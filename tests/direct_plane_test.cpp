@@ -1,0 +1,257 @@
+// The direct data plane where it can go wrong: a node killed in the middle of
+// a window, and peers that must not be let in (wrong participant, wrong
+// session, wrong or missing secret). Its bitwise equality with the in-process
+// runs is in tcp_integration_test (every case, two to four participants) and
+// netns_test.sh (across network hosts).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "auth.hpp"
+#include "connection.hpp"
+#include "cosim_support.hpp"
+#include "node_launcher.hpp"
+#include "process_support.hpp"
+#include "remote_participant.hpp"
+#include "runner.hpp"
+#include "server.hpp"
+#include "test_support.hpp"
+#include "transport.hpp"
+
+namespace railcosim {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+using Clock = std::chrono::steady_clock;
+
+long count_lines(const fs::path& p) {
+  const std::string text = test::read_file(p);
+  return static_cast<long>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Starts `master ARGS` with its output to `log`; returns its pid.
+pid_t start_master(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string program = std::string(RAILCOSIM_BIN_DIR) + "/master";
+    std::vector<char*> argv{const_cast<char*>(program.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    FILE* f = std::fopen(log.c_str(), "w");
+    if (f) {
+      ::dup2(::fileno(f), STDOUT_FILENO);
+      ::dup2(::fileno(f), STDERR_FILENO);
+    }
+    ::execv(program.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// A track node killed while the master waits on a window of 25,000 macro
+// steps: the master names the node, its address and the macro step within
+// 3 s, and history.csv keeps every step that both nodes had reported, equal
+// to the in-process run's rows.
+TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKept) {
+  const fs::path dir = fs::temp_directory_path() / ("railcosim_kill_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = test::source_path("scenes/paper.toml");
+  const std::string c = "rs-xx-jacobi";
+  // H = 1e-5 s: 25,000 macro steps, several seconds over loopback.
+  LaunchedNode vehicle("vehicle_node", milliseconds(10000));
+  LaunchedNode track("track_node", milliseconds(10000));
+  const pid_t master =
+      start_master({"run", "--scene", scene, "--case", c, "--macro-step", "1e-5", "--node",
+                    "vehicle=" + vehicle.address().str(), "--node",
+                    "track=" + track.address().str(), "--out", (dir / "tcp").string()},
+                   dir / "master.log");
+  ASSERT_GT(master, 0);
+  const fs::path history = dir / "tcp" / c / "history.csv";
+  const auto started = Clock::now();
+  long seen = 0;
+  while ((seen = count_lines(history)) < 2000 && Clock::now() - started < std::chrono::seconds(60))
+    std::this_thread::sleep_for(milliseconds(5));
+  ASSERT_GE(seen, 2000) << test::read_file(dir / "master.log");
+
+  ASSERT_EQ(::kill(track.pid(), SIGKILL), 0);
+  const auto killed = Clock::now();
+  int status = 0;
+  while (::waitpid(master, &status, WNOHANG) == 0 &&
+         Clock::now() - killed < std::chrono::seconds(10))
+    std::this_thread::sleep_for(milliseconds(5));
+  const double waited = std::chrono::duration<double>(Clock::now() - killed).count();
+  EXPECT_LT(waited, 3.0) << "the master took " << waited << " s to report the dead node";
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_NE(WEXITSTATUS(status), 0);
+
+  const std::string log = test::read_file(dir / "master.log");
+  const std::string summary = test::read_file(dir / "tcp" / c / "summary.json");
+  EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
+  for (const std::string& needle :
+       {std::string("track node at ") + track.address().str(), std::string("macro step"),
+        std::string("closed the connection")})
+    EXPECT_NE(summary.find(needle), std::string::npos) << needle << " not in " << summary;
+
+  // Every row the file holds is whole and equal to the in-process run's.
+  ASSERT_EQ(
+      test::run_master("run --scene " + scene + " --case " + c +
+                       " --macro-step 1e-5 --transport inproc --out " + (dir / "inproc").string())
+          .status,
+      0);
+  const std::string got = test::read_file(history);
+  const std::string want = test::read_file(dir / "inproc" / c / "history.csv");
+  ASSERT_FALSE(got.empty());
+  ASSERT_EQ(got.back(), '\n') << "a partial last row";
+  EXPECT_EQ(want.compare(0, got.size(), got), 0) << "the history differs from the in-process run";
+  EXPECT_GE(count_lines(history), seen) << "rows written before the kill were lost";
+  fs::remove_all(dir);
+}
+
+// A track node with a shared secret, in a session of the direct data plane
+// that expects a peer link from the vehicle participant.
+class PeerRefusal : public ::testing::Test {
+ protected:
+  static constexpr const char* kSecret = "a shared secret of the track node";
+
+  void SetUp() override {
+    NodeOptions o;
+    o.role = "track";
+    o.token = kSecret;
+    server_ = std::make_unique<NodeServer>(o, Address{"127.0.0.1", 0});
+    thread_ = std::thread([this] { server_->run(false); });
+    scene_ = test::paper_scene();
+    master_ = Connection::connect(server_->local_address(), milliseconds(5000));
+    master_->send(hello_envelope("track", scene_fingerprint(scene_)));
+    const wire::Envelope challenge = master_->receive(milliseconds(5000));
+    ASSERT_TRUE(challenge.has_challenge());
+    wire::Envelope auth;
+    auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+    master_->send(auth);
+    ASSERT_TRUE(master_->receive(milliseconds(5000)).has_hello_reply());
+    const SubsystemConfig cfg = test::config_of(scene_, "rs-xx-jacobi", "track");
+    master_->send(configure_envelope(scene_, cfg));
+    ASSERT_TRUE(master_->receive(milliseconds(5000)).has_configured());
+    wire::Envelope init;
+    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene_, cfg.participant));
+    master_->send(init);
+    ASSERT_TRUE(master_->receive(milliseconds(5000)).has_step_report());
+    wire::Envelope links;
+    links.mutable_links()->set_session(session_);
+    links.mutable_links()->set_timeout_ms(1500);
+    auto* l = links.mutable_links()->add_links();
+    l->set_peer("vehicle");
+    l->add_interfaces(0);
+    master_->send(links);
+    ASSERT_TRUE(master_->receive(milliseconds(5000)).has_ack());
+    // The window makes the node wait for its peer.
+    wire::Envelope window;
+    window.mutable_window()->set_first_step(0);
+    window.mutable_window()->set_end_step(10);
+    master_->send(window);
+  }
+  void TearDown() override {
+    server_->stop();
+    thread_.join();
+  }
+
+  // A connection that says hello as a peer; returns the node's first reply.
+  wire::Envelope peer_hello(const std::string& peer_of, const std::string& session,
+                            Connection& c) const {
+    wire::Envelope e;
+    auto* h = e.mutable_hello();
+    h->set_protocol_version(kProtocolVersion);
+    h->set_role("peer");
+    h->set_participant("track");
+    h->set_peer_of(peer_of);
+    h->set_session(session);
+    c.send(e);
+    return c.receive(milliseconds(5000));
+  }
+
+  static std::string refusal(const wire::Envelope& reply, wire::Error::Code code) {
+    EXPECT_TRUE(reply.has_error()) << body_name(reply);
+    EXPECT_EQ(reply.error().code(), code) << wire::Error::Code_Name(reply.error().code());
+    return reply.error().message();
+  }
+
+  std::unique_ptr<NodeServer> server_;
+  std::thread thread_;
+  Scene scene_;
+  std::unique_ptr<Connection> master_;
+  const std::string session_ = "0123456789abcdef0123456789abcdef";
+};
+
+TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefused) {
+  const Address at = server_->local_address();
+  auto soil = Connection::connect(at, milliseconds(5000));
+  const std::string who = refusal(peer_hello("soil", session_, *soil), wire::Error::WRONG_ROLE);
+  EXPECT_NE(who.find("expects peer links from vehicle"), std::string::npos) << who;
+  EXPECT_NE(who.find("soil"), std::string::npos) << who;
+
+  auto stranger = Connection::connect(at, milliseconds(5000));
+  const std::string key =
+      refusal(peer_hello("vehicle", std::string(32, 'x'), *stranger), wire::Error::UNAUTHORIZED);
+  EXPECT_NE(key.find("session key"), std::string::npos) << key;
+
+  auto guesser = Connection::connect(at, milliseconds(5000));
+  const wire::Envelope challenge = peer_hello("vehicle", session_, *guesser);
+  ASSERT_TRUE(challenge.has_challenge()) << body_name(challenge);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(
+      auth_answer("not the secret", "track", challenge.challenge().nonce()));
+  guesser->send(auth);
+  const std::string secret =
+      refusal(guesser->receive(milliseconds(5000)), wire::Error::UNAUTHORIZED);
+  EXPECT_NE(secret.find("--token-file"), std::string::npos) << secret;
+
+  // The real peer never came: the window fails, naming it and the refusals.
+  const wire::Envelope failed = master_->receive(milliseconds(5000));
+  const std::string why = refusal(failed, wire::Error::TIMEOUT);
+  EXPECT_NE(why.find("from vehicle did not open within 1500 ms"), std::string::npos) << why;
+  EXPECT_NE(why.find("refused meanwhile"), std::string::npos) << why;
+}
+
+// A vehicle node without the secret that the track node requires: the run
+// fails with the vehicle's word that it needs the track node's --token-file.
+TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearError) {
+  const std::string secret = "the track node's shared secret";
+  NodeOptions v;
+  v.role = "vehicle";
+  NodeOptions t;
+  t.role = "track";
+  t.token = secret;
+  NodeServer vehicle(v, Address{"127.0.0.1", 0}), track(t, Address{"127.0.0.1", 0});
+  std::thread tv([&] { vehicle.run(false); }), tt([&] { track.run(false); });
+  const Scene scene = test::paper_scene();
+  RunOptions o;
+  o.macro_step = scene.macro_step;
+  o.tolerance = scene.tolerance;
+  NodePool pool;
+  const Transport tcp =
+      tcp_transport(scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}},
+                    pool, secret);
+  try {
+    run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
+    ADD_FAILURE() << "the run went through";
+  } catch (const NodeFailure& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("vehicle node at " + vehicle.local_address().str()), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("peer link to the track participant"), std::string::npos) << what;
+    EXPECT_NE(what.find("same --token-file"), std::string::npos) << what;
+  }
+  vehicle.stop();
+  track.stop();
+  tv.join();
+  tt.join();
+}
+
+}  // namespace
+}  // namespace railcosim
