@@ -85,7 +85,11 @@ DirectExchange::DirectExchange(std::vector<RemoteParticipant*> nodes, double bou
     nodes_.emplace_back();
     nodes_.back().p = p;
   }
-  progress_ = nodes.front()->timeouts().step_max;
+}
+
+DirectExchange::~DirectExchange() {
+  for (Node& node : nodes_)
+    if (node.in_window && !node.closed) node.p->connection().close();
 }
 
 void DirectExchange::grant(long n) {
@@ -103,8 +107,24 @@ void DirectExchange::grant(long n) {
   }
 }
 
+std::chrono::milliseconds DirectExchange::progress() const {
+  const RemoteTimeouts& t = nodes_.front().p->timeouts();
+  if (slowest_gap_.count() == 0) return t.step_max;
+  const auto scaled = std::chrono::duration_cast<milliseconds>(
+      std::chrono::duration<double>(slowest_gap_) * t.step_factor);
+  return std::clamp(scaled, t.step_min, t.step_max);
+}
+
 void DirectExchange::take(Node& node, const wire::Envelope& e) {
+  // The time per step, as the relayed plane measures a step's reply.
+  const auto now = std::chrono::steady_clock::now();
+  if (e.has_reports() && e.reports().reports_size() > 0) {
+    if (node.last_frame != std::chrono::steady_clock::time_point{})
+      slowest_gap_ = std::max(slowest_gap_, (now - node.last_frame) / e.reports().reports_size());
+    node.last_frame = now;
+  }
   if (e.has_reports()) {
+    node.waiting_for = e.reports().waiting_for();
     for (const auto& w : e.reports().reports()) {
       node.reports.push_back(node.p->accept_report(w));
       node.reported = static_cast<long>(w.step());
@@ -166,25 +186,37 @@ bool DirectExchange::read(milliseconds timeout) {
       node.in_window = false;
       node.failed = true;
       node.fail_step = node.reported;
-      std::ostringstream s;
-      s << node.p->name() << ": the node closed the connection in the middle of a window"
-        << (node.fail_text.empty() ? "" : " (" + node.fail_text + ")")
-        << "; its last step report was for macro step " << node.reported
-        << " (t = " << static_cast<double>(node.reported) * node.p->macro_step() << " s)";
-      node.fail_text = s.str();
+      std::string what = "the node closed the connection in the middle of a window";
+      if (!node.fail_text.empty()) what += " (" + node.fail_text + ")";
+      what += "; its last step report was for macro step " + std::to_string(node.reported);
+      node.fail_text = node.p->failure_text(node.reported, what);
     }
   }
   return true;
 }
 
 void DirectExchange::silence(long n, milliseconds waited) {
-  // The node that reported least is the one the others wait for.
-  Node* slow = &nodes_.front();
+  // The node that others wait for and that waits for nobody hangs; else the
+  // one that reported least.
+  Node* slow = nullptr;
+  std::string waiters;
   for (Node& node : nodes_)
-    if (node.reported < slow->reported) slow = &node;
+    if (node.waiting_for.empty())
+      for (const Node& other : nodes_)
+        if (other.waiting_for == node.p->role() && !slow) slow = &node;
+  if (!slow) {
+    slow = &nodes_.front();
+    for (Node& node : nodes_)
+      if (node.reported < slow->reported) slow = &node;
+  }
+  for (const Node& other : nodes_)
+    if (other.waiting_for == slow->p->role())
+      waiters += (waiters.empty() ? "" : ", ") + other.p->role();
   std::ostringstream s;
-  s << "sent no step report for " << waited.count() << " ms (its last was for macro step "
-    << slow->reported << "; the run waits for macro step " << n + 1 << ")";
+  s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
+    << slow->reported;
+  if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
+  s << ")";
   slow->p->fail_at(n, s.str());
 }
 
@@ -220,7 +252,8 @@ std::vector<StepResult> DirectExchange::advance(long n) {
       grant(n);
       continue;
     }
-    if (!read(progress_)) silence(n, progress_);
+    const milliseconds limit = progress();
+    if (!read(limit)) silence(n, limit);
   }
 }
 

@@ -39,6 +39,9 @@ class DirectExchange {
   // window when the last one has ended). Throws StepFailure for a node whose
   // step failed and NodeFailure for one that closed, broke or fell silent.
   std::vector<StepResult> advance(long n);
+  // Closes the connections of nodes still in a window: their sessions cannot
+  // take requests any more (they end their windows when they notice).
+  ~DirectExchange();
   // Waits (a few seconds at most) for every window in progress to end, so
   // the sessions take requests again (final results after a divergence).
   void drain();
@@ -56,6 +59,8 @@ class DirectExchange {
     bool failed = false;
     bool step_failure = false;
     bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
+    std::string waiting_for;   // the peer it said it waits for
+    std::chrono::steady_clock::time_point last_frame{};
     long fail_step = 0;
     std::string fail_text;
   };
@@ -78,7 +83,12 @@ class DirectExchange {
   double bound_;
   long total_;
   DirectOptions options_;
-  std::chrono::milliseconds progress_;
+  // How long a node may stay silent: step_factor times the longest time per
+  // step seen (the gap between two report frames of one node over the steps
+  // in the second), within [step_min, step_max] (RemoteTimeouts, as for a
+  // relayed step); step_max before any is measured.
+  std::chrono::milliseconds progress() const;
+  std::chrono::steady_clock::duration slowest_gap_{0};
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 

@@ -75,10 +75,14 @@ std::string RemoteParticipant::name() const {
 }
 
 void RemoteParticipant::fail(const std::string& what) const {
+  throw NodeFailure(failure_text(step_, what));
+}
+
+std::string RemoteParticipant::failure_text(long step, const std::string& what) const {
   std::ostringstream s;
-  s << name() << ": " << what << " at macro step " << step_
-    << " (t = " << static_cast<double>(step_) * config_.macro_step << " s)";
-  throw NodeFailure(s.str());
+  s << name() << ": " << what << " at macro step " << step
+    << " (t = " << static_cast<double>(step) * config_.macro_step << " s)";
+  return s.str();
 }
 
 void RemoteParticipant::send(wire::Envelope request, bool expects_ack) {

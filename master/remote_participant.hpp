@@ -73,6 +73,8 @@ class RemoteParticipant final : public Participant {
   void window_reply(const wire::Envelope& reply);
   // Fails with `what` at macro step `step`.
   [[noreturn]] void fail_at(long step, const std::string& what);
+  // The text of that failure: "NAME at ADDR: WHAT at macro step N (t = T s)".
+  std::string failure_text(long step, const std::string& what) const;
 
  private:
   // Sends a request; replies are read later, in order.

@@ -23,7 +23,8 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
   r->set_protocol_version(kProtocolVersion);
   r->set_participant(participant_);
   r->set_name(options_.name);
-  r->add_capabilities("direct");
+  // The direct data plane needs a way to stream reports (the server's).
+  if (report_) r->add_capabilities("direct");
   return reply;
 }
 
@@ -54,7 +55,7 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
   wire::Envelope reply;
   reply.set_id(req.id());
   try {
-    *reply.mutable_window_done() = runner_->run(req.window(), req.id(), report_);
+    *reply.mutable_window_done() = runner_->run(req.window(), req.id(), report_, master_gone_);
   } catch (...) {
     step_ = runner_->point();
     throw;

@@ -60,7 +60,24 @@ void WindowRunner::send_stop() {
 bool WindowRunner::await(Link& l, long need, bool fresh) {
   while ((fresh ? l.fresh_have : l.have) < need) {
     if (end_ < need) return false;
-    const wire::Envelope e = l.channel->receive(timeout_);
+    // Data that does not come at once: after a moment the master is told
+    // whom this participant waits for (with the reports it has), so that it
+    // can name the one that hangs; the wait goes on to the link's deadline.
+    wire::Envelope e;
+    const auto patience = std::chrono::milliseconds(50);
+    for (auto waited = std::chrono::milliseconds(0);; waited += patience) {
+      try {
+        e = l.channel->receive(std::min(patience, timeout_));
+        break;
+      } catch (const LinkError& x) {
+        if (x.kind() != LinkError::Kind::kTimeout || waited + patience >= timeout_) throw;
+        if (waited.count() == 0 && report_) flush(id_, *report_, l.plan.peer);
+        if (abandoned_ && *abandoned_ && (*abandoned_)())
+          throw LinkError(LinkError::Kind::kClosed,
+                          "the master closed the session while this participant waited for " +
+                              l.channel->what());
+      }
+    }
     if (!e.has_peer_data())
       throw LinkError(LinkError::Kind::kProtocol,
                       l.channel->what() + " sent " + body_name(e) + " on its peer link");
@@ -90,16 +107,19 @@ CouplingData WindowRunner::inputs(bool fresh) const {
   return in;
 }
 
-void WindowRunner::flush(std::uint64_t id, const std::function<void(const std::string&)>& report) {
-  if (pending_.reports_size() == 0) return;
+void WindowRunner::flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
+                         const std::string& waiting_for) {
+  if (pending_.reports_size() == 0 && waiting_for.empty()) return;
   wire::Envelope e;
   e.set_id(id);
   e.mutable_reports()->Swap(&pending_);
+  e.mutable_reports()->set_waiting_for(waiting_for);
   report(encode_frame(e));
 }
 
 wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
-                                   const std::function<void(const std::string&)>& report) {
+                                   const std::function<void(const std::string&)>& report,
+                                   const std::function<bool()>& abandoned) {
   if (w.first_step() != point_)
     throw ProtocolError(wire::Error::OUT_OF_ORDER,
                         "window from macro step " + std::to_string(w.first_step()) +
@@ -108,6 +128,9 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
     throw ProtocolError(wire::Error::BAD_REQUEST, "a window must hold at least one macro step");
   end_ = w.end_step();
   why_.clear();
+  id_ = id;
+  report_ = &report;
+  abandoned_ = &abandoned;
   const double bound = w.divergence_bound();
   const std::size_t every = w.report_steps() > 0 ? w.report_steps() : 64;
   auto last_flush = Clock::now();

@@ -40,8 +40,11 @@ class WindowRunner {
   // encoded frame to the master. Returns where it stopped and why; throws
   // StepFailure (the step's integrator gave up: the peers and the reports
   // already know) or LinkError (a link broke: the peers are told to stop).
+  // `abandoned` is asked while a peer's data keeps it waiting: true when
+  // the master has gone (the window then ends).
   wire::WindowDone run(const wire::Window& w, std::uint64_t id,
-                       const std::function<void(const std::string&)>& report);
+                       const std::function<void(const std::string&)>& report,
+                       const std::function<bool()>& abandoned = {});
   long point() const { return point_; }
 
  private:
@@ -60,7 +63,8 @@ class WindowRunner {
   // peer stops before that point.
   bool await(Link& l, long need, bool fresh);
   CouplingData inputs(bool fresh) const;
-  void flush(std::uint64_t id, const std::function<void(const std::string&)>& report);
+  void flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
+             const std::string& waiting_for = "");
 
   Subsystem& sub_;
   std::vector<Link> links_;
@@ -74,6 +78,9 @@ class WindowRunner {
   long end_ = 0;     // where this participant stops
   std::string why_;  // why it stops before the window's end
   wire::Reports pending_;
+  std::uint64_t id_ = 0;  // of the window being run
+  const std::function<void(const std::string&)>* report_ = nullptr;
+  const std::function<bool()>* abandoned_ = nullptr;
 };
 
 }  // namespace railcosim
