@@ -24,6 +24,8 @@ Newmark::Newmark(Structure& system, double interval, double tolerance, int fixed
   state_.u = Vector::Zero(n);
   state_.v = Vector::Zero(n);
   state_.a = Vector::Zero(n);
+  origin_ = Vector::Zero(n);
+  origin_load_ = Vector::Zero(n);
   state_.level = fixed_level;
   // A rotation error is weighed as the displacement it makes over one rail
   // element, so the tolerance means metres for every DOF.
@@ -75,6 +77,9 @@ double Newmark::contact_force(const Vector& u, double t, std::size_t k) const {
 void Newmark::set_state(const Vector& u, const Vector& v, double t) {
   state_.u = u;
   state_.v = v;
+  origin_ = u;
+  origin_load_.setZero(u.size());
+  sys_.K.multiply_add(-1.0, origin_, origin_load_);
   update_acceleration(t);
 }
 
@@ -98,11 +103,19 @@ void Newmark::update_acceleration(double t) {
 void Newmark::step(double t_end, double h, int level, Trial& out) {
   const double c0 = 1.0 / (kBeta * h * h), c1 = kGamma / (kBeta * h);
   const NewmarkState& s = state_;
+  // The step is solved for the displacement from origin_ (the state set
+  // last), not for u itself: a+ = c0 (u+ - pred_u) divides the rounding of
+  // the solved vector by beta h^2, and a vehicle body hanging 0.17 m down
+  // on its springs would otherwise give its acceleration a rounding error
+  // of eps 0.17 m / (beta h^2), enough at small steps to drift the body
+  // and keep a run from converging as the tolerance tightens.
   // Predictors: the parts of u+ and v+ known before a+.
-  pred_u_ = s.u + h * s.v + (h * h * (0.5 - kBeta)) * s.a;
+  pred_u_ = (s.u - origin_) + h * s.v + (h * h * (0.5 - kBeta)) * s.a;
   pred_v_ = s.v + (h * (1.0 - kGamma)) * s.a;
-  // K_eff u+ = load + M c0 pred_u + C (c1 pred_u - pred_v) - F g.
+  // K_eff u+ = load + M c0 pred_u + C (c1 pred_u - pred_v) - F g, all
+  // displacements from origin_ (so the load loses K origin_).
   sys_.load_at(t_end, rhs_);
+  rhs_ += origin_load_;
   damp_arg_ = c1 * pred_u_ - pred_v_;
   SymmetricBandMatrix::multiply_add2(c0, sys_.M, pred_u_, 1.0, sys_.C, damp_arg_, rhs_);
 
@@ -125,7 +138,7 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
       for (int i = 0; i < ng; ++i) y_ += g[i].weight * unit_response(level, g[i].dof);
       double d0 = c.delta0_at(t_end), flex = 0.0;
       for (int i = 0; i < ng; ++i) {
-        d0 += g[i].weight * rhs_[g[i].dof];
+        d0 += g[i].weight * (rhs_[g[i].dof] + origin_[g[i].dof]);
         flex += g[i].weight * y_[g[i].dof];
       }
       const double delta = hertz_solve_penetration(c.hertz_constant, d0, flex);
@@ -135,14 +148,14 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
   } else {
     keff.solve_in_place(rhs_);
   }
-  out.u = rhs_;
-  out.a = c0 * (out.u - pred_u_);
+  out.a = c0 * (rhs_ - pred_u_);
   out.v = pred_v_ + (kGamma * h) * out.a;
+  out.u = rhs_ + origin_;
   out.force = force;
 }
 
 double Newmark::step_contacts(double t_end, int level) {
-  // rhs_ holds the right-hand side of the step; on return, u+.
+  // rhs_ holds the right-hand side of the step; on return, u+ - origin_.
   const std::size_t n = sys_.contacts.size();
   const BandCholesky& keff = factor(level);
   double total = 0.0;
@@ -170,9 +183,10 @@ double Newmark::step_contacts(double t_end, int level) {
       ys_[k] += gs[k][static_cast<std::size_t>(i)].weight *
                 unit_response(level, gs[k][static_cast<std::size_t>(i)].dof);
     d0[k] = c.delta0_at(t_end);
-    for (int i = 0; i < ngs[k]; ++i)
-      d0[k] +=
-          gs[k][static_cast<std::size_t>(i)].weight * rhs_[gs[k][static_cast<std::size_t>(i)].dof];
+    for (int i = 0; i < ngs[k]; ++i) {
+      const int dof = gs[k][static_cast<std::size_t>(i)].dof;
+      d0[k] += gs[k][static_cast<std::size_t>(i)].weight * (rhs_[dof] + origin_[dof]);
+    }
   }
   // Flexibility between the contacts: c_jk = g_j . K_eff^-1 g_k.
   Eigen::MatrixXd flex(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));

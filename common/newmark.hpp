@@ -129,6 +129,9 @@ class Newmark {
   BandCholesky mass_;
   Trial trial_;
   Vector pred_u_, pred_v_, damp_arg_, rhs_, y_;
+  // The displacement the steps are solved from (the last set_state) and
+  // -K times it.
+  Vector origin_, origin_load_;
   std::vector<Vector> ys_;  // y per contact, with several contacts
   Vector error_weight_;
   std::function<void(double, int)> observer_;

@@ -188,25 +188,87 @@ std::vector<double> column(const RunRecord& r, const std::string& name) {
   return out;
 }
 
-// On a smooth rail the car's wheels keep their static loads: what varies is
-// the sleeper-passing modulation of the track's stiffness (0.6 % here) once
-// the start has settled. The run starts from the static state of the car
-// standing still, whose rail shape differs from that under a moving load:
-// the 2 % transient this starts is left out (the first 15 ms, 0.67 m).
-TEST(CarRun, SmoothTrackKeepsEveryContactForceWithinOnePercentOfStatic) {
-  const Scene s = scene_of(with_table(smooth_car(0.06), "soil", kFixedSoil));
-  const RunRecord r = run_monolithic(s, options(s, s.macro_step));
-  const double wheel_load = s.vehicle_model().total_mass() * s.gravity / 4;
+// The largest relative deviation of any wheel's force from its static load
+// over the history rows with t_from <= t < t_to.
+double worst_wheel_deviation(const RunRecord& r, double wheel_load, double t_from, double t_to) {
   double worst = 0;
   for (int w = 1; w <= 4; ++w) {
     const std::vector<double> f = column(r, "force_w" + std::to_string(w) + "_N");
-    EXPECT_NEAR(f.front(), wheel_load, 1e-9 * wheel_load);  // the static state
     for (std::size_t i = 0; i < f.size(); ++i)
-      if (r.history[i].t >= 0.015)
+      if (r.history[i].t >= t_from && r.history[i].t < t_to)
         worst = std::max(worst, std::abs(f[i] - wheel_load) / wheel_load);
   }
+  return worst;
+}
+
+Scene smooth_car_at(double end_time, double speed_kmh) {
+  std::string t = with_table(smooth_car(end_time), "soil", kFixedSoil);
+  return scene_of(with_key(t, "speed_kmh", "speed_kmh = " + std::to_string(speed_kmh)));
+}
+
+// On a smooth rail the car's wheels keep their static loads: what varies is
+// the sleeper-passing modulation of the track's stiffness (0.6 % here) once
+// the start has settled. The first 15 ms are left out: the run starts from
+// the static state of the car standing still (the model's convention: every
+// velocity zero), not from the steady state of a load moving at v, whose
+// track moves with the convected velocity -v du/dx and whose trailing wheels
+// sit on the slope of the rail bent by the wheel ahead. The start therefore
+// sets off a transient of 2 % at 160 km/h that decays below 1 % within 10 ms
+// (the next test shows it is the speed's doing).
+TEST(CarRun, SmoothTrackKeepsEveryContactForceWithinOnePercentOfStatic) {
+  const Scene s = smooth_car_at(0.06, 160.0);
+  const RunRecord r = run_monolithic(s, options(s, s.macro_step));
+  const double wheel_load = s.vehicle_model().total_mass() * s.gravity / 4;
+  for (int w = 1; w <= 4; ++w)  // the static state
+    EXPECT_NEAR(column(r, "force_w" + std::to_string(w) + "_N").front(), wheel_load,
+                1e-9 * wheel_load);
+  const double worst = worst_wheel_deviation(r, wheel_load, 0.015, 1.0);
   EXPECT_LT(worst, 0.01);
   EXPECT_GT(worst, 1e-4);  // the wheels do feel the sleepers
+}
+
+// The start-up transient left out above is a velocity effect, not an error
+// of the static state: it grows in proportion to the speed (a wrong static
+// state would disturb the wheels as much at any speed).
+TEST(CarRun, StartUpTransientGrowsInProportionToTheSpeed) {
+  std::vector<double> peak;
+  for (double kmh : {16.0, 160.0}) {
+    const Scene s = smooth_car_at(0.015, kmh);
+    const RunRecord r = run_monolithic(s, options(s, s.macro_step));
+    peak.push_back(
+        worst_wheel_deviation(r, s.vehicle_model().total_mass() * s.gravity / 4, 0.0, 1.0));
+  }
+  // Measured 0.19 % and 2.05 %: a ratio of 10.8 for a speed ratio of 10. The
+  // terms of second order in v (the track's inertia, the lag of the bent
+  // rail behind a damped moving load) and the sleeper-passing modulation
+  // make it not exactly 10; 15 % allows them, while a speed-independent
+  // disturbance of 0.06 % of the wheel load would already take it below 8.5.
+  EXPECT_NEAR(peak[1] / peak[0], 10.0, 1.5) << peak[0] << " " << peak[1];
+  EXPECT_GT(peak[1], 0.01);  // the transient the test above leaves out
+  EXPECT_LT(peak[1], 0.03);
+}
+
+// The car's run converges as the tolerance tightens, down to 1e-10 m. The
+// body hangs 0.17 m down on its springs: an integrator that solved each
+// step for the displacement itself, not for its change from the start,
+// would round that 0.17 m into the body's acceleration over beta h^2 and
+// stall at a relative error of 1e-6 whatever the tolerance (measured: 1.4,
+// 1.0, 0.99, 1.1e-6 at 1e-7 ... 1e-10 m).
+TEST(CarRun, DeflectionSelfConvergesAsTheToleranceTightens) {
+  const Scene s = smooth_car_at(0.06, 160.0);
+  RunOptions o = options(s, s.macro_step);
+  o.tolerance = 1e-11;
+  const RunRecord reference = run_monolithic(s, o);
+  std::vector<double> errs;
+  for (double tol : {1e-8, 1e-9, 1e-10}) {
+    o.tolerance = tol;
+    errs.push_back(deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
+  }
+  // Measured 2.5e-7, 1.3e-7, 6.8e-8: a factor 1.9 per decade of tolerance;
+  // 1.5 leaves room for the step-size pattern, which changes with it.
+  for (std::size_t i = 1; i < errs.size(); ++i)
+    EXPECT_GT(errs[i - 1] / errs[i], 1.5) << "tolerance 1e-" << 8 + i;
+  EXPECT_LT(errs.back(), 2e-7);
 }
 
 // The dominant frequency of a signal: the largest DFT line above f_min.

@@ -24,7 +24,8 @@ constexpr double kDeflection = 1e-10;
 // One rail's half of the "China Star" power car as tabulated by Zhai, Wang
 // & Cai, "Fundamentals of vehicle-track coupled dynamics", Vehicle System
 // Dynamics 47(11), 2009: masses and inertias halved, springs per axle box
-// (primary) and per bogie side (secondary). The README lists them.
+// (primary) and per bogie side (secondary). scenes/car_irregular.toml gives
+// them with how they were checked.
 VehicleParams china_star_car() {
   VehicleParams p;
   p.type = VehicleType::car;
