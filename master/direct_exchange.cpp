@@ -11,16 +11,6 @@ namespace railcosim {
 
 using std::chrono::milliseconds;
 
-namespace {
-
-bool sends_force(const CouplingData& outputs) {
-  for (const InterfaceData& d : outputs)
-    if (!d.force.empty()) return true;
-  return false;
-}
-
-}  // namespace
-
 std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
                                                      const Routing& routing, Scheme scheme,
                                                      Feedthrough feedthrough,

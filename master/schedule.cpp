@@ -42,15 +42,11 @@ void Schedule::keep_outputs(const std::vector<StepResult>& r) {
   for (std::size_t p = 0; p < r.size(); ++p) out_[p] = r[p].outputs;
 }
 
-namespace {
-
 bool sends_force(const CouplingData& outputs) {
   for (const InterfaceData& d : outputs)
     if (!d.force.empty()) return true;
   return false;
 }
-
-}  // namespace
 
 std::vector<StepResult> JacobiSchedule::advance(long n) {
   const std::size_t P = ps_.size();

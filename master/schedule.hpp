@@ -25,6 +25,10 @@ using Routing = std::vector<std::vector<Route>>;
 // interface on the same cut sends.
 Routing make_routing(const std::vector<ParticipantSpec>& participants);
 
+// Whether these outputs carry a force on any interface (such a sender is
+// read again under Jacobi with resolved feedthrough).
+bool sends_force(const CouplingData& outputs);
+
 class Schedule {
  public:
   // The participants in load order; they must outlive the schedule.
