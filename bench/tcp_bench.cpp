@@ -32,7 +32,11 @@ namespace railcosim {
 namespace {
 
 constexpr double kMacroStep = 1e-4;  // H, s: the paper's
-constexpr int kRawSamples = 3000;    // round trips per raw measurement
+constexpr int kRawSamples = 2000;    // round trips per raw measurement
+// Raw measurements per repeat, each with a new child; the lowest median is
+// the repeat's baseline: the fastest plain sockets go, never one the product
+// beats by luck of placement.
+constexpr int kRawForks = 3;
 
 // The data planes this build runs. The direct plane (issue 13) joins the
 // list once the master runs it; until then its columns say "pending".
@@ -102,9 +106,17 @@ struct Row {
   Scheme scheme = Scheme::kJacobi;
   int participants = 2;
   std::size_t request = 0, reply = 0;
-  RawRoundTrip raw;  // the repeat with the lowest median
+  std::vector<RawRoundTrip> raw;  // per repeat: the lowest median of its forks
   double inproc = 1e30;
-  std::map<DataPlane, double> tcp;  // best per plane
+  std::map<DataPlane, std::vector<double>> tcp;  // per plane, per repeat
+  // The repeat with the fastest TCP run of a plane: its TCP time per step
+  // and the raw round trip measured next to it (the machine's state moves
+  // the raw round trip between about 19 and 27 us from second to second).
+  std::pair<double, RawRoundTrip> best(DataPlane d) const {
+    const std::vector<double>& t = tcp.at(d);
+    const auto k = static_cast<std::size_t>(std::min_element(t.begin(), t.end()) - t.begin());
+    return {t[k], raw[k]};
+  }
 };
 
 std::string over_target(double overhead, double target) {
@@ -135,8 +147,8 @@ void print_table(const std::vector<Row>& rows, int repeats) {
         for (auto& s : c) s = "pending";
         continue;
       }
-      const double tcp = r.tcp.at(d);
-      const double overhead = (tcp - r.inproc) / (r.raw.median_us * 1e-6);
+      const auto [tcp, raw] = r.best(d);
+      const double overhead = (tcp - r.inproc) / (raw.median_us * 1e-6);
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.1f", tcp * 1e6);
       c[0] = buf;
@@ -146,21 +158,23 @@ void print_table(const std::vector<Row>& rows, int repeats) {
       std::snprintf(buf, sizeof buf, "%.2f", kMacroStep / tcp);
       c[3] = buf;
     }
+    const RawRoundTrip relay_raw = r.best(DataPlane::kRelay).second;
     std::printf(
         "| %s | %d | %zu / %zu | %.1f (%.1f–%.1f) | %.1f | %s | %s | %g | %s | %s | %g | %.1f "
         "| %s | %s | %s / %s |\n",
-        r.name.c_str(), r.participants, r.request, r.reply, r.raw.median_us, r.raw.p10_us,
-        r.raw.p90_us, r.inproc * 1e6, cells[0][0].c_str(), cells[0][1].c_str(),
+        r.name.c_str(), r.participants, r.request, r.reply, relay_raw.median_us, relay_raw.p10_us,
+        relay_raw.p90_us, r.inproc * 1e6, cells[0][0].c_str(), cells[0][1].c_str(),
         floor_round_trips(DataPlane::kRelay, r.scheme, r.participants), cells[1][0].c_str(),
         cells[1][1].c_str(), floor_round_trips(DataPlane::kDirect, r.scheme, r.participants),
         target_round_trips(r.scheme), cells[0][2].c_str(), cells[1][2].c_str(), cells[0][3].c_str(),
         cells[1][3].c_str());
   }
   std::printf(
-      "\nH = %g s; best of %d; raw RTT: median of %d round trips of plain loopback TCP sockets "
-      "(TCP_NODELAY) with the case's largest step frame out and step report back; overhead = "
-      "(TCP − in-process) / raw RTT; real-time × = H / TCP time per step.\n",
-      kMacroStep, repeats, kRawSamples);
+      "\nH = %g s; best of %d (the repeat with the fastest TCP run, and the raw RTT measured in "
+      "that repeat); raw RTT: the lowest of %d medians of %d round trips of plain loopback TCP "
+      "sockets (TCP_NODELAY) with the case's largest step frame out and step report back; "
+      "overhead = (TCP − in-process) / raw RTT; real-time × = H / TCP time per step.\n",
+      kMacroStep, repeats, kRawForks, kRawSamples);
 }
 
 }  // namespace
@@ -196,18 +210,21 @@ int main(int argc, char** argv) {
       row.scheme = spec.scheme;
       row.participants = static_cast<int>(spec.cuts.size() + 1);
       std::tie(row.request, row.reply) = step_frame_bytes(scene, spec);
-      row.raw.median_us = 1e30;
       // The repeats interleave every measurement, so that a disturbance of
       // the machine touches all of them alike.
       for (int k = 0; k < repeats; ++k) {
         std::fprintf(stderr, "%s: repeat %d of %d\n", name.c_str(), k + 1, repeats);
-        const RawRoundTrip raw = raw_round_trip(row.request, row.reply, kRawSamples);
-        if (raw.median_us < row.raw.median_us) row.raw = raw;
+        RawRoundTrip raw;
+        raw.median_us = 1e30;
+        for (int f = 0; f < kRawForks; ++f) {
+          const RawRoundTrip r = raw_round_trip(row.request, row.reply, kRawSamples);
+          if (r.median_us < raw.median_us) raw = r;
+        }
+        row.raw.push_back(raw);
         row.inproc =
             std::min(row.inproc, wall_per_step(scene, spec, inproc, "inproc", DataPlane::kRelay));
         for (DataPlane d : data_planes()) {
-          const double t = wall_per_step(scene, spec, tcp, "tcp", d);
-          row.tcp[d] = row.tcp.count(d) ? std::min(row.tcp[d], t) : t;
+          row.tcp[d].push_back(wall_per_step(scene, spec, tcp, "tcp", d));
         }
       }
       rows.push_back(row);
