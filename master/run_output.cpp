@@ -1,5 +1,6 @@
 #include "run_output.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -98,6 +99,8 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"t_end_s\": " << num(r.t_end) << ",\n";
   s << "  \"wall_s\": " << num(r.wall_s) << ",\n";
   s << "  \"macro_steps\": " << r.macro_steps << ",\n";
+  s << "  \"history_rows\": " << r.history_rows.value_or(static_cast<long>(r.history.size()))
+    << ",\n";
   s << "  \"micro_steps\": {";
   bool first = true;
   for (const auto& [k, v] : r.micro_steps) {
@@ -304,9 +307,11 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
     std::filesystem::remove(reserve, ec);
     throw std::runtime_error("cannot write " + (dir_ / "summary.json").string() + ": " + why);
   }
-  history_ = std::fopen((dir_ / "history.csv").c_str(), "w");
-  if (!history_)
-    throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + reason());
+  history_ = std::make_unique<BlockWriter>(dir_ / "history.csv");
+}
+
+long RunWriter::history_rows() const {
+  return history_ ? std::max(0L, history_->lines_written() - 1) : 0;
 }
 
 void RunWriter::channels(const std::vector<std::string>& extra) {
@@ -314,17 +319,25 @@ void RunWriter::channels(const std::vector<std::string>& extra) {
   in_history_ = history_mask(extra);
 }
 
-void RunWriter::put(const std::string& text) {
-  if (!history_) return;
-  if (std::fputs(text.c_str(), history_) < 0 || std::fflush(history_) != 0) {
-    const std::string why = reason();
-    std::fclose(history_);
-    history_ = nullptr;
+namespace {
+
+// Runs a write of history.csv; when it fails, a file that holds nothing
+// (not even the header) is removed before the error goes on.
+template <class Write>
+void guard_history(BlockWriter& history, Write&& write) {
+  try {
+    write();
+  } catch (const std::runtime_error&) {
     std::error_code ec;
-    if (!wrote_history_) std::filesystem::remove(dir_ / "history.csv", ec);  // not even a header
-    throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + why);
+    if (history.bytes_written() == 0) std::filesystem::remove(history.path(), ec);
+    throw;
   }
-  wrote_history_ = true;
+}
+
+}  // namespace
+
+void RunWriter::put(const std::string& text) {
+  if (history_) guard_history(*history_, [&] { history_->append(text); });
 }
 
 void RunWriter::header() {
@@ -334,7 +347,7 @@ void RunWriter::header() {
 }
 
 RunWriter::~RunWriter() {
-  if (history_) std::fclose(history_);
+  history_.reset();  // writes the rows it still holds
   std::error_code ec;
   std::filesystem::remove(dir_ / "summary.json.part", ec);  // unused reserve
 }
@@ -358,12 +371,9 @@ void RunWriter::finish(const RunRecord& run) {
   };
   attempt([&] {
     header();
-    if (history_ && std::fclose(history_) != 0) {
-      history_ = nullptr;
-      throw std::runtime_error("cannot write " + (dir_ / "history.csv").string() + ": " + reason());
-    }
-    history_ = nullptr;
+    if (history_) guard_history(*history_, [&] { history_->close(); });
   });
+  r.history_rows = history_rows();
   if (!r.deflection.empty())
     attempt([&] { write_file_atomically(dir_ / "deflection.csv", deflection_csv(r)); });
   if (!r.soil.empty()) attempt([&] { write_file_atomically(dir_ / "soil.csv", soil_csv(r)); });

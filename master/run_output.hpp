@@ -6,11 +6,12 @@
 // reader never sees half a file.
 #pragma once
 
-#include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "block_writer.hpp"
 #include "run_record.hpp"
 
 namespace railcosim {
@@ -27,9 +28,12 @@ inline constexpr std::size_t kSummaryReserve = 8192;
 // Returns the folder written. Throws std::runtime_error naming the path.
 std::filesystem::path write_run(const std::filesystem::path& out_dir, const RunRecord& run);
 
-// Writes a run as it goes: history.csv grows (and is flushed) with every
-// row, deflection.csv and summary.json come at the end. A run that fails
-// still leaves its history so far and a summary.json saying why.
+// Writes a run as it goes: history.csv grows in blocks (BlockWriter: up to
+// 1024 rows or 100 ms of rows per write), deflection.csv and summary.json
+// come at the end. A run that fails still leaves its history so far (every
+// row, flushed by finish() or the destructor) and a summary.json saying why
+// and how many history rows the file holds; a master killed outright loses
+// at most the last block.
 class RunWriter {
  public:
   // Creates OUT/FOLDER/ (FOLDER is the case name for `master run`), reserves
@@ -48,16 +52,17 @@ class RunWriter {
   // that could be written).
   void finish(const RunRecord& run);
   const std::filesystem::path& dir() const { return dir_; }
+  // Data rows (not the header) history.csv holds so far.
+  long history_rows() const;
 
  private:
   std::filesystem::path dir_;
-  std::FILE* history_ = nullptr;
+  std::unique_ptr<BlockWriter> history_;
   std::vector<std::string> extra_;
   std::vector<bool> in_history_;  // per extra channel: written to history.csv
   bool header_written_ = false;
-  bool wrote_history_ = false;  // some of history.csv reached the disk
   void header();
-  // Appends to history.csv and flushes; throws naming the reason.
+  // Appends to history.csv (a block at a time); throws naming the reason.
   void put(const std::string& text);
 };
 

@@ -18,6 +18,9 @@ struct RunRecord {
   double t_end = 0;  // the end time asked for
   double wall_s = 0;
   long macro_steps = 0;  // done
+  // Data rows history.csv holds, when it was written as the run went (a
+  // failed run's may be fewer than `history`); else history.size().
+  std::optional<long> history_rows;
   std::map<std::string, long>
       micro_steps;            // per subsystem ("monolithic", or "s1", "s2", ... in load order)
   std::string status = "ok";  // ok, amplified, diverged, not_converged, failed

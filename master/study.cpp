@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <tuple>
@@ -166,12 +167,14 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
       o.coupling = run.coupling;
       const std::filesystem::path prefix =
           plan.out / std::filesystem::path(run.folder).parent_path();
+      // The writer outlives a failure, so that a failed run keeps its history.
+      std::optional<RunWriter> writer;
       try {
-        RunWriter writer(prefix, run.case_name);
+        writer.emplace(prefix, run.case_name);
         o.stop = opt.stop;
-        o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+        o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
         o.on_channels = [&writer](const std::vector<std::string>& extra) {
-          writer.channels(extra);
+          writer->channels(extra);
         };
         RunRecord r;
         if (spec.monolithic) {
@@ -192,12 +195,15 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
             judge(r, ref.record, scene);
           }
         }
-        writer.finish(r);
+        writer->finish(r);
       } catch (const std::exception& e) {
         log->error("{} failed: {}", run.folder, e.what());
         try {
-          RunWriter(prefix, run.case_name)
-              .finish(failed_record(scene, spec, o, run.transport, e.what()));
+          const RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
+          if (writer)
+            writer->finish(failed);
+          else
+            RunWriter(prefix, run.case_name).finish(failed);
         } catch (const std::exception& e2) {
           log->error("{}: no summary written: {}", run.folder, e2.what());
         }

@@ -1,12 +1,14 @@
 #include "connection.hpp"
 
-#include <thread>
-
+#include <poll.h>
 #include <sys/socket.h>
+#include <sys/time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <thread>
 
 namespace railcosim {
 
@@ -95,6 +97,16 @@ int Connection::release_fd() {
   return fd;
 }
 
+void Connection::use_blocking_io() {
+  const int fd = socket_.native_handle();
+  boost::system::error_code ec;
+  socket_.native_non_blocking(false, ec);
+  timeval poll{};
+  poll.tv_usec = std::chrono::duration_cast<std::chrono::microseconds>(kInterruptPoll).count();
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &poll, sizeof poll);
+  ::setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &poll, sizeof poll);
+}
+
 void Connection::shutdown_send() {
   boost::system::error_code ec;
   socket_.shutdown(tcp::socket::shutdown_send, ec);
@@ -131,6 +143,7 @@ std::unique_ptr<Connection> Connection::connect(const Address& address, Duration
       asio::connect(c->socket_, endpoints, ec);
     if (!ec) {
       c->socket_.set_option(tcp::no_delay(true), ec);
+      c->use_blocking_io();
       return c;
     }
     last = ec.message();
@@ -146,46 +159,67 @@ std::unique_ptr<Connection> Connection::connect(const Address& address, Duration
                                                std::to_string(timeout.count()) + " ms)");
 }
 
-void Connection::run_until(bool& done, Clock::time_point deadline, Duration timeout,
-                           const char* what) {
-  int sig = 0;
-  while (!done) {
-    const auto now = Clock::now();
-    sig = interrupted();
-    if (sig != 0 || now >= deadline) break;
-    io_.restart();
-    io_.run_for(std::min<Clock::duration>(deadline - now, kInterruptPoll));
-  }
-  if (done) return;
-  boost::system::error_code ec;
-  socket_.cancel(ec);
-  io_.restart();
-  io_.run();  // let the cancelled operation complete
-  if (sig != 0)
+namespace {
+
+// Milliseconds left before `deadline`, rounded up (poll() takes whole ms).
+int ms_left(Clock::time_point deadline, Clock::time_point now) {
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - now);
+  return static_cast<int>(std::max<std::int64_t>(0, left.count()));
+}
+
+// Before a blocking call that must not outlast `deadline`: when less than
+// one interrupt poll is left, waits for the socket with poll() (the socket's
+// own timeouts are one kInterruptPoll). False when the socket is not ready.
+bool ready_in_time(int fd, short events, Clock::time_point deadline, Clock::time_point now) {
+  if (deadline - now >= kInterruptPoll) return true;
+  pollfd p{fd, events, 0};
+  return ::poll(&p, 1, ms_left(deadline, now)) > 0;
+}
+
+bool try_again(int error) {
+  return error == EAGAIN || error == EWOULDBLOCK || error == EINTR;
+}
+
+}  // namespace
+
+void Connection::check_wait(Clock::time_point deadline, Duration timeout, const char* what) const {
+  if (const int sig = interrupted())
     throw NetError(NetError::Kind::kInterrupted, "interrupted by signal " + std::to_string(sig));
-  throw NetError(NetError::Kind::kTimeout,
-                 std::string("no ") + what + " within " + std::to_string(timeout.count()) + " ms");
+  if (Clock::now() >= deadline)
+    throw NetError(NetError::Kind::kTimeout, std::string("no ") + what + " within " +
+                                                 std::to_string(timeout.count()) + " ms");
 }
 
 void Connection::send(const wire::Envelope& envelope, Duration timeout) {
   send_raw(encode_frame(envelope, max_frame_), timeout);
 }
 
+// A blocking send() with the socket's send timeout of one interrupt poll:
+// one system call per message when the kernel takes it at once, as it does
+// unless the peer has stopped reading.
 void Connection::send_raw(const std::string& bytes, Duration timeout) {
-  bool done = false;
-  boost::system::error_code result;
-  asio::async_write(socket_, asio::buffer(bytes),
-                    [&](const boost::system::error_code& ec, std::size_t) {
-                      result = ec;
-                      done = true;
-                    });
-  run_until(done, Clock::now() + timeout, timeout, "write completion");
-  if (result) throw NetError(NetError::Kind::kClosed, "cannot send: " + result.message());
+  const auto deadline = Clock::now() + timeout;
+  const int fd = socket_.native_handle();
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    check_wait(deadline, timeout, "write completion");
+    if (!ready_in_time(fd, POLLOUT, deadline, Clock::now())) continue;
+    const ssize_t n = ::send(fd, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
+    if (n >= 0) {
+      done += static_cast<std::size_t>(n);
+    } else if (!try_again(errno)) {
+      throw NetError(NetError::Kind::kClosed, std::string("cannot send: ") + std::strerror(errno));
+    }
+  }
 }
 
+// A blocking recv() with the socket's receive timeout of one interrupt poll
+// (so the stop flag and the deadline are looked at at least that often): one
+// system call per read that finds data, none that must fail.
 wire::Envelope Connection::receive(Duration timeout) {
   // One deadline for the whole frame, however it is cut into reads.
   const auto deadline = Clock::now() + timeout;
+  const int fd = socket_.native_handle();
   wire::Envelope e;
   while (true) {
     switch (decoder_.next(e)) {
@@ -200,25 +234,18 @@ wire::Envelope Connection::receive(Duration timeout) {
       case FrameDecoder::Status::kNeedMore:
         break;
     }
-    bool done = false;
-    boost::system::error_code result;
-    std::size_t got = 0;
-    socket_.async_read_some(asio::buffer(buffer_),
-                            [&](const boost::system::error_code& ec, std::size_t n) {
-                              result = ec;
-                              got = n;
-                              done = true;
-                            });
-    run_until(done, deadline, timeout, "reply");
-    if (result) {
-      if (result == asio::error::eof || result == asio::error::connection_reset)
-        throw NetError(NetError::Kind::kClosed,
-                       decoder_.buffered()
-                           ? "the peer closed the connection in the middle of a frame"
-                           : "the peer closed the connection");
-      throw NetError(NetError::Kind::kIo, "cannot read: " + result.message());
+    check_wait(deadline, timeout, "reply");
+    if (!ready_in_time(fd, POLLIN, deadline, Clock::now())) continue;
+    const ssize_t n = ::recv(fd, buffer_.data(), buffer_.size(), 0);
+    if (n > 0) {
+      decoder_.feed(buffer_.data(), static_cast<std::size_t>(n));
+    } else if (n == 0 || errno == ECONNRESET) {
+      throw NetError(NetError::Kind::kClosed,
+                     decoder_.buffered() ? "the peer closed the connection in the middle of a frame"
+                                         : "the peer closed the connection");
+    } else if (!try_again(errno)) {
+      throw NetError(NetError::Kind::kIo, std::string("cannot read: ") + std::strerror(errno));
     }
-    decoder_.feed(buffer_.data(), got);
   }
 }
 

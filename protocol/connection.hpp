@@ -1,5 +1,8 @@
 // A framed TCP connection with deadlines, used by the master to talk to a
-// node (and by tests to talk to a node like any other client would).
+// node (and by tests to talk to a node like any other client would). Asio
+// connects; reads and writes are blocking recv()/send() calls on the socket
+// with a timeout of one kInterruptPoll, so that a message costs one system
+// call each way when the peer is ready (no read that must fail first).
 #pragma once
 
 #include <utility>  // before Asio: its headers use std::exchange
@@ -86,10 +89,13 @@ class Connection {
 
  private:
   explicit Connection(Address peer);
-  // Runs the pending operation until done or `deadline`; throws NetError
-  // (kTimeout, naming `what` and `timeout`, or kInterrupted).
-  void run_until(bool& done, std::chrono::steady_clock::time_point deadline, Duration timeout,
-                 const char* what);
+  // Makes the socket blocking, with send and receive timeouts of one
+  // kInterruptPoll: reads and writes are then plain send()/recv() calls.
+  void use_blocking_io();
+  // Throws NetError(kInterrupted) when the stop flag is set, and
+  // NetError(kTimeout, "no WHAT within TIMEOUT ms") past `deadline`.
+  void check_wait(std::chrono::steady_clock::time_point deadline, Duration timeout,
+                  const char* what) const;
 
   Address peer_;
   boost::asio::io_context io_;
