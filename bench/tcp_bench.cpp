@@ -38,10 +38,9 @@ constexpr int kRawSamples = 2000;    // round trips per raw measurement
 // beats by luck of placement.
 constexpr int kRawForks = 3;
 
-// The data planes this build runs. The direct plane (issue 13) joins the
-// list once the master runs it; until then its columns say "pending".
+// The data planes measured (a plane left out gets "pending" columns).
 std::vector<DataPlane> data_planes() {
-  return {DataPlane::kRelay};
+  return {DataPlane::kRelay, DataPlane::kDirect};
 }
 
 // Round trips per macro step the plane cannot do without, beyond the physics.
@@ -98,6 +97,11 @@ double wall_per_step(const Scene& scene, const CaseSpec& spec, const Participant
     std::fprintf(stderr, "tcp_bench: %s failed: %s\n", spec.name().c_str(), r.message.c_str());
     std::exit(1);
   }
+  if (transport == "tcp" && r.data_plane != to_string(plane)) {
+    std::fprintf(stderr, "tcp_bench: %s ran on the %s data plane, not the %s one\n",
+                 spec.name().c_str(), r.data_plane.c_str(), to_string(plane).c_str());
+    std::exit(1);
+  }
   return r.wall_s / static_cast<double>(r.macro_steps);
 }
 
@@ -134,7 +138,8 @@ void print_table(const std::vector<Row>& rows, int repeats) {
     return std::find(planes.begin(), planes.end(), d) != planes.end();
   };
   std::printf(
-      "| case | P | frame bytes (step / report) | raw RTT µs (p10–p90) | in-process µs/step "
+      "| case | P | frame bytes (step / report) | raw RTT µs (p10–p90), relay / direct | "
+      "in-process µs/step "
       "| relay µs/step | relay overhead (RTT) | relay floor (RTT) | direct µs/step | direct "
       "overhead (RTT) | direct floor (RTT) | target (RTT) | relay vs target | direct vs target "
       "| real-time × relay / direct |\n");
@@ -159,19 +164,30 @@ void print_table(const std::vector<Row>& rows, int repeats) {
       c[3] = buf;
     }
     const RawRoundTrip relay_raw = r.best(DataPlane::kRelay).second;
+    char raw_cell[96];
+    std::snprintf(raw_cell, sizeof raw_cell, "%.1f (%.1f–%.1f)", relay_raw.median_us,
+                  relay_raw.p10_us, relay_raw.p90_us);
+    std::string raw_text = raw_cell;
+    if (runs(DataPlane::kDirect)) {
+      const RawRoundTrip d = r.best(DataPlane::kDirect).second;
+      std::snprintf(raw_cell, sizeof raw_cell, " / %.1f (%.1f–%.1f)", d.median_us, d.p10_us,
+                    d.p90_us);
+      raw_text += raw_cell;
+    }
     std::printf(
-        "| %s | %d | %zu / %zu | %.1f (%.1f–%.1f) | %.1f | %s | %s | %g | %s | %s | %g | %.1f "
+        "| %s | %d | %zu / %zu | %s | %.1f | %s | %s | %g | %s | %s | %g | %.1f "
         "| %s | %s | %s / %s |\n",
-        r.name.c_str(), r.participants, r.request, r.reply, relay_raw.median_us, relay_raw.p10_us,
-        relay_raw.p90_us, r.inproc * 1e6, cells[0][0].c_str(), cells[0][1].c_str(),
+        r.name.c_str(), r.participants, r.request, r.reply, raw_text.c_str(), r.inproc * 1e6,
+        cells[0][0].c_str(), cells[0][1].c_str(),
         floor_round_trips(DataPlane::kRelay, r.scheme, r.participants), cells[1][0].c_str(),
         cells[1][1].c_str(), floor_round_trips(DataPlane::kDirect, r.scheme, r.participants),
         target_round_trips(r.scheme), cells[0][2].c_str(), cells[1][2].c_str(), cells[0][3].c_str(),
         cells[1][3].c_str());
   }
   std::printf(
-      "\nH = %g s; best of %d (the repeat with the fastest TCP run, and the raw RTT measured in "
-      "that repeat); raw RTT: the lowest of %d medians of %d round trips of plain loopback TCP "
+      "\nH = %g s; best of %d (per data plane, the repeat with its fastest TCP run, and the raw "
+      "RTT measured in that repeat); raw RTT: the lowest of %d medians of %d round trips of plain "
+      "loopback TCP "
       "sockets (TCP_NODELAY) with the case's largest step frame out and step report back; "
       "overhead = (TCP − in-process) / raw RTT; real-time × = H / TCP time per step.\n",
       kMacroStep, repeats, kRawForks, kRawSamples);
