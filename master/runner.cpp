@@ -250,10 +250,13 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     if (windows)
       direct = DirectExchange::make(ps, routing, spec.scheme, o.feedthrough, initial, bound, N,
                                     o.direct);
+    // A node without the direct plane is worth a word; implicit and ramped
+    // couplings are relayed by design (summary.json says so either way).
     if (!direct)
-      log->info("{}: relayed data plane ({})", r.case_name,
-                windows ? "a node does not offer the direct one"
-                        : "this coupling decides every macro step at the master");
+      log->log(windows ? spdlog::level::info : spdlog::level::debug, "{}: relayed data plane ({})",
+               r.case_name,
+               windows ? "a node does not offer the direct one"
+                       : "this coupling decides every macro step at the master");
   }
   if (transport == "tcp") r.data_plane = to_string(direct ? DataPlane::kDirect : DataPlane::kRelay);
   long n = 0;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "block_writer.hpp"
+#include "process_support.hpp"
 #include "run_output.hpp"
 
 namespace railcosim {
@@ -19,13 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("railcosim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using test::temp_dir;
 
 std::string read(const fs::path& p) {
   std::ifstream in(p);

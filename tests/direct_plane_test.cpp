@@ -59,9 +59,7 @@ pid_t start_master(const std::vector<std::string>& args, const fs::path& log) {
 // 3 s, and history.csv keeps every step that both nodes had reported, equal
 // to the in-process run's rows.
 TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKept) {
-  const fs::path dir = fs::temp_directory_path() / ("railcosim_kill_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = test::temp_dir("kill");
   const std::string scene = test::source_path("scenes/paper.toml");
   const std::string c = "rs-xx-jacobi";
   // H = 1e-5 s: 25,000 macro steps, several seconds over loopback.

@@ -26,13 +26,7 @@ using test::Outcome;
 using test::read_file;
 using test::run_master;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("railcosim_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+using test::temp_dir;
 
 // Starts `master ARGS` in a thread and returns once `history` holds more
 // than `rows` lines (or after a minute); join() the thread for the outcome.
