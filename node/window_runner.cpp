@@ -29,13 +29,8 @@ void WindowRunner::send_outputs(const CouplingData& outputs, bool last, bool ref
     d->set_last(last);
     d->set_refresh(refresh);
     auto* data = d->mutable_data();
-    for (int i : l.plan.interfaces) {
-      const InterfaceData& x = outputs[static_cast<std::size_t>(i)];
-      auto* w = data->add_interfaces();
-      w->mutable_displacement()->Add(x.displacement.begin(), x.displacement.end());
-      w->mutable_velocity()->Add(x.velocity.begin(), x.velocity.end());
-      w->mutable_force()->Add(x.force.begin(), x.force.end());
-    }
+    for (int i : l.plan.interfaces)
+      to_wire(outputs[static_cast<std::size_t>(i)], data->add_interfaces());
     l.channel->send(e, timeout_);
   }
   if (!refresh) sent_ = point_;

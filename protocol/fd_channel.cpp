@@ -48,25 +48,10 @@ void FdChannel::send(const wire::Envelope& envelope, std::chrono::milliseconds t
 }
 
 void FdChannel::send_frame(const std::string& frame, std::chrono::milliseconds timeout) {
+  // The socket blocks; its send timeout makes a stuck send return, and
+  // write_all's deadline decides.
   set_timeout(SO_SNDTIMEO, timeout, send_timeout_);
-  std::size_t done = 0;
-  while (done < frame.size()) {
-    const ssize_t n = ::send(fd_, frame.data() + done, frame.size() - done, MSG_NOSIGNAL);
-    if (n > 0) {
-      done += static_cast<std::size_t>(n);
-      continue;
-    }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
-      throw LinkError(LinkError::Kind::kTimeout,
-                      what_ + " did not read what it was sent within " + ms_text(timeout));
-    std::string why = "cannot send to ";
-    why += what_;
-    why += ": ";
-    why += (n < 0 && (errno == EPIPE || errno == ECONNRESET)) ? "the link is closed"
-                                                              : std::strerror(errno);
-    throw LinkError(LinkError::Kind::kClosed, why);
-  }
+  write_all(fd_, frame, timeout, what_);
 }
 
 wire::Envelope FdChannel::receive(std::chrono::milliseconds timeout) {
@@ -131,7 +116,7 @@ void write_all(int fd, const std::string& bytes, std::chrono::milliseconds timeo
     std::string why = "cannot send to ";
     why += what;
     why += ": ";
-    why += std::strerror(errno);
+    why += (errno == EPIPE || errno == ECONNRESET) ? "the link is closed" : std::strerror(errno);
     throw LinkError(LinkError::Kind::kClosed, why);
   }
 }

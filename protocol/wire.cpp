@@ -332,14 +332,15 @@ InterfaceSpec from_wire(const wire::Interface& w) {
   return i;
 }
 
+void to_wire(const InterfaceData& i, wire::InterfaceData* o) {
+  o->mutable_displacement()->Add(i.displacement.begin(), i.displacement.end());
+  o->mutable_velocity()->Add(i.velocity.begin(), i.velocity.end());
+  o->mutable_force()->Add(i.force.begin(), i.force.end());
+}
+
 wire::CouplingData to_wire(const CouplingData& d) {
   wire::CouplingData w;
-  for (const InterfaceData& i : d) {
-    auto* o = w.add_interfaces();
-    o->mutable_displacement()->Add(i.displacement.begin(), i.displacement.end());
-    o->mutable_velocity()->Add(i.velocity.begin(), i.velocity.end());
-    o->mutable_force()->Add(i.force.begin(), i.force.end());
-  }
+  for (const InterfaceData& i : d) to_wire(i, w.add_interfaces());
   return w;
 }
 

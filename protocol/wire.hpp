@@ -91,6 +91,8 @@ wire::Interface to_wire(const Scene& scene, const InterfaceSpec& spec);
 InterfaceSpec from_wire(const wire::Interface& w);
 
 wire::CouplingData to_wire(const CouplingData& data);
+// Appends one interface's values to `out` (a peer link sends a subset).
+void to_wire(const InterfaceData& data, wire::InterfaceData* out);
 CouplingData from_wire(const wire::CouplingData& data);
 
 wire::StepReport to_wire(const StepResult& result, long step, double t);
