@@ -20,7 +20,7 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   } else {
     r.fail("model", "unknown vehicle model '" + model + "' (known: wheel, quarter, car)");
   }
-  r.set_unknown_hint("for model = \"" + model + "\" (see the README, \"Vehicles and excitation\")");
+  r.set_unknown_hint("for model = \"" + model + "\" (see docs/vehicles.md)");
   p.hertz_constant = r.positive("hertz_constant");
   p.speed = r.non_negative("speed_kmh") / 3.6;
   p.initial_position = r.number("initial_position");
@@ -54,7 +54,7 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
   IrregularitySpec s;
   s.model = r.has("model") ? r.string("model") : "none";
   r.set_unknown_hint("for model = \"" + s.model +
-                     "\" (see the README, \"Vehicles and excitation\")");
+                     "\" (see docs/vehicles.md)");
   if (s.model == "random") {
     RandomProfileSpec& g = s.random;
     if (r.has("fra_class")) {

@@ -3,7 +3,7 @@
 // and the scene file's name (for messages), reads it strictly (unknown keys,
 // missing keys, wrong types and out-of-range values throw SceneError naming
 // the file and the key) and returns the plain description the models take.
-// The keys are documented in the README, "Vehicles and excitation".
+// The keys are documented in docs/vehicles.md.
 #pragma once
 
 #include <toml++/toml.h>

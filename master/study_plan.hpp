@@ -1,8 +1,8 @@
 // The plan of a study: every run as one complete `master run` command line,
 // after a header with the study's settings. Any engine that runs command
 // lines (GNU parallel, a Slurm job array, a Kubernetes job) can execute it;
-// `master study --collect` gathers the run folders afterwards. README, "Plans
-// and clusters", documents the format:
+// `master study --collect` gathers the run folders afterwards. docs/study.md,
+// "Plans and clusters", documents the format:
 //
 //   # ...                       comments, for people
 //   #% key = value              one study setting per line
