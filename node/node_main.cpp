@@ -9,6 +9,11 @@
 namespace railcosim {
 
 int node_main(const std::string& default_role, int argc, char** argv) {
+  return node_main(NodeProgram{default_role + "_node", default_role, {}}, argc, argv);
+}
+
+int node_main(const NodeProgram& program, int argc, char** argv) {
+  const std::string& default_role = program.default_role;
   std::string role = default_role;
   CLI::App app{"Serves the " + default_role +
                " participant of a vehicle/track/soil co-simulation to a master, one session at a "
@@ -64,11 +69,12 @@ int node_main(const std::string& default_role, int argc, char** argv) {
     return app.exit(e);
   }
   spdlog::set_level(spdlog::level::from_str(level));
-  const std::string who = default_role;
+  const std::string& who = program.name;
   try {
     NodeOptions options;
     options.role = role;
-    options.name = who + "_node";
+    options.name = who;
+    options.make_participant = program.make_participant;
     options.max_micro_steps = max_micro_steps;
     if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
     const Address address = parse_address(listen, "--listen");
@@ -91,7 +97,7 @@ int node_main(const std::string& default_role, int argc, char** argv) {
     server.run(true);
     return 0;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s_node: %s\n", who.c_str(), e.what());
+    std::fprintf(stderr, "%s: %s\n", who.c_str(), e.what());
     return 2;
   }
 }

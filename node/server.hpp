@@ -76,8 +76,21 @@ class NodeServer {
   std::thread worker_;  // last: joined before anything above is destroyed
 };
 
+// A node program: its name (in messages and logs), the participant it serves
+// unless --role says otherwise, and how it builds that participant.
+struct NodeProgram {
+  std::string name;                     // e.g. "soil_node"
+  std::string default_role;             // vehicle, track, rail, soil or any
+  ParticipantBuilder make_participant;  // empty: the built-in model
+};
+
 // The whole program of a node: parses the command line, prints
-// "listening on HOST:PORT" on stdout, serves until SIGINT/SIGTERM.
+// "listening on HOST:PORT" on stdout, serves until SIGINT/SIGTERM. This is
+// the entry point of a participant written against the installed package
+// (docs/participant-guide-cpp.md): its main() calls node_main with its own
+// NodeProgram.
+int node_main(const NodeProgram& program, int argc, char** argv);
+// The built-in node programs: the built-in model of `default_role`.
 int node_main(const std::string& default_role, int argc, char** argv);
 
 }  // namespace railcosim

@@ -48,7 +48,7 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
     if (!report_)
       throw ProtocolError(wire::Error::BAD_REQUEST, "this connection cannot stream reports");
     LinkIdentity me{participant_, options_.token, options_.name};
-    runner_ = std::make_unique<WindowRunner>(*subsystem_, *links_,
+    runner_ = std::make_unique<WindowRunner>(*served_, *links_,
                                              open_links(*links_, me, *inbox_, master_gone_),
                                              macro_step_, outputs_, step_);
   }
@@ -216,11 +216,17 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       cfg.max_micro_steps = c.max_micro_steps() > 0
                                 ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
                                 : options_.max_micro_steps;
-      subsystem_ = std::make_unique<Subsystem>(scene, cfg);
+      try {
+        served_ = options_.make_participant ? options_.make_participant(scene, cfg)
+                                            : std::make_unique<Subsystem>(scene, cfg);
+      } catch (const std::invalid_argument& e) {
+        throw ProtocolError(wire::Error::BAD_INTERFACE,
+                            "participant " + participant_ + ": " + e.what());
+      }
       macro_step_ = c.macro_step();
-      description_ = subsystem_->name();
+      description_ = served_->name();
       state_ = State::kConfigured;
-      const Channels ch = subsystem_->channels();
+      const Channels ch = served_->channels();
       auto* w = reply.mutable_configured();
       for (const auto& h : ch.history) w->add_history(h);
       for (const auto& r : ch.results) w->add_results(r);
@@ -230,7 +236,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       break;
   }
 
-  Subsystem& sub = *subsystem_;
+  Participant& sub = *served_;
   switch (req.body_case()) {
     case E::kStatics: {
       auto* o = reply.mutable_outputs();

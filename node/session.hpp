@@ -1,5 +1,6 @@
 // One co-simulation session on a node, independent of any socket: the
-// protocol's state machine around one Subsystem.
+// protocol's state machine around one Participant (the built-in Subsystem,
+// or one an outside program supplies through NodeOptions::make_participant).
 //
 //   hello [-> challenge/auth] -> configure -> statics* -> initialize ->
 //       { set_inputs, get_outputs, step, save, restore, get_results }* -> shutdown
@@ -26,12 +27,20 @@ namespace railcosim {
 // The largest mesh a node accepts: kMaxSleepers, kMaxElementsPerSpan
 // (scene_checks.hpp, where the master applies them too).
 
+// Builds the participant a session serves, once configure has given the
+// scene's model section and this participant's interfaces (SubsystemConfig:
+// its parts and interfaces, the macro step, the micro-step settings).
+// Throw std::invalid_argument to refuse the configuration (BAD_INTERFACE).
+using ParticipantBuilder =
+    std::function<std::unique_ptr<Participant>(const Scene&, const SubsystemConfig&)>;
+
 struct NodeOptions {
   std::string role = "vehicle";       // the participant this node serves, or "any"
   std::optional<Scene> pinned_scene;  // when set, only this scene is accepted
   std::optional<std::string> token;   // when set, a master must prove it knows it
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step
   std::string name = "node";
+  ParticipantBuilder make_participant;  // empty: the built-in Subsystem
 };
 
 class NodeSession {
@@ -68,7 +77,7 @@ class NodeSession {
   std::uint64_t fingerprint_ = 0;
   std::string participant_;  // named by the hello
   std::string nonce_;
-  std::unique_ptr<Subsystem> subsystem_;
+  std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
   long step_ = -1;
   std::string description_ = "not configured";

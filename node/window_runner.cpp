@@ -8,10 +8,10 @@ namespace railcosim {
 
 using Clock = std::chrono::steady_clock;
 
-WindowRunner::WindowRunner(Subsystem& subsystem, LinksPlan plan,
+WindowRunner::WindowRunner(Participant& participant, LinksPlan plan,
                            std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
                            CouplingData outputs, long point)
-    : sub_(subsystem),
+    : sub_(participant),
       refresh_(plan.refresh),
       timeout_(plan.timeout),
       macro_step_(macro_step),

@@ -33,8 +33,9 @@ class WindowRunner {
  public:
   // `outputs`: the participant's outputs at communication point `point` (its
   // initialize() result before the first window).
-  WindowRunner(Subsystem& subsystem, LinksPlan plan, std::vector<std::unique_ptr<FdChannel>> links,
-               double macro_step, CouplingData outputs, long point);
+  WindowRunner(Participant& participant, LinksPlan plan,
+               std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
+               CouplingData outputs, long point);
 
   // Runs steps from the current point to w.end_step(). `report` sends one
   // encoded frame to the master. Returns where it stopped and why; throws
@@ -66,7 +67,7 @@ class WindowRunner {
   void flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
              const std::string& waiting_for = "");
 
-  Subsystem& sub_;
+  Participant& sub_;
   std::vector<Link> links_;
   bool refresh_;
   std::chrono::milliseconds timeout_;

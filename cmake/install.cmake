@@ -1,0 +1,37 @@
+# `cmake --install` puts the programs in bin/ and the participant SDK for C++
+# (the libraries a node is made of, their headers, and a package
+# configuration) where another CMake project finds it with
+#   find_package(railcosim REQUIRED)
+#   target_link_libraries(my_participant PRIVATE railcosim::node)
+# (docs/participant-guide-cpp.md).
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set_target_properties(railcosim_common PROPERTIES EXPORT_NAME common)
+set_target_properties(railcosim_protocol PROPERTIES EXPORT_NAME protocol)
+set_target_properties(railcosim_node PROPERTIES EXPORT_NAME node)
+set_target_properties(railcosim_warnings PROPERTIES EXPORT_NAME warnings)
+
+install(TARGETS master vehicle_node track_node soil_node RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS railcosim_common railcosim_protocol railcosim_node railcosim_warnings
+        EXPORT railcosimTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+
+file(GLOB railcosim_sdk_headers ${PROJECT_SOURCE_DIR}/common/*.hpp
+     ${PROJECT_SOURCE_DIR}/protocol/*.hpp ${PROJECT_SOURCE_DIR}/node/*.hpp)
+install(FILES ${railcosim_sdk_headers} ${PROJECT_BINARY_DIR}/protocol/railcosim.pb.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/railcosim)
+install(FILES ${PROJECT_SOURCE_DIR}/protocol/railcosim.proto
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim)
+
+set(railcosim_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/railcosim)
+install(EXPORT railcosimTargets NAMESPACE railcosim:: DESTINATION ${railcosim_cmake_dir})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/railcosimConfig.cmake.in
+                              ${PROJECT_BINARY_DIR}/railcosimConfig.cmake
+                              INSTALL_DESTINATION ${railcosim_cmake_dir})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/railcosimConfigVersion.cmake
+                                 COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/railcosimConfig.cmake
+              ${PROJECT_BINARY_DIR}/railcosimConfigVersion.cmake
+        DESTINATION ${railcosim_cmake_dir})
