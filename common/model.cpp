@@ -192,4 +192,13 @@ std::vector<double> coupling_points(const Scene& scene, int cut) {
   return x;
 }
 
+std::vector<Footprint> footprints(const Scene& scene, int cut) {
+  std::vector<Footprint> f;
+  if (std::string(cut_kinds()[static_cast<std::size_t>(cut)].name) != "ss") return f;
+  for (double x : coupling_points(scene, cut))
+    f.push_back(
+        {x, scene.sleeper_length / 4, 0.0, scene.sleeper_spacing, scene.sleeper_length / 2});
+  return f;
+}
+
 }  // namespace railcosim

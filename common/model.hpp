@@ -93,4 +93,14 @@ std::string role_of(const Parts& parts);
 // Coupling points of a cut at t = 0 in the rail's frame (m).
 std::vector<double> coupling_points(const Scene& scene, int cut);
 
+// The area a coupling point stands for (see Footprint in railcosim.proto):
+// centred on (x, y), `length` along the track, `width` across, z down from
+// the surface of the cut.
+struct Footprint {
+  double x = 0, y = 0, z = 0, length = 0, width = 0;
+};
+// One per coupling point at the sleepers/soil cut (one rail's share of a
+// sleeper bay on the soil's surface); empty at the other cuts.
+std::vector<Footprint> footprints(const Scene& scene, int cut);
+
 }  // namespace railcosim

@@ -188,6 +188,8 @@ void Scene::validate() const {
   non_negative("railpad.damping", pad_damping);
   positive("sleepers.mass", sleeper_mass);
   positive("sleepers.spacing", sleeper_spacing);
+  if (!(sleeper_length > 0.0 && sleeper_length <= 10.0))
+    fail("sleepers.length", "must lie in (0, 10] m (got " + std::to_string(sleeper_length) + ")");
   if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
   positive("ballast.stiffness", ballast_stiffness);
   non_negative("ballast.damping", ballast_damping);
@@ -303,13 +305,23 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
       r.fail("sleepers.margin_tolerance", "must lie strictly between 0 and 1");
   }
 
+  if (r.find("sleepers", "length", false)) {
+    sc.sleeper_length = r.number("sleepers", "length");
+    sc.sleeper_length_given = true;
+  }
   sc.ballast_stiffness = r.number("ballast", "stiffness");
   sc.ballast_damping = r.number("ballast", "damping");
 
   sc.soil_model = r.string_or("soil", "model", "fixed");
-  // The lumped model's keys; with "external" they may be given for the
-  // outside participant to read, and the product does not use them.
-  if (sc.soil_model != "fixed") {
+  if (sc.soil_model == "external") {
+    // The soil is an outside participant's: its table is that participant's
+    // own configuration, with any keys it knows, handed to it whole (as TOML
+    // text) at configure time and covered by the scene's fingerprint. The
+    // product reads none of its keys but `model`.
+    std::ostringstream text;
+    text << *r.whole_table("soil");
+    sc.soil_config = text.str();
+  } else if (sc.soil_model != "fixed") {
     const bool need = sc.soil_model == "lumped";
     auto soil_key = [&](const char* key) {
       return need ? r.number("soil", key) : r.number_or("soil", key, 0.0);

@@ -52,7 +52,13 @@ struct Scene {
   // [sleepers]
   double sleeper_mass = 0;     // m_s, kg
   double sleeper_spacing = 0;  // l, m
-  int sleeper_count = 0;       // N (computed when the length is automatic)
+  // [sleepers] length (optional): across the track, m. With the spacing it
+  // gives the footprint of each coupling point at the ss cut (one rail's
+  // share of a sleeper bay: spacing x length/2). 2.6 m, a standard concrete
+  // sleeper, when the scene does not say.
+  double sleeper_length = 2.6;
+  bool sleeper_length_given = false;
+  int sleeper_count = 0;  // N (computed when the length is automatic)
   // count = "auto": the rail covers the wheel's path plus a margin on each
   // side, chosen so that the truncation changes the deflection under the
   // wheel by less than margin_tolerance (relative).
@@ -74,6 +80,9 @@ struct Scene {
   double soil_damping = 0;             // c_f, N s/m
   double soil_coupling_stiffness = 0;  // k_c, N/m: between neighbouring soil masses
   double soil_coupling_damping = 0;    // c_c, N s/m
+  // With "external": the whole [soil] table as TOML text, the outside
+  // participant's own configuration (any keys it knows); empty otherwise.
+  std::string soil_config;
   bool has_soil() const { return soil_model != "fixed"; }
   bool builtin_soil() const { return soil_model == "lumped"; }
 

@@ -132,6 +132,7 @@ wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& con
   c->set_micro_steps(config.micro_steps);
   c->set_carry_acceleration(config.carry_acceleration);
   if (with_model) *c->mutable_model() = to_wire(scene);
+  if (config.participant.role == "soil") c->set_own_config(scene.soil_config);
   return e;
 }
 
@@ -188,6 +189,8 @@ wire::SceneParams to_wire(const Scene& s) {
   for (double v : x.irregularity) p.add_irregularity(v);
   for (double v : x.wheel_flat) p.add_wheel_flat(v);
   p.set_ballast_forces(s.ballast_forces);
+  p.set_soil_config(s.soil_config);
+  if (s.sleeper_length_given) p.set_sleeper_length(s.sleeper_length);
   return p;
 }
 
@@ -227,6 +230,11 @@ Scene from_wire(const wire::SceneParams& p, const std::string& source) {
   s.micro_steps = p.micro_steps();
   s.restart = p.restart().empty() ? "consistent" : p.restart();
   s.ballast_forces = p.ballast_forces();
+  s.soil_config = p.soil_config();
+  if (p.has_sleeper_length()) {
+    s.sleeper_length = p.sleeper_length();
+    s.sleeper_length_given = true;
+  }
   try {
     ExcitationNumbers x;
     x.vehicle_model = p.vehicle_model();
@@ -302,6 +310,14 @@ wire::Interface to_wire(const Scene& scene, const InterfaceSpec& i) {
   w.set_stiffness(e.k);
   w.set_damping(e.c);
   if (i.kind().moving) w.set_hertz_constant(scene.hertz_constant);
+  for (const Footprint& f : footprints(scene, i.cut)) {
+    auto* o = w.add_footprints();
+    o->set_x(f.x);
+    o->set_y(f.y);
+    o->set_z(f.z);
+    o->set_length(f.length);
+    o->set_width(f.width);
+  }
   return w;
 }
 

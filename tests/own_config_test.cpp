@@ -1,0 +1,131 @@
+// What an outside participant is told about itself: its own table of the
+// scene (the [soil] table of an external soil, any keys, as TOML text inside
+// Configure and the fingerprint) and the geometry of its coupling points
+// (footprints at the sleepers/soil cut).
+#include <gtest/gtest.h>
+#include <toml++/toml.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "model.hpp"
+#include "scene_error.hpp"
+#include "test_support.hpp"
+#include "wire.hpp"
+
+namespace railcosim {
+namespace {
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The soil scene with its [soil] table replaced by an outside soil's own.
+std::string external_soil_scene(const std::string& soil_table) {
+  const std::string text = file_text(test::source_path("scenes/soil.toml"));
+  const std::regex table(R"(\[soil\][^\[]*)");
+  return std::regex_replace(text, table, soil_table + "\n");
+}
+
+const char* const kOwnTable = R"([soil]
+model = "external"
+receivers_m = [4.0, 8.0, 16.0]
+[[soil.layers]]
+thickness = 3.0
+shear_wave_speed = 150.0
+[[soil.layers]]
+thickness = 20.0
+shear_wave_speed = 250.0
+)";
+
+SubsystemConfig soil_config(const Scene& scene, const char* case_name) {
+  const auto parts = partition(scene, parse_case(case_name));
+  SubsystemConfig c;
+  c.participant = parts.back();
+  c.macro_step = scene.macro_step;
+  c.tolerance = scene.tolerance;
+  return c;
+}
+
+TEST(OwnConfig, AnExternalSoilGetsItsWholeTableInConfigure) {
+  const Scene scene = parse_scene(external_soil_scene(kOwnTable), "outside.toml");
+  EXPECT_EQ(scene.soil_model, "external");
+  const wire::Envelope e = configure_envelope(scene, soil_config(scene, "ss-xx-jacobi"), true);
+  ASSERT_EQ(e.configure().participant(), "soil");
+  const toml::table own = toml::parse(e.configure().own_config());
+  EXPECT_EQ(own["model"].value_or(std::string()), "external");
+  EXPECT_EQ(own["receivers_m"][2].value_or(0.0), 16.0);
+  EXPECT_EQ(own["layers"][1]["shear_wave_speed"].value_or(0.0), 250.0);
+  EXPECT_EQ(e.configure().model().soil_config(), e.configure().own_config());
+  // The other participants are told nothing of it.
+  const auto parts = partition(scene, parse_case("ss-xx-jacobi"));
+  SubsystemConfig track = soil_config(scene, "ss-xx-jacobi");
+  track.participant = parts.front();
+  EXPECT_EQ(configure_envelope(scene, track, true).configure().own_config(), "");
+}
+
+TEST(OwnConfig, TheFingerprintCoversTheOwnTable) {
+  const Scene a = parse_scene(external_soil_scene(kOwnTable), "a.toml");
+  std::string other = kOwnTable;
+  other.replace(other.find("250.0"), 5, "251.0");
+  const Scene b = parse_scene(external_soil_scene(other), "b.toml");
+  EXPECT_NE(scene_fingerprint(a), scene_fingerprint(b));
+  EXPECT_EQ(scene_fingerprint(from_wire(to_wire(a), "wire")), scene_fingerprint(a));
+}
+
+TEST(OwnConfig, ScenesWithoutAnOutsideSoilKeepTheirFingerprint) {
+  // The value the master sent for scenes/soil.toml before own tables and
+  // footprints existed: neither adds a byte to a scene that has none.
+  EXPECT_EQ(scene_fingerprint(load_scene(test::source_path("scenes/soil.toml"))),
+            12917806495169862203ull);
+  Scene s = test::paper_scene();
+  const auto before = scene_fingerprint(s);
+  s.sleeper_length_given = true;
+  EXPECT_NE(scene_fingerprint(s), before);
+}
+
+TEST(Footprints, EverySleeperOfTheSsCutHasItsBayOnTheSoil) {
+  const Scene scene = load_scene(test::source_path("scenes/soil.toml"));
+  const auto cfg = soil_config(scene, "ss-xt-jacobi");
+  const wire::Interface w = to_wire(scene, cfg.participant.interfaces.front());
+  ASSERT_EQ(w.cut(), "ss");
+  ASSERT_EQ(w.footprints_size(), w.x_size());
+  ASSERT_EQ(w.x_size(), scene.sleeper_count);
+  for (int i = 0; i < w.x_size(); ++i) {
+    const wire::Footprint& f = w.footprints(i);
+    EXPECT_EQ(f.x(), w.x(i));
+    EXPECT_DOUBLE_EQ(f.length() * f.width(), 0.78);  // 0.6 m x 2.6 m / 2, the scene's A
+    EXPECT_DOUBLE_EQ(f.y(), 0.65);
+    EXPECT_EQ(f.z(), 0.0);
+  }
+  // Neighbouring bays tile the track without gap or overlap.
+  for (int i = 1; i < w.x_size(); ++i)
+    EXPECT_NEAR(w.footprints(i).x() - w.footprints(i - 1).x(), w.footprints(i).length(), 1e-12);
+  const Scene paper = test::paper_scene();
+  const auto rs = partition(paper, parse_case("rs-xx-jacobi"));
+  EXPECT_EQ(to_wire(paper, rs.front().interfaces.front()).footprints_size(), 0);
+}
+
+TEST(Footprints, TheSleeperLengthIsAKeyOfTheScene) {
+  std::string text = file_text(test::source_path("scenes/soil.toml"));
+  const std::string with =
+      std::regex_replace(text, std::regex("spacing = 0.6"), "spacing = 0.6\nlength = 2.0");
+  const Scene scene = parse_scene(with, "short.toml");
+  EXPECT_EQ(footprints(scene, find_cut("ss")).front().width, 1.0);
+  const std::string bad =
+      std::regex_replace(text, std::regex("spacing = 0.6"), "spacing = 0.6\nlength = -1.0");
+  try {
+    parse_scene(bad, "bad.toml");
+    FAIL() << "a negative sleeper length was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.toml: key 'sleepers.length'"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace railcosim
