@@ -1,4 +1,5 @@
 #include "cli.hpp"
+
 #include "coupling_options.hpp"
 
 #include <signal.h>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "auth.hpp"
+#include "conform.hpp"
 #include "cosim_case.hpp"
 #include "evaluation.hpp"
 #include "log.hpp"
@@ -212,7 +214,7 @@ int do_run(const RunArgs& a) {
     if (spec.monolithic) {
       record = run_monolithic(scene, o);
     } else {
-      NodePool pool;
+      NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
       std::optional<std::string> token;
       if (!a.token_file.empty()) token = read_token_file(a.token_file);
       const Transport transport = a.transport == "inproc"
@@ -442,6 +444,9 @@ int master_main(int argc, char** argv) {
   study->add_option("--master", sa.master,
                     "With --plan: the master program the command lines call (default: this one)");
 
+  ConformArgs ca;
+  add_conform_command(app, ca);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -452,6 +457,7 @@ int master_main(int argc, char** argv) {
     catch_stop_signals();
     if (*run) return do_run(ra);
     if (*study) return do_study(sa);
+    if (*ca.command) return do_conform(ca);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "master: scene error: %s\n", e.what());
     return 2;

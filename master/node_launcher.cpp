@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 namespace railcosim {
 
@@ -23,7 +24,8 @@ std::string own_directory() {
 }
 
 LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
-                           const std::string& listen, const std::string& role)
+                           const std::string& listen, const std::string& role,
+                           const std::string& token_file)
     : program_(program) {
   const std::string path = own_directory() + "/" + program;
   if (::access(path.c_str(), X_OK) != 0)
@@ -41,10 +43,12 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(1);
     ::dup2(fds[1], STDOUT_FILENO);
-    const char* argv[] = {path.c_str(),  "--listen", listen.c_str(),
-                          "--log-level", "warn",     role.empty() ? nullptr : "--role",
-                          role.c_str(),  nullptr};
-    ::execv(path.c_str(), const_cast<char* const*>(argv));
+    std::vector<const char*> argv = {path.c_str(), "--listen", listen.c_str(), "--log-level",
+                                     "warn"};
+    if (!role.empty()) argv.insert(argv.end(), {"--role", role.c_str()});
+    if (!token_file.empty()) argv.insert(argv.end(), {"--token-file", token_file.c_str()});
+    argv.push_back(nullptr);
+    ::execv(path.c_str(), const_cast<char* const*>(argv.data()));
     ::_exit(127);
   }
   ::close(fds[1]);

@@ -23,9 +23,12 @@ std::string node_program(const std::string& role);
 // follow (each node serves its sessions one after another).
 class NodePool {
  public:
+  // With a `token_file`, the nodes it starts require that shared secret.
+  explicit NodePool(std::string token_file = "") : token_file_(std::move(token_file)) {}
   const Address& address(const std::string& role);
 
  private:
+  std::string token_file_;
   std::map<std::string, std::unique_ptr<LaunchedNode>> nodes_;
 };
 

@@ -58,4 +58,7 @@ if "$bin/master" run --scene "$src/scenes/soil.toml" --case ss-xx-jacobi --node 
   echo "a scene without fixed micro steps was not refused"; exit 1
 fi
 grep -q 'BAD_INTERFACE.*set simulation.micro_steps' "$work/refused.log" || { cat "$work/refused.log"; exit 1; }
+# And it passes the protocol's checklist.
+"$bin/master" conform --scene "$work/soil.toml" --node "soil=$address" >"$work/conform.log" 2>&1 ||
+  { cat "$work/conform.log"; exit 1; }
 /usr/bin/python3 "$src/tests/compare_runs.py" "$work/builtin" "$work/outside" 1e-9

@@ -1,0 +1,78 @@
+// A node whose participant breaks the protocol on purpose, one way per run,
+// for the conformance kit's own test: the built-in model wrapped so that it
+//   ignores-restore  takes Restore and does nothing
+//   late             answers its fifth macro step after 1.5 s
+//   wrong-count      reports one coupling value too few
+//   accepts-nan      takes non-finite inputs (as zeros) instead of refusing them
+// Usage: broken_node MODE [node options]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "server.hpp"
+#include "subsystem.hpp"
+
+namespace railcosim {
+namespace {
+
+class Broken final : public Participant {
+ public:
+  Broken(std::string mode, const Scene& scene, const SubsystemConfig& config)
+      : mode_(std::move(mode)), inner_(scene, config) {}
+  std::string name() const override { return inner_.name() + " (broken: " + mode_ + ")"; }
+  Channels channels() const override { return inner_.channels(); }
+  CouplingData statics(const CouplingData& in) override { return inner_.statics(in); }
+  StepResult initialize(const CouplingData& in) override { return inner_.initialize(in); }
+  void set_inputs(long n, const CouplingData& in) override { inner_.set_inputs(n, clean(in)); }
+  void set_inputs(long n, const CouplingData& a, const CouplingData& b) override {
+    inner_.set_inputs(n, clean(a), clean(b));
+  }
+  CouplingData outputs() override { return inner_.outputs(); }
+  void start_step(long n) override {
+    if (mode_ == "late" && n == 4) std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    inner_.start_step(n);
+  }
+  StepResult finish_step() override {
+    StepResult r = inner_.finish_step();
+    if (mode_ == "wrong-count") r.outputs.front().displacement.pop_back();
+    return r;
+  }
+  ParticipantResults results() override { return inner_.results(); }
+  ParticipantState save() override { return inner_.save(); }
+  void restore(const ParticipantState& s) override {
+    if (mode_ != "ignores-restore") inner_.restore(s);
+  }
+
+ private:
+  CouplingData clean(CouplingData in) const {
+    if (mode_ == "accepts-nan")
+      for (InterfaceData& d : in)
+        for (auto* v : {&d.displacement, &d.velocity, &d.force})
+          for (double& x : *v)
+            if (!std::isfinite(x)) x = 0.0;
+    return in;
+  }
+  std::string mode_;
+  Subsystem inner_;
+};
+
+}  // namespace
+}  // namespace railcosim
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: broken_node ignores-restore|late|wrong-count|accepts-nan ...\n");
+    return 2;
+  }
+  const std::string mode = argv[1];
+  railcosim::NodeProgram program{
+      "broken_node", "soil", [mode](const railcosim::Scene& s, const railcosim::SubsystemConfig& c) {
+        return std::make_unique<railcosim::Broken>(mode, s, c);
+      }};
+  argv[1] = argv[0];
+  return railcosim::node_main(program, argc - 1, argv + 1);
+}

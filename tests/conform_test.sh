@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The conformance kit (master conform) passes on every built-in node, with
+# and without a shared secret, and fails on purpose-broken participants
+# (tests/broken_node.cpp) naming the item that catches each.
+# Usage: conform_test.sh BIN_DIR SOURCE_DIR
+set -euo pipefail
+bin=$1
+src=$2
+work=$(mktemp -d)
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  rm -rf "$work"
+}
+trap cleanup EXIT
+sed -e 's/^end_time = .*/end_time = 0.02/' "$src/scenes/soil.toml" >"$work/soil.toml"
+head -c 32 /dev/urandom | base64 >"$work/token"
+
+serve() {  # NAME PROGRAM [ARGS]: starts a node, sets $address
+  local name=$1
+  shift
+  "$@" --listen 127.0.0.1:0 >"$work/$name.out" 2>"$work/$name.err" &
+  pids+=($!)
+  for _ in $(seq 100); do
+    grep -q '^listening on ' "$work/$name.out" && break
+    sleep 0.05
+  done
+  address=$(sed -n 's/^listening on //p' "$work/$name.out")
+  [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
+}
+
+conform() {  # EXPECTED_STATUS LOG ARGS...: runs master conform, checks its status
+  local want=$1 log=$2
+  shift 2
+  local rc=0
+  "$bin/master" conform --scene "$work/soil.toml" "$@" >"$work/$log" 2>&1 || rc=$?
+  if [[ $rc != "$want" ]]; then
+    echo "master conform $* exited $rc, expected $want:"; cat "$work/$log"; exit 1
+  fi
+}
+
+for role in vehicle track soil; do
+  serve "$role" "$bin/${role}_node"
+  conform 0 "$role.log" --node "$role=$address"
+  grep -q '^13 passed, 0 failed, 1 skipped$' "$work/$role.log" || { cat "$work/$role.log"; exit 1; }
+done
+serve secret "$bin/soil_node" --token-file "$work/token"
+conform 0 secret.log --node "soil=$address" --token-file "$work/token"
+grep -q '^14 passed, 0 failed, 0 skipped$' "$work/secret.log" || { cat "$work/secret.log"; exit 1; }
+
+expect_failure() {  # MODE ITEM_TEXT: the broken node fails exactly that item (and maybe others)
+  local mode=$1 item=$2
+  serve "$mode" "$bin/broken_node" "$mode"
+  conform 1 "$mode.log" --node "soil=$address"
+  grep -q "^  FAIL  .*$item" "$work/$mode.log" || { echo "$mode: '$item' did not fail:"; cat "$work/$mode.log"; exit 1; }
+}
+expect_failure ignores-restore "save and restore: the steps after a restore repeat bit for bit"
+expect_failure late "every step answered within the reply deadline"
+expect_failure wrong-count "macro steps, relayed"
+expect_failure accepts-nan "a non-finite input is refused"
+echo "conformance kit: built-in nodes pass, four broken participants fail their items"
