@@ -18,6 +18,23 @@ void SymmetricBandMatrix::add(int i, int j, double v) {
   assert(i - j <= kd_ && i < n_ && j >= 0);
   at(i - j, j) += v;
   rows_.clear();
+  entries_.clear();
+  starts_.clear();
+}
+
+void SymmetricBandMatrix::make_entries() const {
+  if (!starts_.empty() || n_ == 0) return;
+  const std::vector<double>& rows = full_rows();
+  const std::size_t w = 2 * static_cast<std::size_t>(kd_) + 1;
+  starts_.reserve(static_cast<std::size_t>(n_) + 1);
+  for (int i = 0; i < n_; ++i) {
+    starts_.push_back(static_cast<int>(entries_.size()));
+    for (int d = -kd_; d <= kd_; ++d) {
+      const double v = rows[i * w + static_cast<std::size_t>(d + kd_)];
+      if (v != 0.0) entries_.push_back({i + d, v});
+    }
+  }
+  starts_.push_back(static_cast<int>(entries_.size()));
 }
 
 const std::vector<double>& SymmetricBandMatrix::full_rows() const {
@@ -119,10 +136,23 @@ void SymmetricBandMatrix::multiply_add2(double a, const SymmetricBandMatrix& A, 
                                         Vector& y) {
   assert(A.n_ == B.n_ && A.kd_ == B.kd_ && x.size() == A.n_ && z.size() == A.n_ &&
          y.size() == A.n_);
-  const double* rows[2] = {A.full_rows().data(), B.full_rows().data()};
-  const double* xs[2] = {x.data(), z.data()};
-  const double s[2] = {a, b};
-  dispatch_multiply_add<2>(A.n_, A.kd_, rows, s, xs, y.data());
+  // Row by row over the nonzeros only, each row's terms in the band's order:
+  // the sums are those of the full band product less its exact zeros.
+  A.make_entries();
+  B.make_entries();
+  const Entry* ea = A.entries_.data();
+  const Entry* eb = B.entries_.data();
+  const int* sa = A.starts_.data();
+  const int* sb = B.starts_.data();
+  const double* xd = x.data();
+  const double* zd = z.data();
+  double* yd = y.data();
+  for (int i = 0; i < A.n_; ++i) {
+    double acc_a = 0.0, acc_b = 0.0;
+    for (int k = sa[i]; k < sa[i + 1]; ++k) acc_a += ea[k].value * xd[ea[k].col];
+    for (int k = sb[i]; k < sb[i + 1]; ++k) acc_b += eb[k].value * zd[eb[k].col];
+    yd[i] += a * acc_a + b * acc_b;
+  }
 }
 
 SymmetricBandMatrix SymmetricBandMatrix::combine(double a, const SymmetricBandMatrix& A, double b,

@@ -52,6 +52,16 @@ class SymmetricBandMatrix {
   // made on first use by the products, dropped by add().
   mutable std::vector<double> rows_;
   const std::vector<double>& full_rows() const;
+  // The nonzeros of each full row, in the order of the row (a mass or
+  // damping matrix leaves most of its band empty): row i's are
+  // entries_[starts_[i] .. starts_[i + 1]). Made on first use, dropped by add().
+  struct Entry {
+    int col;
+    double value;
+  };
+  mutable std::vector<Entry> entries_;
+  mutable std::vector<int> starts_;
+  void make_entries() const;
   double& at(int d, int j) { return band_[static_cast<std::size_t>(j) * (kd_ + 1) + d]; }
   double at(int d, int j) const { return band_[static_cast<std::size_t>(j) * (kd_ + 1) + d]; }
 };

@@ -114,8 +114,12 @@ void Newmark::step(double t_end, double h, int level, Trial& out) {
   pred_v_ = s.v + (h * (1.0 - kGamma)) * s.a;
   // K_eff u+ = load + M c0 pred_u + C (c1 pred_u - pred_v) - F g, all
   // displacements from origin_ (so the load loses K origin_).
-  sys_.load_at(t_end, rhs_);
-  rhs_ += origin_load_;
+  // The load at t_end, less K origin_ (one pass; load_at then += is the same
+  // sum element by element).
+  if (sys_.load_rate.size() > 0)
+    rhs_ = sys_.load + (t_end - sys_.load_time) * sys_.load_rate + origin_load_;
+  else
+    rhs_ = sys_.load + origin_load_;
   damp_arg_ = c1 * pred_u_ - pred_v_;
   SymmetricBandMatrix::multiply_add2(c0, sys_.M, pred_u_, 1.0, sys_.C, damp_arg_, rhs_);
 

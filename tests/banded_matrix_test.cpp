@@ -44,6 +44,25 @@ TEST_P(BandedMatrixTest, FusedProductMatchesDense) {
   EXPECT_TRUE(test::matrices_near(y, expected, kRoundOff));
 }
 
+// The fused product skips the band's empty entries (a mass or damping matrix
+// is mostly empty): a band with holes, and a matrix changed after a product
+// (the cached nonzeros must follow), against the dense product.
+TEST_P(BandedMatrixTest, FusedProductOfASparseBandFollowsChanges) {
+  const int kd = GetParam();
+  SymmetricBandMatrix A(40, kd), B = random_spd(40, kd, 4);
+  for (int j = 0; j < 40; j += 3) A.add(j, j, 1.0 + j);
+  if (kd > 0)
+    for (int j = 0; j + kd < 40; j += 5) A.add(j + kd, j, -0.5);
+  const Vector x = Vector::LinSpaced(40, -1.0, 2.0), z = Vector::LinSpaced(40, 3.0, -2.0);
+  Vector y = Vector::Zero(40);
+  SymmetricBandMatrix::multiply_add2(1.5, A, x, 0.25, B, z, y);
+  EXPECT_TRUE(test::matrices_near(y, 1.5 * A.to_dense() * x + 0.25 * B.to_dense() * z, kRoundOff));
+  A.add(1, 1, 7.0);  // a new nonzero where the band was empty
+  y.setZero();
+  SymmetricBandMatrix::multiply_add2(1.5, A, x, 0.25, B, z, y);
+  EXPECT_TRUE(test::matrices_near(y, 1.5 * A.to_dense() * x + 0.25 * B.to_dense() * z, kRoundOff));
+}
+
 TEST_P(BandedMatrixTest, CholeskySolveMatchesDense) {
   const int kd = GetParam();
   const SymmetricBandMatrix A = random_spd(40, kd, 3);
