@@ -139,7 +139,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
   }
 }
 
-bool DirectExchange::read(milliseconds timeout) {
+bool DirectExchange::read(milliseconds timeout, long n) {
   std::vector<pollfd> fds;
   std::vector<Node*> who;
   for (Node& node : nodes_)
@@ -148,11 +148,27 @@ bool DirectExchange::read(milliseconds timeout) {
       who.push_back(&node);
     }
   if (fds.empty()) return true;
+  // In slices of one interrupt poll, so that a stop request acts within it
+  // whatever the nodes send or do not send.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   int ready = -1;
-  do {
-    ready = ::poll(fds.data(), fds.size(), static_cast<int>(timeout.count()));
-  } while (ready < 0 && errno == EINTR);
-  if (ready == 0) return false;
+  while (true) {
+    if (const int sig = interrupt_signal())
+      throw std::runtime_error(
+          "interrupted by signal " + std::to_string(sig) +
+          (n < 0 ? std::string()
+                 : " at macro step " + std::to_string(n) + " (t = " +
+                       std::to_string(static_cast<double>(n) * nodes_.front().p->macro_step()) +
+                       " s)") +
+          ", waiting for the nodes' step reports");
+    const auto left =
+        std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    ready =
+        ::poll(fds.data(), fds.size(), static_cast<int>(std::min(left, kInterruptPoll).count()));
+    if (ready > 0) break;
+    if (ready < 0 && errno != EINTR) break;
+  }
   for (std::size_t k = 0; k < fds.size(); ++k) {
     if (fds[k].revents == 0) continue;
     Node& node = *who[k];
@@ -203,14 +219,24 @@ void DirectExchange::silence(long n, milliseconds waited) {
     if (other.waiting_for == slow->p->role())
       waiters += (waiters.empty() ? "" : ", ") + other.p->role();
   std::ostringstream s;
-  s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
-    << slow->reported;
+  s << "no reply within " << waited.count()
+    << " ms (no new step report; its last step report was for macro step " << slow->reported;
   if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
   s << ")";
   slow->p->fail_at(n, s.str());
 }
 
 std::vector<StepResult> DirectExchange::advance(long n) {
+  // The deadline is for step reports, not bytes: a node that trickles bytes
+  // or sends empty report frames does not extend it. It starts again when
+  // any node reports a step it had not reported.
+  auto reported = [&] {
+    long sum = 0;
+    for (const Node& node : nodes_) sum += node.reported;
+    return sum;
+  };
+  long seen = reported();
+  auto since = std::chrono::steady_clock::now();
   while (true) {
     bool ready = true;
     for (const Node& node : nodes_) ready = ready && !node.reports.empty();
@@ -243,7 +269,13 @@ std::vector<StepResult> DirectExchange::advance(long n) {
       continue;
     }
     const milliseconds limit = progress();
-    if (!read(limit)) silence(n, limit);
+    const auto now = std::chrono::steady_clock::now();
+    if (reported() != seen) {
+      seen = reported();
+      since = now;
+    }
+    const auto left = limit - std::chrono::duration_cast<milliseconds>(now - since);
+    if (left.count() <= 0 || !read(left, n)) silence(n, limit);
   }
 }
 
@@ -269,7 +301,7 @@ void DirectExchange::fail_with(const Node& node) {
   bool open = false;
   for (const Node& x : nodes_) open = open || (x.in_window && !x.closed);
   if (left.count() <= 0 || !open) throw NodeFailure(node.fail_text);
-  read(left);  // the culprit's own failure, if it comes, is preferred next time
+  read(left, node.fail_step);  // the culprit's own failure, if it comes, is preferred next time
 }
 
 void DirectExchange::drain() {
@@ -278,7 +310,7 @@ void DirectExchange::drain() {
     bool any = false;
     for (const Node& node : nodes_) any = any || (node.in_window && !node.closed);
     if (!any) return;
-    if (!read(milliseconds(200))) continue;
+    if (!read(milliseconds(200), -1)) continue;
     for (Node& node : nodes_) node.reports.clear();
   }
 }

@@ -68,7 +68,9 @@ class DirectExchange {
                  DirectOptions options);
   void grant(long n);
   // Waits for frames from the nodes in a window; false on silence.
-  bool read(std::chrono::milliseconds timeout);
+  // Stops (std::runtime_error) when a stop signal is set, within one
+  // interrupt poll, naming macro step n (n < 0: none).
+  bool read(std::chrono::milliseconds timeout, long n);
   void take(Node& node, const wire::Envelope& e);
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
   // The failure that ends macro step n (or, with any_step, any failure): a

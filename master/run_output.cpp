@@ -374,6 +374,9 @@ void RunWriter::finish(const RunRecord& run) {
     if (history_) guard_history(*history_, [&] { history_->close(); });
   });
   r.history_rows = history_rows();
+  // A run that failed on the way counts the macro steps every participant
+  // completed: the rows of history.csv after the one of t = 0.
+  if (r.status == "failed") r.macro_steps = std::max(0L, *r.history_rows - 1);
   if (!r.deflection.empty())
     attempt([&] { write_file_atomically(dir_ / "deflection.csv", deflection_csv(r)); });
   if (!r.soil.empty()) attempt([&] { write_file_atomically(dir_ / "soil.csv", soil_csv(r)); });

@@ -20,13 +20,16 @@ namespace {
 
 std::atomic<const std::atomic<int>*> g_interrupt{nullptr};
 
-// The signal that asks to stop, or 0.
 int interrupted() {
-  const std::atomic<int>* flag = g_interrupt.load();
-  return flag ? flag->load() : 0;
+  return interrupt_signal();
 }
 
 }  // namespace
+
+int interrupt_signal() {
+  const std::atomic<int>* flag = g_interrupt.load();
+  return flag ? flag->load() : 0;
+}
 
 void set_interrupt_flag(const std::atomic<int>* flag) {
   g_interrupt.store(flag);
