@@ -1,5 +1,7 @@
 #include "direct_exchange.hpp"
 
+#include <functional>
+
 #include <poll.h>
 
 #include <algorithm>
@@ -280,15 +282,18 @@ std::vector<StepResult> DirectExchange::advance(long n) {
 }
 
 const DirectExchange::Node* DirectExchange::culprit(long n, bool any_step) const {
-  const Node* first = nullptr;
-  for (const Node& node : nodes_)
-    if (node.failed && (any_step || node.fail_step <= n) && !first) first = &node;
-  if (!first) return nullptr;
-  for (const Node& node : nodes_)
-    if (node.failed && node.step_failure && node.fail_step <= n) return &node;
-  for (const Node& node : nodes_)
-    if (node.closed) return &node;
-  return first;
+  // By root cause: a node whose own step failed, then a node that closed
+  // its connection, then one that failed for a reason of its own (bad data
+  // from a peer, named in its message), and only then one that merely lost
+  // a peer link; within each, the first in load order.
+  auto due = [&](const Node& node) { return node.failed && (any_step || node.fail_step <= n); };
+  const std::function<bool(const Node&)> ranks[] = {
+      [](const Node& x) { return x.step_failure; }, [](const Node& x) { return x.closed; },
+      [](const Node& x) { return !x.peer_failed; }, [](const Node&) { return true; }};
+  for (const auto& rank : ranks)
+    for (const Node& node : nodes_)
+      if (due(node) && rank(node)) return &node;
+  return nullptr;
 }
 
 void DirectExchange::fail_with(const Node& node) {

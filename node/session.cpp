@@ -93,7 +93,11 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     code = wire::Error::BAD_REQUEST;
     message = e.what();
   } catch (const LinkError& e) {
-    code = wire::Error::PEER_FAILED;
+    // A peer that broke the protocol or sent data that cannot be used is at
+    // fault (BAD_REQUEST, the message names it); a link that closed or fell
+    // silent is a symptom of a failure elsewhere (PEER_FAILED).
+    code = e.kind() == LinkError::Kind::kProtocol ? wire::Error::BAD_REQUEST
+                                                  : wire::Error::PEER_FAILED;
     message = e.what();
   } catch (const std::exception& e) {
     message = std::string("internal error: ") + e.what();

@@ -1,5 +1,6 @@
 #include "window_runner.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "work_budget.hpp"
@@ -65,7 +66,13 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
         e = l.channel->receive(std::min(patience, timeout_));
         break;
       } catch (const LinkError& x) {
-        if (x.kind() != LinkError::Kind::kTimeout || waited + patience >= timeout_) throw;
+        if (x.kind() != LinkError::Kind::kTimeout) throw;
+        if (waited + patience >= timeout_)  // the whole wait, not its last slice
+          throw LinkError(LinkError::Kind::kTimeout,
+                          l.channel->what() + " sent nothing within " +
+                              std::to_string((waited + patience).count()) + " ms (the link's " +
+                              "deadline), while this participant waited for macro step " +
+                              std::to_string(need));
         if (waited.count() == 0 && report_) flush(id_, *report_, l.plan.peer);
         if (abandoned_ && *abandoned_ && (*abandoned_)())
           throw LinkError(LinkError::Kind::kClosed,
@@ -86,10 +93,41 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
       throw LinkError(LinkError::Kind::kProtocol,
                       l.channel->what() + " sent " + std::to_string(d.data().interfaces_size()) +
                           " interfaces on a link of " + std::to_string(l.plan.interfaces.size()));
-    (d.refresh() ? l.fresh : l.data) = from_wire(d.data());
-    (d.refresh() ? l.fresh_have : l.have) = d.point();
+    // Every number is checked before it is used: the point is the next one
+    // due on this link (a point from the future would be taken for data not
+    // yet sent), and every value is finite.
+    long& have = d.refresh() ? l.fresh_have : l.have;
+    const long due = have < 0 ? point_ : have + 1;
+    if (static_cast<long>(d.point()) != due)
+      throw LinkError(LinkError::Kind::kProtocol, l.channel->what() +
+                                                      " sent data for macro step point " +
+                                                      std::to_string(d.point()) + " where point " +
+                                                      std::to_string(due) + " was due");
+    CouplingData got = from_wire(d.data());
+    for (const InterfaceData& i : got)
+      for (const auto* v : {&i.displacement, &i.velocity, &i.force})
+        for (double x : *v)
+          if (!std::isfinite(x))
+            throw LinkError(LinkError::Kind::kProtocol,
+                            l.channel->what() + " sent a non-finite value for macro step point " +
+                                std::to_string(d.point()));
+    (d.refresh() ? l.fresh : l.data) = std::move(got);
+    have = d.point();
   }
   return true;
+}
+
+void WindowRunner::set_inputs(long n, bool fresh) {
+  try {
+    sub_.set_inputs(n, inputs(fresh));
+  } catch (const BadInputError& e) {
+    // Inputs that do not fit come from the peers: name them.
+    std::string from;
+    for (const Link& l : links_) from += (from.empty() ? "" : ", ") + l.channel->what();
+    throw LinkError(LinkError::Kind::kProtocol, "the data of " + from + " for macro step " +
+                                                    std::to_string(n) +
+                                                    " was rejected: " + e.what());
+  }
 }
 
 CouplingData WindowRunner::inputs(bool fresh) const {
@@ -137,7 +175,7 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
       bool go = true;
       for (Link& l : links_) go = go && await(l, n + (l.plan.ahead ? 1 : 0), false);
       if (!go || n >= end_) break;
-      sub_.set_inputs(n, inputs(false));
+      set_inputs(n, false);
       if (refresh_) send_outputs(sub_.outputs(), false, true);
       bool again = false;
       for (Link& l : links_)
@@ -146,7 +184,7 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
           again = true;
         }
       if (!go) break;
-      if (again) sub_.set_inputs(n, inputs(true));
+      if (again) set_inputs(n, true);
       if (budget.limit.count() > 0) budget.deadline = Clock::now() + budget.limit;
       StepResult r;
       try {

@@ -64,6 +64,9 @@ class WindowRunner {
   // peer stops before that point.
   bool await(Link& l, long need, bool fresh);
   CouplingData inputs(bool fresh) const;
+  // The participant's inputs for step n from the links; a rejection is a
+  // LinkError (kProtocol) naming the peers.
+  void set_inputs(long n, bool fresh);
   void flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
              const std::string& waiting_for = "");
 

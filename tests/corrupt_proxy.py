@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""A TCP proxy in front of a node that forwards the master's connection as
+it is and, on every other connection (the peer links other nodes open to
+it), rewrites one PeerData frame the node sends: the AT-th that carries
+data gets a non-finite value (MODE nan) or a point far in the future
+(MODE jump). The node behind it is the sender of the bad data.
+
+  corrupt_proxy.py UPSTREAM_HOST:PORT PROTO_FILE MODE AT
+
+Prints "listening on 127.0.0.1:PORT", then serves until killed."""
+import importlib
+import os
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+
+host, port = sys.argv[1].rsplit(":", 1)
+proto, mode, at = sys.argv[2], sys.argv[3], int(sys.argv[4])
+out = tempfile.mkdtemp(prefix="corrupt_proxy_")
+folder, name = os.path.split(os.path.abspath(proto))
+subprocess.run(["protoc", "-I", folder, "--python_out", out, name], check=True)
+sys.path.insert(0, out)
+pb = importlib.import_module(name.replace(".proto", "_pb2"))
+
+
+def read_exact(sock, n):
+    data = b""
+    while len(data) < n:
+        chunk = sock.recv(n - len(data))
+        if not chunk:
+            return None
+        data += chunk
+    return data
+
+
+def plain(src, dst):
+    try:
+        while True:
+            data = src.recv(65536)
+            if not data:
+                break
+            dst.sendall(data)
+    except OSError:
+        pass
+    for s in (src, dst):
+        try:
+            s.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+
+
+def rewriting(src, dst):
+    seen = 0
+    try:
+        while True:
+            header = read_exact(src, 4)
+            if header is None:
+                break
+            body = read_exact(src, struct.unpack(">I", header)[0])
+            if body is None:
+                break
+            e = pb.Envelope()
+            e.ParseFromString(body)
+            if e.WhichOneof("body") == "peer_data" and len(e.peer_data.data.interfaces) > 0:
+                seen += 1
+                if seen == at:
+                    if mode == "nan":
+                        i = e.peer_data.data.interfaces[0]
+                        values = i.displacement if len(i.displacement) else i.force
+                        values[0] = float("nan")
+                    else:
+                        e.peer_data.point += 1000000000
+                    body = e.SerializeToString()
+                    header = struct.pack(">I", len(body))
+            dst.sendall(header + body)
+    except OSError:
+        pass
+    for s in (src, dst):
+        try:
+            s.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+
+
+listener = socket.socket()
+listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+listener.bind(("127.0.0.1", 0))
+listener.listen(16)
+print("listening on 127.0.0.1:%d" % listener.getsockname()[1], flush=True)
+first = True
+while True:
+    client, _ = listener.accept()
+    upstream = socket.create_connection((host, int(port)))
+    for s in (client, upstream):
+        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    threading.Thread(target=plain, args=(client, upstream), daemon=True).start()
+    threading.Thread(target=plain if first else rewriting, args=(upstream, client),
+                     daemon=True).start()
+    first = False
