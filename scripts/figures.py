@@ -371,4 +371,4 @@ if __name__ == "__main__":
     if show:
         print("cut,level,method,macro_step_s,tolerance_m,wall_s,error")
         for p in front:
-            print(",".join(f"{v:g}" if isinstance(v, float) else v for v in p))
+            print(",".join(repr(v) if isinstance(v, float) else v for v in p))
