@@ -178,7 +178,6 @@ def speed_accuracy(study, runs, out):
     """One panel per cut: every method of the cut over the macro-step sweep,
     the monolithic tolerance sweep as reference, and the report's answer
     (front.csv) bold and labelled. Returns the front drawn."""
-    by_folder = {r["folder"]: r for r in runs}
     front = read_front(study)
     cosim = [r for r in runs if r["group"] in ("case", "sweep", "other-transport") and r["method"] != "monolithic"]
     cuts = []
@@ -197,93 +196,109 @@ def speed_accuracy(study, runs, out):
         and num(r["rel_l2_error_converged"]) > 0
     )
     tol = sorted(dict((t[2], t) for t in tol).values(), key=lambda t: -float(t[2]))
-    drawn = []
-    families = set()
-    unstable_seen = False
+    state = {"drawn": [], "families": set(), "unstable": False}
     for k, cut in enumerate(cuts):
-        ax = axes[k // ncols][k % ncols]
-        if tol:
-            ax.plot([t[0] for t in tol], [t[1] for t in tol], "k-", lw=2.5, alpha=0.8, zorder=4)
-            for t in tol:
-                ax.plot(t[0], t[1], MARKERS.get(t[3], "o"), color="k", ms=5, zorder=4)
-                ax.annotate(f"tol {float(t[2]):g}", (t[0], t[1]), fontsize=6, xytext=(-4, -9),
-                            textcoords="offset points", ha="right")
-        for lv in levels:
-            ax.axhline(lv, color="0.5", lw=0.8, ls=":", zorder=1)
-        chosen = {f["method"] for f in front if f["cut"] == cut and f["method"]}
-        diverged = 0
-        for m in dict.fromkeys(r["method"] for r in cosim if cut_of(r["method"]) == cut):
-            mine = [r for r in cosim if r["method"] == m]
-            diverged += sum(r["status"] == "diverged" for r in mine)
-            pts = sorted(  # along the macro step, largest first
-                (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["status"], r["transport"], r["group"],
-                 num(r["macro_step_s"]))
-                for r in mine
-                if r["status"] in ("ok", "amplified") and num(r["rel_l2_error_converged"]) > 0
-            )
-            if not pts:
-                continue
-            name, colour = family(m)
-            families.add(name)
-            bold = m in chosen
-            pts.sort(key=lambda p: -p[5])
-            line = [p for p in pts if p[4] != "other-transport"]
-            ax.plot([p[0] for p in line], [p[1] for p in line], color=colour, ls=dash(m),
-                    lw=2.6 if bold else 1.0, alpha=1.0 if bold else 0.55, zorder=3 if bold else 2)
-            for p in pts:
-                mk = MARKERS.get(p[3], "o")
-                if p[2] == "ok":
-                    ax.plot(p[0], p[1], mk, color=colour, ms=4, zorder=3)
-                else:
-                    unstable_seen = True
-                    ax.plot(p[0], p[1], mk, ms=11, mfc="none", mec="#d50000", mew=2, zorder=5)
-            first = min(line or pts)
-            ax.annotate(short_name(m, cut), (first[0], first[1]), fontsize=6.5, color=colour,
-                        xytext=(4, 2), textcoords="offset points",
-                        fontweight="bold" if bold else "normal")
-        # The front: the report's answer, each point where summary.csv puts it.
-        labels = {}
-        for f in front:
-            if f["cut"] != cut or not f["method"]:
-                continue
-            r = by_folder[f["folder"]]
-            x, y = num(r["wall_s"]), num(r["rel_l2_error_converged"])
-            drawn.append((cut, num(f["level"]), r["method"], num(r["macro_step_s"]), num(r["tolerance_m"]), x, y))
-            labels.setdefault((x, y, r["method"], num(r["macro_step_s"])), []).append(f"{num(f['level']):g}")
-        for i, ((x, y, m, h), lv) in enumerate(labels.items()):
-            ax.plot(x, y, "*", ms=18, color="gold", mec="k", mew=1.2, zorder=8)
-            ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s", (x, y), fontsize=7.5,
-                        fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
-                        va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
-                        bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
-        missing = [f"{num(f['level']):g}" for f in front if f["cut"] == cut and not f["method"]]
-        note = []
-        if diverged:
-            note.append(f"{diverged} diverged runs not drawn")
-        if missing:
-            note.append("nothing reaches " + ", ".join(missing))
-        if note:
-            ax.text(0.99, 0.01, "; ".join(note), transform=ax.transAxes, ha="right", va="bottom", fontsize=7,
-                    color="0.3")
-        title = " + ".join(CUT_NAMES.get(c, c) for c in cut.split("+"))
-        ax.set_title(f"{cut}: {title} cut", fontsize=11)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.grid(alpha=0.25, which="both")
+        panel(axes[k // ncols][k % ncols], cut, cosim, tol, front, levels, state)
     for k in range(len(cuts), nrows * ncols):
         axes[k // ncols][k % ncols].axis("off")
     for row in axes:
         row[0].set_ylabel("rel. L2 error of the deflection at t_end\n(against the converged monolithic run)")
     for ax in axes[-1]:
         ax.set_xlabel("wall time (s)")
+    legend(fig, state, cosim, tol)
+    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; the bold star is the method to use",
+                 fontsize=12)
+    fig.tight_layout(rect=(0, 0.1 if nrows == 1 else 0.06, 1, 0.97))
+    fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
+    plt.close(fig)
+    return state["drawn"]
+
+
+def panel(ax, cut, cosim, tol, front, levels, state):
+    """One cut's panel of the speed/accuracy chart; the front it draws goes
+    to state["drawn"] (each point where summary.csv puts it)."""
+    by_folder = {r["folder"]: r for r in cosim}
+    if tol:
+        ax.plot([t[0] for t in tol], [t[1] for t in tol], "k-", lw=2.5, alpha=0.8, zorder=4)
+        for t in tol:
+            ax.plot(t[0], t[1], MARKERS.get(t[3], "o"), color="k", ms=5, zorder=4)
+            ax.annotate(f"tol {float(t[2]):g}", (t[0], t[1]), fontsize=6, xytext=(-4, -9),
+                        textcoords="offset points", ha="right")
+    for lv in levels:
+        ax.axhline(lv, color="0.5", lw=0.8, ls=":", zorder=1)
+    chosen = {f["method"] for f in front if f["cut"] == cut and f["method"]}
+    diverged = 0
+    for m in dict.fromkeys(r["method"] for r in cosim if cut_of(r["method"]) == cut):
+        mine = [r for r in cosim if r["method"] == m]
+        diverged += sum(r["status"] == "diverged" for r in mine)
+        pts = sorted(  # along the macro step, largest first
+            (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["status"], r["transport"], r["group"],
+             num(r["macro_step_s"]))
+            for r in mine
+            if r["status"] in ("ok", "amplified") and num(r["rel_l2_error_converged"]) > 0
+        )
+        if not pts:
+            continue
+        name, colour = family(m)
+        state["families"].add(name)
+        bold = m in chosen
+        pts.sort(key=lambda p: -p[5])
+        line = [p for p in pts if p[4] != "other-transport"]
+        ax.plot([p[0] for p in line], [p[1] for p in line], color=colour, ls=dash(m),
+                lw=2.6 if bold else 1.0, alpha=1.0 if bold else 0.55, zorder=3 if bold else 2)
+        for p in pts:
+            mk = MARKERS.get(p[3], "o")
+            if p[2] == "ok":
+                ax.plot(p[0], p[1], mk, color=colour, ms=4, zorder=3)
+            else:
+                state["unstable"] = True
+                ax.plot(p[0], p[1], mk, ms=11, mfc="none", mec="#d50000", mew=2, zorder=5)
+        first = min(line or pts)
+        ax.annotate(short_name(m, cut), (first[0], first[1]), fontsize=6.5, color=colour,
+                    xytext=(4, 2), textcoords="offset points",
+                    fontweight="bold" if bold else "normal")
+    # The front: the report's answer, each point where summary.csv puts it.
+    labels = {}
+    for f in front:
+        if f["cut"] != cut or not f["method"]:
+            continue
+        r = by_folder[f["folder"]]
+        x, y = num(r["wall_s"]), num(r["rel_l2_error_converged"])
+        state["drawn"].append((cut, num(f["level"]), r["method"], num(r["macro_step_s"]), num(r["tolerance_m"]), x, y))
+        labels.setdefault((x, y, r["method"], num(r["macro_step_s"])), []).append(f"{num(f['level']):g}")
+    for i, ((x, y, m, h), lv) in enumerate(labels.items()):
+        ax.plot(x, y, "*", ms=18, color="gold", mec="k", mew=1.2, zorder=8)
+        ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s", (x, y), fontsize=7.5,
+                    fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
+                    va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
+                    bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
+    missing = [f"{num(f['level']):g}" for f in front if f["cut"] == cut and not f["method"]]
+    note = []
+    if diverged:
+        note.append(f"{diverged} diverged runs not drawn")
+    if missing:
+        note.append("nothing reaches " + ", ".join(missing))
+    if note:
+        ax.text(0.99, 0.01, "; ".join(note), transform=ax.transAxes, ha="right", va="bottom", fontsize=7,
+                color="0.3")
+    title = " + ".join(CUT_NAMES.get(c, c) for c in cut.split("+"))
+    ax.set_title(f"{cut}: {title} cut", fontsize=11)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.grid(alpha=0.25, which="both")
+
+
+def legend(fig, state, cosim, tol):
+    """At most 8 entries: the families drawn, the reference, the schedules,
+    the unstable points and the answer; the transports in its title."""
     from matplotlib.lines import Line2D
-    handles = [Line2D([], [], color=c, lw=2, label=n) for n, c in FAMILIES if n in families]
+    handles = [Line2D([], [], color=c, lw=2, label=n) for n, c in FAMILIES if n in state["families"]]
     handles += [
         Line2D([], [], color="k", lw=2.5, marker="s", label="monolithic, tolerance sweep (reference)"),
         Line2D([], [], color="0.3", ls="-", label="Jacobi"),
         Line2D([], [], color="0.3", ls="--", label="Gauss\u2013Seidel"),
     ]
-    if unstable_seen:
+    if state["unstable"]:
         handles.append(Line2D([], [], ls="", marker="o", ms=11, mfc="none", mec="#d50000", mew=2,
                               label="amplified (unstable)"))
     handles.append(Line2D([], [], ls="", marker="*", ms=16, color="gold", mec="k",
@@ -293,12 +308,6 @@ def speed_accuracy(study, runs, out):
                title="markers: " + ", ".join(f"{MARKERS.get(t, 'o').replace('o', 'circle').replace('s', 'square')} "
                                              f"{t}" for t in transports) + "; dotted lines: the error levels",
                title_fontsize=8)
-    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; the bold star is the method to use",
-                 fontsize=12)
-    fig.tight_layout(rect=(0, 0.1 if nrows == 1 else 0.06, 1, 0.97))
-    fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
-    plt.close(fig)
-    return drawn
 
 
 def stability_map(runs, out):
