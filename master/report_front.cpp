@@ -107,6 +107,30 @@ std::string cell(const FrontRow& row) {
   return s + ": **" + sig3(x.wall_s) + " s**";
 }
 
+// Which column is the cheapest at each level: the headline under the table.
+std::string fastest_sentence(const std::vector<FrontRow>& front) {
+  std::vector<std::string> parts;
+  bool mono_everywhere = true;
+  for (double level : accuracy_levels()) {
+    const FrontRow* best = nullptr;
+    for (const FrontRow& r : front)
+      if (r.level == level && r.run && (!best || r.run->record.wall_s < best->run->record.wall_s))
+        best = &r;
+    if (!best) continue;
+    mono_everywhere = mono_everywhere && best->cut == "monolithic";
+    parts.push_back(shortg(level) + ": " +
+                    (best->cut == "monolithic" ? std::string("the monolithic run")
+                                               : "`" + best->run->method + "`"));
+  }
+  if (parts.empty()) return "No run reaches any of the levels.";
+  if (mono_everywhere)
+    return "At every level the monolithic run is the fastest: cutting the model buys no speed "
+           "here, only the freedom to run the parts apart.";
+  std::string s = "The fastest of all at each level:";
+  for (std::size_t i = 0; i < parts.size(); ++i) s += (i ? "; " : " ") + parts[i];
+  return s + ".";
+}
+
 }  // namespace
 
 void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
@@ -133,7 +157,7 @@ void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
         if (r.cut == c && r.level == level) md << " " << cell(r) << " |";
     md << "\n";
   }
-  md << "\n";
+  md << "\n" << fastest_sentence(front) << "\n\n";
 }
 
 void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
