@@ -43,33 +43,7 @@ std::optional<double> restart_ratio(const std::vector<StudyRun>& runs, const std
 }
 
 void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
-                           const std::string& transport, const std::string& h) {
-  const std::string other = transport == "tcp" ? "inproc" : "tcp";
-  md << "\n"
-     << h << " Cheapest method per accuracy\n\n"
-     << "Among the runs of the sweep that end `ok`, the one that reaches each relative error "
-        "(rail deflection at t_end against the monolithic run at the same H) in the least wall "
-        "time over `"
-     << transport << "`; the same method and H rerun over `" << other << "` for comparison.\n\n"
-     << "| error at most | method | H (s) | error | wall " << transport << " (s) | wall " << other
-     << " (s) | iterations per step (mean) |\n|---|---|---|---|---|---|---|\n";
-  for (double level : accuracy_levels()) {
-    const StudyRun* best = cheapest_reaching(runs, level);
-    if (!best) {
-      md << "| " << sci(level) << " | none of the swept methods | | | | | |\n";
-      continue;
-    }
-    const RunRecord& x = best->record;
-    std::string again = "–";
-    for (const StudyRun& r : runs)
-      if (r.group == "other-transport" && r.method == best->method &&
-          r.record.macro_step == x.macro_step && r.record.status == "ok")
-        again = sci(r.record.wall_s);
-    md << "| " << sci(level) << " | " << best->method << " | " << x.macro_step << " | "
-       << sci(*x.rel_l2_error) << " | " << sci(x.wall_s) << " | " << again << " | "
-       << (x.iterations_mean ? sci(*x.iterations_mean) : "1 (explicit)") << " |\n";
-  }
-
+                           const std::string& h) {
   // Per method: the largest H at which it is ok, and the first H above it at
   // which it is not.
   std::map<std::string, std::map<double, std::string>> status;

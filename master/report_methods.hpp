@@ -19,14 +19,15 @@ inline const std::vector<double>& accuracy_levels() {
 }
 
 // The co-simulation run ("case" and "sweep" groups) that reaches relative
-// error `level` in the least wall time, if any.
+// error `level` against the monolithic run at the same H in the least wall
+// time, if any: what stage 2 reruns over the other transport. (The report's
+// answer is per cut, against the converged run: report_front.hpp.)
 const StudyRun* cheapest_reaching(const std::vector<StudyRun>& runs, double level);
 
-// Markdown sections: "Cheapest method per accuracy", "Largest stable macro
-// step per method" and "Restart convention and the paper's 'almost 10'",
-// headed at level `h` ("##", or "###" within a scene variant's section).
+// Markdown sections: "Largest stable macro step per method" and "Restart convention and the paper's
+// 'almost 10'", headed at level `h` ("##", or "###" within a scene variant's section).
 void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
-                           const std::string& transport, const std::string& h = "##");
+                           const std::string& h = "##");
 
 // Jacobi over Gauss–Seidel error of rs-xx at H = 1e-4 s under a restart
 // convention, from the study's "restart" runs.

@@ -1,8 +1,12 @@
 #!/usr/bin/env python3
 """Draws the figures of a study from the files `master study` wrote.
 
-Usage: figures.py STUDY_DIR   (reads STUDY_DIR/summary.csv and the per-run
-CSVs, writes STUDY_DIR/figures/*.png)
+Usage: figures.py [--print-front] STUDY_DIR
+  reads STUDY_DIR/summary.csv, STUDY_DIR/front.csv (the report's answer: per
+  cut, the cheapest run reaching each accuracy) and the per-run CSVs; writes
+  STUDY_DIR/figures/*.png. --print-front also prints the front the
+  speed/accuracy chart drew, as CSV (cut,level,method,macro_step_s,
+  tolerance_m,wall_s,error), each point read from summary.csv.
 """
 import csv
 import math
@@ -58,12 +62,13 @@ def main(study):
 
     usable = {k: r for k, r in cases.items() if k != "monolithic" and r["status"] in ("ok", "amplified")}
 
-    # The paper's Figure 5: deflection at t_end per cut.
+    # The paper's Figure 5: deflection at t_end per cut, the paper's couplings
+    # (explicit, held inputs; at most 6 legend entries).
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), sharey=True)
     for ax, split, title in zip(axes, ("wr", "rs"), ("wheel/rail cut", "rail/sleepers cut")):
         ax.plot(x_m, [w * 1e3 for w in w_m], "k-", lw=3, alpha=0.35, label="monolithic")
         for k, r in sorted(usable.items()):
-            if k.startswith(split):
+            if cut_of(k) == split and "+" not in k:
                 x, w = deflection(r)
                 c, d = style(k)
                 ax.plot(x, [v * 1e3 for v in w], color=c, ls=d, lw=1.2, label=k)
@@ -83,7 +88,7 @@ def main(study):
         for j, scheme in enumerate(("jacobi", "gauss-seidel")):
             ax = axes[i][j]
             for k, r in sorted(usable.items()):
-                if k.startswith(split) and scheme in k and (scheme != "jacobi" or "gauss" not in k):
+                if cut_of(k) == split and scheme in k and (scheme != "jacobi" or "gauss" not in k):
                     x, w = deflection(r)
                     c, d = style(k)
                     ax.plot(x, [(a - b) * 1e3 for a, b in zip(w, w_m)], color=c, ls=d, label=k)
@@ -98,62 +103,8 @@ def main(study):
     fig.savefig(os.path.join(out, "errors.png"), dpi=110)
     plt.close(fig)
 
-    # Speed against accuracy. The legend goes beside the axes: with dozens of
-    # methods (a scene with a soil) it would hide the curves, the monolithic
-    # reference among them.
-    methods = sorted({r["method"] for r in runs if r["method"] != "monolithic"})
-    legend_cols = 1 if len(methods) <= 30 else 2
-    fig, ax = plt.subplots(figsize=(9 + 2.6 * legend_cols, 6))
-    tol = sorted(
-        (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["tolerance_m"])
-        for r in runs
-        if r["method"] == "monolithic" and r["status"] == "ok" and num(r["rel_l2_error_converged"]) > 0
-    )
-    if tol:
-        ax.plot([t[0] for t in tol], [t[1] for t in tol], "k-o", lw=2, label="monolithic (tolerance sweep)")
-        for t in tol:
-            ax.annotate(f"tol {float(t[2]):g}", (t[0], t[1]), fontsize=6, xytext=(3, 3), textcoords="offset points")
-    for m in methods:
-        pts = sorted(
-            (num(r["macro_step_s"]), num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["status"])
-            for r in runs
-            if r["method"] == m and r["status"] in ("ok", "amplified") and num(r["rel_l2_error_converged"]) > 0
-        )
-        if not pts:
-            continue
-        c, d = style(m)
-        ax.plot([p[1] for p in pts], [p[2] for p in pts], color=c, ls=d, marker=".", label=m)
-        amp = [p for p in pts if p[3] == "amplified"]
-        ax.plot([p[1] for p in amp], [p[2] for p in amp], "x", color=c, ms=8)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("wall time (s)")
-    ax.set_ylabel("relative L2 error of the deflection at t_end (vs converged)")
-    ax.set_title("Speed against accuracy (x: amplified; each point a macro step)")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=7, ncol=legend_cols, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
-    plt.close(fig)
-
-    # Stability map.
-    steps = sorted({num(r["macro_step_s"]) for r in runs if r["method"] != "monolithic"})
-    status = {(r["method"], num(r["macro_step_s"])): r["status"] for r in runs if r["method"] != "monolithic"}
-    fig, ax = plt.subplots(figsize=(1.2 * len(steps) + 3, 0.45 * len(methods) + 1.5))
-    for i, m in enumerate(methods):
-        for j, h in enumerate(steps):
-            s = status.get((m, h), "")
-            ax.add_patch(plt.Rectangle((j, i), 1, 1, color=STATUS_COLOURS.get(s, "white"), ec="white"))
-            ax.text(j + 0.5, i + 0.5, s, ha="center", va="center", fontsize=7)
-    ax.set_xlim(0, len(steps))
-    ax.set_ylim(0, len(methods))
-    ax.set_xticks([j + 0.5 for j in range(len(steps))], [f"{h:g}" for h in steps])
-    ax.set_yticks([i + 0.5 for i in range(len(methods))], methods)
-    ax.set_xlabel("macro step H (s)")
-    ax.set_title("Stability map")
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "stability_map.png"), dpi=110)
-    plt.close(fig)
+    drawn = speed_accuracy(study, runs, out)
+    stability_map(runs, out)
 
     # Contact force: monolithic, best and worst co-simulation at the scene's H.
     fig, ax = plt.subplots(figsize=(11, 4.5))
@@ -173,6 +124,221 @@ def main(study):
     plt.close(fig)
 
     spectra(os.path.join(study, mono["folder"], "spectra.csv"), out)
+    return drawn
+
+
+# Colour by method family, line by schedule, marker by transport.
+FAMILIES = (
+    ("explicit, held inputs", "#1f77b4"),
+    ("explicit, extrapolated inputs", "#ff7f0e"),
+    ("implicit (IQN-ILS)", "#2ca02c"),
+    ("substep waveforms", "#9467bd"),
+)
+MARKERS = {"tcp": "o", "inproc": "s"}
+CUT_NAMES = {"wr": "wheel/rail", "rs": "rail/sleepers", "ss": "sleepers/soil"}
+
+
+def family(method):
+    if "+implicit" in method:
+        return FAMILIES[2]
+    if "waveform" in method or "substep" in method:
+        return FAMILIES[3]
+    if "extrapolate" in method:
+        return FAMILIES[1]
+    return FAMILIES[0]
+
+
+def dash(method):
+    return "--" if "gauss-seidel" in method else "-"
+
+
+def cut_of(method):
+    """The cut of a method label, as the report names it: wr-xt-jacobi -> wr,
+    wr-xx+ss-xt-gauss-seidel -> wr+ss (report_front.cpp's cut_of)."""
+    if method == "monolithic":
+        return method
+    ends = [i for i in (method.find("-jacobi"), method.find("-gauss-seidel")) if i >= 0]
+    base = method[: min(ends)] if ends else method
+    return "+".join(p[:2] for p in base.split("+"))
+
+
+def short_name(method, cut):
+    """The method without its cut(s), for labels inside the cut's panel."""
+    name = method.replace("gauss-seidel", "GS").replace("jacobi", "J")
+    name = name.replace("+implicit-linear-iqn-ils", " implicit").replace("+explicit-extrapolate1", " extrap.")
+    return name if "+" in cut else name[len(cut) + 1:]
+
+
+def read_front(study):
+    path = os.path.join(study, "front.csv")
+    return read_rows(path) if os.path.exists(path) else []
+
+
+def speed_accuracy(study, runs, out):
+    """One panel per cut: every method of the cut over the macro-step sweep,
+    the monolithic tolerance sweep as reference, and the report's answer
+    (front.csv) bold and labelled. Returns the front drawn."""
+    front = read_front(study)
+    cosim = [r for r in runs if r["group"] in ("case", "sweep", "other-transport") and r["method"] != "monolithic"]
+    cuts = []
+    for r in cosim:
+        if cut_of(r["method"]) not in cuts:
+            cuts.append(cut_of(r["method"]))
+    levels = sorted({num(f["level"]) for f in front}, reverse=True) or [1e-3, 1e-4, 1e-5]
+    ncols = 1 if len(cuts) == 1 else 2
+    nrows = max(1, math.ceil(len(cuts) / ncols))
+    fig, axes = plt.subplots(nrows, ncols, figsize=(7.5 * ncols, 5.2 * nrows + 1.2), sharex=True, sharey=True,
+                             squeeze=False)
+    tol = sorted(  # along the tolerance, loosest first
+        (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["tolerance_m"], r["transport"])
+        for r in runs
+        if r["method"] == "monolithic" and r["group"] in ("tolerance", "case") and r["status"] == "ok"
+        and num(r["rel_l2_error_converged"]) > 0
+    )
+    tol = sorted(dict((t[2], t) for t in tol).values(), key=lambda t: -float(t[2]))
+    state = {"drawn": [], "families": set(), "unstable": False}
+    for k, cut in enumerate(cuts):
+        panel(axes[k // ncols][k % ncols], cut, cosim, tol, front, levels, state)
+    for k in range(len(cuts), nrows * ncols):
+        axes[k // ncols][k % ncols].axis("off")
+    for row in axes:
+        row[0].set_ylabel("rel. L2 error of the deflection at t_end\n(against the converged monolithic run)")
+    for ax in axes[-1]:
+        ax.set_xlabel("wall time (s)")
+    legend(fig, state, cosim, tol)
+    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; the bold star is the method to use",
+                 fontsize=12)
+    fig.tight_layout(rect=(0, 0.1 if nrows == 1 else 0.06, 1, 0.97))
+    fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
+    plt.close(fig)
+    return state["drawn"]
+
+
+def panel(ax, cut, cosim, tol, front, levels, state):
+    """One cut's panel of the speed/accuracy chart; the front it draws goes
+    to state["drawn"] (each point where summary.csv puts it)."""
+    by_folder = {r["folder"]: r for r in cosim}
+    if tol:
+        ax.plot([t[0] for t in tol], [t[1] for t in tol], "k-", lw=2.5, alpha=0.8, zorder=4)
+        for t in tol:
+            ax.plot(t[0], t[1], MARKERS.get(t[3], "o"), color="k", ms=5, zorder=4)
+            ax.annotate(f"tol {float(t[2]):g}", (t[0], t[1]), fontsize=6, xytext=(-4, -9),
+                        textcoords="offset points", ha="right")
+    for lv in levels:
+        ax.axhline(lv, color="0.5", lw=0.8, ls=":", zorder=1)
+    chosen = {f["method"] for f in front if f["cut"] == cut and f["method"]}
+    diverged = 0
+    for m in dict.fromkeys(r["method"] for r in cosim if cut_of(r["method"]) == cut):
+        mine = [r for r in cosim if r["method"] == m]
+        diverged += sum(r["status"] == "diverged" for r in mine)
+        pts = sorted(  # along the macro step, largest first
+            (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["status"], r["transport"], r["group"],
+             num(r["macro_step_s"]))
+            for r in mine
+            if r["status"] in ("ok", "amplified") and num(r["rel_l2_error_converged"]) > 0
+        )
+        if not pts:
+            continue
+        name, colour = family(m)
+        state["families"].add(name)
+        bold = m in chosen
+        pts.sort(key=lambda p: -p[5])
+        line = [p for p in pts if p[4] != "other-transport"]
+        ax.plot([p[0] for p in line], [p[1] for p in line], color=colour, ls=dash(m),
+                lw=2.6 if bold else 1.0, alpha=1.0 if bold else 0.55, zorder=3 if bold else 2)
+        for p in pts:
+            mk = MARKERS.get(p[3], "o")
+            if p[2] == "ok":
+                ax.plot(p[0], p[1], mk, color=colour, ms=4, zorder=3)
+            else:
+                state["unstable"] = True
+                ax.plot(p[0], p[1], mk, ms=11, mfc="none", mec="#d50000", mew=2, zorder=5)
+        first = min(line or pts)
+        ax.annotate(short_name(m, cut), (first[0], first[1]), fontsize=6.5, color=colour,
+                    xytext=(4, 2), textcoords="offset points",
+                    fontweight="bold" if bold else "normal")
+    # The front: the report's answer, each point where summary.csv puts it.
+    labels = {}
+    for f in front:
+        if f["cut"] != cut or not f["method"]:
+            continue
+        r = by_folder[f["folder"]]
+        x, y = num(r["wall_s"]), num(r["rel_l2_error_converged"])
+        state["drawn"].append((cut, num(f["level"]), r["method"], num(r["macro_step_s"]), num(r["tolerance_m"]), x, y))
+        labels.setdefault((x, y, r["method"], num(r["macro_step_s"])), []).append(f"{num(f['level']):g}")
+    for i, ((x, y, m, h), lv) in enumerate(labels.items()):
+        ax.plot(x, y, "*", ms=18, color="gold", mec="k", mew=1.2, zorder=8)
+        ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s", (x, y), fontsize=7.5,
+                    fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
+                    va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
+                    bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
+    missing = [f"{num(f['level']):g}" for f in front if f["cut"] == cut and not f["method"]]
+    note = []
+    if diverged:
+        note.append(f"{diverged} diverged runs not drawn")
+    if missing:
+        note.append("nothing reaches " + ", ".join(missing))
+    if note:
+        ax.text(0.99, 0.01, "; ".join(note), transform=ax.transAxes, ha="right", va="bottom", fontsize=7,
+                color="0.3")
+    title = " + ".join(CUT_NAMES.get(c, c) for c in cut.split("+"))
+    ax.set_title(f"{cut}: {title} cut", fontsize=11)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.grid(alpha=0.25, which="both")
+
+
+def legend(fig, state, cosim, tol):
+    """At most 8 entries: the families drawn, the reference, the schedules,
+    the unstable points and the answer; the transports in its title."""
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color=c, lw=2, label=n) for n, c in FAMILIES if n in state["families"]]
+    handles += [
+        Line2D([], [], color="k", lw=2.5, marker="s", label="monolithic, tolerance sweep (reference)"),
+        Line2D([], [], color="0.3", ls="-", label="Jacobi"),
+        Line2D([], [], color="0.3", ls="--", label="Gauss\u2013Seidel"),
+    ]
+    if state["unstable"]:
+        handles.append(Line2D([], [], ls="", marker="o", ms=11, mfc="none", mec="#d50000", mew=2,
+                              label="amplified (unstable)"))
+    handles.append(Line2D([], [], ls="", marker="*", ms=16, color="gold", mec="k",
+                          label="the answer: cheapest to reach each error level"))
+    transports = sorted({r["transport"] for r in cosim} | {t[3] for t in tol})
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+               title="markers: " + ", ".join(f"{MARKERS.get(t, 'o').replace('o', 'circle').replace('s', 'square')} "
+                                             f"{t}" for t in transports) + "; dotted lines: the error levels",
+               title_fontsize=8)
+
+
+def stability_map(runs, out):
+    """Macro step against method, grouped by cut (a line between cuts)."""
+    methods = []
+    for r in runs:
+        if r["method"] != "monolithic" and r["group"] in ("case", "sweep") and r["method"] not in methods:
+            methods.append(r["method"])
+    cuts = list(dict.fromkeys(cut_of(m) for m in methods))
+    methods = [m for c in cuts for m in methods if cut_of(m) == c]
+    steps = sorted({num(r["macro_step_s"]) for r in runs if r["method"] in methods})
+    status = {(r["method"], num(r["macro_step_s"])): r["status"] for r in runs
+              if r["method"] in methods and r["group"] in ("case", "sweep")}
+    fig, ax = plt.subplots(figsize=(1.2 * len(steps) + 4, 0.32 * len(methods) + 1.8))
+    for i, m in enumerate(methods):
+        for j, h in enumerate(steps):
+            s = status.get((m, h), "")
+            ax.add_patch(plt.Rectangle((j, i), 1, 1, color=STATUS_COLOURS.get(s, "white"), ec="white"))
+            ax.text(j + 0.5, i + 0.5, s or "not run", ha="center", va="center", fontsize=7,
+                    color="k" if s else "0.6")
+        if i + 1 < len(methods) and cut_of(methods[i + 1]) != cut_of(m):
+            ax.axhline(i + 1, color="k", lw=1.5)
+    ax.set_xlim(0, len(steps))
+    ax.set_ylim(len(methods), 0)
+    ax.set_xticks([j + 0.5 for j in range(len(steps))], [f"{h:g}" for h in steps])
+    ax.set_yticks([i + 0.5 for i in range(len(methods))], methods, fontsize=8)
+    ax.set_xlabel("macro step H (s)")
+    ax.set_title("Stability map: green ok, orange amplified, red diverged (grouped by cut)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "stability_map.png"), dpi=110)
+    plt.close(fig)
 
 
 def spectra(path, out):
@@ -205,6 +371,14 @@ def spectra(path, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
+    args = sys.argv[1:]
+    show = args[:1] == ["--print-front"]
+    if show:
+        args = args[1:]
+    if len(args) != 1:
         sys.exit(__doc__)
-    main(sys.argv[1])
+    front = main(args[0])
+    if show:
+        print("cut,level,method,macro_step_s,tolerance_m,wall_s,error")
+        for p in front:
+            print(",".join(repr(v) if isinstance(v, float) else v for v in p))
