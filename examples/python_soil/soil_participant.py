@@ -126,7 +126,7 @@ class LumpedSoil(rc.Participant):
         self.origin, self.origin_load = state[3 * n:].copy(), -(self.K @ state[3 * n:])
 
     def history_values(self):
-        return (float(np.max(np.abs(self.u))),)
+        return (float(np.abs(self.u).max()),)
 
     def results(self):
         return (self.u,)

@@ -8,6 +8,7 @@ import secrets
 
 import numpy as np
 
+from . import packed
 from . import participant as api
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 
@@ -48,26 +49,26 @@ class Session:
         t0 = max(self.step, 0) * self.H
         out = []
         for k, i in enumerate(self.interfaces):
-            values = {}
-            for q in api.QUANTITIES:
-                a = getattr(start[k], q)
-                if q not in i.receives:
-                    if len(a) or (end is not None and len(getattr(end[k], q))):
-                        raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the "
-                                            "interface does not receive it" % (i.cut, q))
-                    continue
-                s = self._array(a, i, q)
-                e = None if end is None else self._array(getattr(end[k], q), i, q)
-                values[q] = api.Waveform(s, e, t0, self.H)
-            out.append(api.Inputs(**values))
+            got = packed.decode(start[k])
+            ends = None if end is None else packed.decode(end[k])
+            extra = [q for q in got if q not in i.receives] + (
+                [] if ends is None else [q for q in ends if q not in i.receives])
+            if extra:
+                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                    "does not receive it" % (i.cut, extra[0]))
+            w = api.Inputs()
+            for q in i.receives:
+                e = None if ends is None else self._check(ends.get(q), i, q)
+                setattr(w, q, api.Waveform(self._check(got.get(q), i, q), e, t0, self.H))
+            out.append(w)
         return out
 
     @staticmethod
-    def _array(field, i, q):
-        if len(field) != i.n:
+    def _check(a, i, q):
+        n = 0 if a is None else a.shape[0]
+        if n != i.n:
             raise ProtocolError(E.BAD_REQUEST, "interface %s: %d %s values, expected %d (one "
-                                "per coupling point)" % (i.cut, len(field), q, i.n))
-        a = np.fromiter(field, float, i.n)
+                                "per coupling point)" % (i.cut, n, q, i.n))
         total = float(a.sum())  # not finite when a value is not (or on overflow)
         if total - total != 0.0 and not np.isfinite(a).all():
             raise ProtocolError(E.BAD_REQUEST, "interface %s: a %s value is not finite"
@@ -86,13 +87,11 @@ class Session:
                                     "no" if outputs is None else len(outputs),
                                     len(self.interfaces)))
         for i, o in zip(self.interfaces, outputs):
-            w = data.interfaces.add()
             for q in i.sends:
-                v = o[q]
-                if len(v) != i.n:
+                if len(o[q]) != i.n:
                     raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
-                                        "values, expected %d" % (i.cut, len(v), q, i.n))
-                getattr(w, q).extend(v.tolist() if hasattr(v, "tolist") else v)
+                                        "values, expected %d" % (i.cut, len(o[q]), q, i.n))
+            data.interfaces.add().MergeFromString(packed.encode(o, i.sends))
         return data
 
     def report(self, outputs, step, r=None):
