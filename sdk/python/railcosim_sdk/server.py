@@ -73,9 +73,9 @@ class Server:
             try:
                 self.session(conn)
             finally:
-                conn.close()
-                with self.lock:
+                with self.lock:  # before the close: a master that saw it may come back
                     self.active, self.inbox = None, None
+                conn.close()
 
     def session(self, conn):
         master = Channel(conn, "the master at %s" % self.active)
