@@ -23,10 +23,15 @@ sed -e 's/^end_time = .*/end_time = 0.005/' -e 's/^\(tolerance = .*\)/\1\nmicro_
   "$src/scenes/soil.toml" >"$work/soil.toml"
 grep -q '^micro_steps = 10' "$work/soil.toml"
 
-start() {  # NAME PROGRAM: starts a soil participant; sets $address
+start() {  # NAME PROGRAM [options]: starts a participant; sets $address
   local name=$1 program=$2
-  /usr/bin/python3 "$program" --config "$work/soil.toml" >"$work/$name.out" \
-    2>"$work/$name.err" &
+  shift 2
+  if [[ $program == *.py ]]; then
+    /usr/bin/python3 "$program" --config "$work/soil.toml" "$@" >"$work/$name.out" \
+      2>"$work/$name.err" &
+  else
+    "$program" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+  fi
   pids+=($!)
   for _ in $(seq 100); do
     grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break
@@ -34,7 +39,7 @@ start() {  # NAME PROGRAM: starts a soil participant; sets $address
   done
   address=$(sed -n 's/^listening on //p' "$work/$name.out")
   if [[ -z $address ]]; then
-    echo "the Python participant $name did not start:"
+    echo "the participant $name did not start:"
     cat "$work/$name.err"
     exit 1
   fi
@@ -52,6 +57,14 @@ ns["rc"].serve(Forgetful())
 PY
 start broken "$work/broken.py"
 broken=$address
+# With a shared secret: the upper node and the SDK soil authenticate the
+# master and each other (the vehicle node, holding the track down to the
+# sleepers in ss-only cases, opens the peer link to the soil).
+echo "a shared secret of the run" >"$work/token"
+start secret-soil "$src/examples/python_soil/soil_participant.py" --token-file "$work/token"
+secret_soil=$address
+start secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "$work/token"
+secret_upper=$address
 
 run() {  # OUT NAME CASE [master options]: one run; NAME the run's folder under OUT
   local out=$1 name=$2 case=$3
@@ -73,7 +86,14 @@ for plane in relay direct; do
   both "3-jacobi-$plane" wr-xx+ss-xx-jacobi --data-plane "$plane"
   both "3-gs-$plane" wr-xt+ss-xt-gauss-seidel --data-plane "$plane"
   both "2-xt-jacobi-$plane" ss-xt-jacobi --data-plane "$plane"
+  # The force the soil holds is resolved with fresh displacements (SetInputs,
+  # GetOutputs relayed; the track's second sending on the direct plane).
+  both "2-xt-resolved-$plane" ss-xt-jacobi --feedthrough resolved --data-plane "$plane"
 done
+run outside 2-secret ss-xx-jacobi --node "soil=$secret_soil" --node "vehicle=$secret_upper" \
+  --token-file "$work/token"
+run builtin 2-secret ss-xx-jacobi
+grep -q '"data_plane": "direct"' "$work/outside/2-secret/summary.json"
 grep -q '"data_plane": "direct"' "$work/outside/3-jacobi-direct/summary.json" || {
   echo "the direct runs did not use the direct plane:"
   cat "$work/outside/3-jacobi-direct/summary.json"
