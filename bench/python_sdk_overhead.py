@@ -107,7 +107,9 @@ class Sink:
         return pb.Envelope.FromString(f[4:])
 
     def send(self, env):
-        b = env.SerializeToString()
+        self.send_bytes(env.SerializeToString())
+
+    def send_bytes(self, b):
         struct.pack(">I", len(b)) + b
 
 
@@ -120,7 +122,8 @@ def direct(steps, kind=SOIL["LumpedSoil"]):
     link.chan = peer
     plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
     plane.timeout, plane.id, plane.end, plane.why = 10.0, 1, steps, ""
-    plane.pending, plane.last_flush = pb.Reports(), time.process_time()
+    plane.envelope = pb.Envelope(id=1)
+    plane.pending, plane.last_flush = plane.envelope.reports, time.process_time()
     t0 = time.process_time()
     plane.run(0.0, 64)
     plane.flush()

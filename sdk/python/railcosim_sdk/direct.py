@@ -6,6 +6,7 @@ import secrets
 import socket
 import time
 
+from . import packed
 from .session import auth_answer
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
 
@@ -166,12 +167,12 @@ class Plane:
 
     # ---- the window ----
 
-    def send_outputs(self, coupling, last, refresh):
-        data = coupling.interfaces
+    def send_outputs(self, encoded, last, refresh):
+        """Sends the outputs at self.point (encoded InterfaceData, one per
+        interface) to every peer, each its link's interfaces."""
         for l in self.links:
-            d = pb.PeerData(point=self.point, last=last, refresh=refresh)
-            d.data.interfaces.extend(data[i] for i in l.interfaces)
-            l.chan.send(pb.Envelope(peer_data=d))
+            l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
+                                               last, refresh))
         if not refresh:
             self.sent = self.point
         self.sent_last = self.sent_last or last
@@ -190,8 +191,9 @@ class Plane:
         if len(self.pending.reports) == 0 and not waiting_for:
             return
         self.pending.waiting_for = waiting_for
-        self.master.send(pb.Envelope(id=self.id, reports=self.pending))
-        self.pending = pb.Reports()
+        self.master.send(self.envelope)
+        self.envelope = pb.Envelope(id=self.id)
+        self.pending = self.envelope.reports
         self.last_flush = time.monotonic()
 
     def await_link(self, l, need, fresh):
@@ -253,7 +255,8 @@ class Plane:
         if w.end_step <= w.first_step:
             raise ProtocolError(E.BAD_REQUEST, "a window must hold at least one macro step")
         self.end, self.why, self.id = w.end_step, "", req.id
-        self.pending, self.last_flush = pb.Reports(), time.monotonic()
+        self.envelope = pb.Envelope(id=self.id)
+        self.pending, self.last_flush = self.envelope.reports, time.monotonic()
         every = w.report_steps or 64
         try:
             self.run(w.divergence_bound, every)
@@ -272,7 +275,8 @@ class Plane:
     def run(self, bound, every):
         s = self.s
         if self.sent < self.point:
-            self.send_outputs(s.coupling(s.last, pb.CouplingData()), False, False)
+            s.coupling(s.last, pb.CouplingData())
+            self.send_outputs(s.encoded, False, False)
         while self.point < self.end:
             n = self.point
             if not all([self.await_link(l, n + (1 if l.ahead else 0), False)
@@ -280,7 +284,8 @@ class Plane:
                 break
             s.set_inputs(self.gathered(False))
             if self.refresh:
-                self.send_outputs(s.coupling(s.current_outputs(), pb.CouplingData()), False, True)
+                s.coupling(s.current_outputs(), pb.CouplingData())
+                self.send_outputs(s.encoded, False, True)
             again = [l for l in self.links if l.refreshes]
             if again:
                 if not all([self.await_link(l, n, True) for l in again]):
@@ -296,6 +301,6 @@ class Plane:
             if diverged:
                 self.end = self.point
                 self.why = "diverged at macro step %d" % self.point
-            self.send_outputs(r.outputs, diverged, False)
+            self.send_outputs(s.encoded, diverged, False)
             if len(self.pending.reports) >= every or time.monotonic() - self.last_flush >= 0.02:
                 self.flush()

@@ -55,3 +55,12 @@ def encode(values, sends):
         b = np.ascontiguousarray(values[q], dtype=F8).tobytes()
         parts.append(bytes((TAGS[q],)) + _varint(len(b)) + b)
     return b"".join(parts)
+
+
+def peer_data(point, encoded, last=False, refresh=False):
+    """The serialisation of Envelope{peer_data: PeerData{point, data, last,
+    refresh}} whose data holds the given encoded InterfaceData, in order."""
+    data = b"".join(b"\x0a" + _varint(len(b)) + b for b in encoded)
+    body = (b"\x08" + _varint(point) + b"\x12" + _varint(len(data)) + data
+            + (b"\x18\x01" if last else b"") + (b"\x20\x01" if refresh else b""))
+    return b"\x9a\x02" + _varint(len(body)) + body  # Envelope field 35, length-delimited

@@ -91,7 +91,9 @@ class Session:
                 if len(o[q]) != i.n:
                     raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
                                         "values, expected %d" % (i.cut, len(o[q]), q, i.n))
-            data.interfaces.add().MergeFromString(packed.encode(o, i.sends))
+        self.encoded = [packed.encode(o, i.sends) for i, o in zip(self.interfaces, outputs)]
+        for b in self.encoded:
+            data.interfaces.add().MergeFromString(b)
         return data
 
     def report(self, outputs, step, r=None):

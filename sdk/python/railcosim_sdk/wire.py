@@ -147,7 +147,10 @@ class Channel:
         return len(self.buf) >= 4 + struct.unpack_from(">I", self.buf)[0]
 
     def send(self, env):
-        payload = env.SerializeToString()
+        self.send_bytes(env.SerializeToString())
+
+    def send_bytes(self, payload):
+        """Sends one frame holding an already serialised Envelope."""
         self.sock.settimeout(None)
         self.sock.sendall(struct.pack(">I", len(payload)) + payload)
 
