@@ -115,7 +115,9 @@ class Session:
             for o in outputs:
                 d = o.get("displacement")
                 if d is not None and len(d):
-                    peak = max(peak, float(np.abs(d).max()))
+                    m = float(np.abs(d).max())
+                    if not m <= peak:  # NaN too
+                        peak = m
         r.max_abs_displacement = peak
         total = peak + sum(hist)
         for i, o in zip(self.interfaces, outputs):
