@@ -3,7 +3,9 @@
 child process: the HMAC test vector of docs/protocol.md, the challenge
 (wrong and right answers), BUSY for a second master, WRONG_ROLE, and the
 errors a bad Configure, bad inputs, a bad step and a bad Restore get, each
-with its exact message. Usage: python_sdk_test.py SOURCE_DIR"""
+with its exact message; on the direct plane, BUSY for a connection that is
+not the awaited peer, and a master that leaves while the soil waits for its
+peer frees it for the next session. Usage: python_sdk_test.py SOURCE_DIR"""
 
 import os
 import socket
@@ -11,6 +13,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import time
 
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
@@ -137,6 +140,32 @@ try:
     error(m.send(restore=pb.Restore(state=pb.State(values=[1.0, 2.0]))), E.BAD_REQUEST,
           "restore: the state does not fit this participant (it was not saved by it in this "
           "session)", m)
+    # The direct plane: a master that leaves while the soil waits for its
+    # peer link frees the participant at once for the next session.
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    links = pb.Links(session=bytes(16), timeout_ms=20000)
+    links.links.add(peer="track", interfaces=[0])
+    check("links", m.send(links=links).HasField("ack"))
+    m.id += 1
+    w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=5)).SerializeToString()
+    m.s.sendall(struct.pack(">I", len(w)) + w)
+    intruder = Master()  # not a peer: BUSY, and the soil waits on for its peer
+    error(intruder.send(hello=pb.Hello(protocol_version=2, role="master", participant="soil")),
+          E.BUSY, "this participant serves a session; it accepts nothing but its peer links")
+    m.s.close()
+    t0 = time.monotonic()
+    while True:
+        m = Master()
+        r = m.hello()
+        if r is not None and r.HasField("hello_reply"):
+            break
+        check("freed within 2 s of the master leaving", time.monotonic() - t0 < 2, str(r))
+        if time.monotonic() - t0 > 2:
+            break
+        time.sleep(0.05)
+    check("shutdown", m.send(shutdown=pb.Shutdown()).HasField("ack"))
+    check("closed after shutdown", m.receive() is None)
     m, r = configured(micro_steps=0)
     error(r, E.BAD_REQUEST, "configure: this soil integrates with fixed micro steps; set "
           "simulation.micro_steps in the scene")

@@ -3,6 +3,7 @@ Window the participant runs on its own, streaming its reports."""
 
 import hmac
 import secrets
+import select
 import socket
 import time
 
@@ -81,7 +82,17 @@ class Plane:
             refused = []
             while any(l.chan is None for l in self.links):
                 left = deadline - time.monotonic()
-                sock = self.inbox.take(left) if left > 0 else None
+                sock = self.inbox.take(min(left, 0.1)) if left > 0 else None
+                if self.master_gone():
+                    if sock is not None:
+                        late = Channel(sock, "a late connection")
+                        late.send_error(0, E.BUSY, "this participant is ending a session; "
+                                        "connect again")
+                        late.close()
+                    raise ProtocolError(E.PEER_FAILED, "the master ended the session while the "
+                                        "peer links were opening")
+                if sock is None and time.monotonic() < deadline:
+                    continue
                 if sock is None:
                     missing = ", ".join(l.peer for l in self.links if l.chan is None)
                     raise ProtocolError(E.TIMEOUT, "the peer link(s) from %s did not open within "
@@ -165,6 +176,17 @@ class Plane:
             protocol_version=PROTOCOL_VERSION, participant=me, name=self.s.name)))
         match[0].chan = ch
 
+    def master_gone(self):
+        """True when the master's connection has closed (it sends nothing
+        during a window, so anything readable is its end)."""
+        if self.master.pending():
+            return False
+        try:
+            r, _, _ = select.select([self.master.sock], [], [], 0)
+            return bool(r) and self.master.sock.recv(1, socket.MSG_PEEK) == b""
+        except OSError:
+            return True
+
     # ---- the window ----
 
     def send_outputs(self, encoded, last, refresh):
@@ -213,6 +235,9 @@ class Plane:
                             l.chan.what, self.timeout * 1000))
                     if waited == patience:
                         self.flush(l.peer)
+                    if self.master_gone():
+                        raise ProtocolError(E.PEER_FAILED, "the master closed the session while "
+                                            "this participant waited for %s" % l.chan.what)
                 except (LinkClosed, OSError) as x:
                     raise ProtocolError(E.PEER_FAILED, "the peer link to %s: %s" % (
                         l.chan.what, x))
