@@ -128,6 +128,9 @@ try:
           "a step for macro step 3; the participant is at macro step 1", m)
 
     m, _ = configured()
+    error(m.send(configure=pb.Configure(participant="soil", macro_step=1e-4)), E.OUT_OF_ORDER,
+          "configure is allowed once, at the start of a session", m)
+    m, _ = configured()
     m.send(initialize=pb.Initialize(inputs=data(4)))
     error(m.send(step=pb.Step(step=0, h=1e-4, inputs=data(3))), E.BAD_REQUEST,
           "interface ss: 3 displacement values, expected 4 (one per coupling point)", m)

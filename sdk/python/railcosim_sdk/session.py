@@ -341,6 +341,12 @@ class Session:
         out.ack.SetInParent()
         return out
 
+    def out_of_order(self, req, out):
+        raise ProtocolError(E.OUT_OF_ORDER, "%s is allowed once, at the start of a session"
+                            % req.WhichOneof("body"))
+
+    on_hello = on_auth = on_configure = out_of_order
+
     def on_links(self, req, out):
         if self.links_hook is None:
             raise ProtocolError(E.BAD_REQUEST, "this participant does not serve the direct "
