@@ -285,7 +285,7 @@ class Plane:
         every = w.report_steps or 64
         try:
             self.run(w.divergence_bound, every)
-        except ProtocolError:
+        except Exception:  # the peers stop too; the master gets the reports, then the error
             self.send_stop()
             self.flush()
             raise
