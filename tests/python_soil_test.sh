@@ -3,8 +3,9 @@
 # on the Python SDK (sdk/python/railcosim_sdk), serves the soil over TCP. Every
 # run must agree with the same run on the built-in soil node to 1e-12
 # relative: relayed and direct data planes, explicit and implicit coupling,
-# two and three participants. A soil that ignores Restore must be caught by
-# the implicit comparison.
+# two and three participants, resolved feedthrough, a shared secret. A soil
+# that ignores Restore must be caught by the implicit comparison; a soil whose
+# integrator gives up must end the run as diverged, with its message.
 # Usage: python_soil_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 bin=$1
@@ -57,6 +58,19 @@ ns["rc"].serve(Forgetful())
 PY
 start broken "$work/broken.py"
 broken=$address
+# A soil whose integrator gives up at macro step 10 (StepFailed).
+cat >"$work/gives_up.py" <<PY
+import runpy
+ns = runpy.run_path("$src/examples/python_soil/soil_participant.py")
+class GivesUp(ns["LumpedSoil"]):
+    def advance(self, t, H, inputs):
+        if t >= 10 * H:
+            raise ns["rc"].StepFailed("the soil gives up at t = %g s" % t)
+        return super().advance(t, H, inputs)
+ns["rc"].serve(GivesUp())
+PY
+start gives-up "$work/gives_up.py"
+gives_up=$address
 # With a shared secret: the upper node and the SDK soil authenticate the
 # master and each other (the vehicle node, holding the track down to the
 # sleepers in ss-only cases, opens the peer link to the soil).
@@ -94,6 +108,17 @@ run outside 2-secret ss-xx-jacobi --node "soil=$secret_soil" --node "vehicle=$se
   --token-file "$work/token"
 run builtin 2-secret ss-xx-jacobi
 grep -q '"data_plane": "direct"' "$work/outside/2-secret/summary.json"
+# StepFailed: the run is diverged at that step, with the soil's words, on both planes.
+for plane in relay direct; do
+  run failed "gives-up-$plane" wr-xx+ss-xx-jacobi --node "soil=$gives_up" --data-plane "$plane"
+  summary=$work/failed/gives-up-$plane/summary.json
+  grep -q '"status": "diverged"' "$summary" && grep -q '"macro_steps": 11,' "$summary" &&
+    grep -q 'the soil gives up at t = 0.001 s at macro step 10' "$summary" || {
+    echo "a soil that gives up at macro step 10 ($plane plane):"
+    cat "$summary"
+    exit 1
+  }
+done
 grep -q '"data_plane": "direct"' "$work/outside/3-jacobi-direct/summary.json" || {
   echo "the direct runs did not use the direct plane:"
   cat "$work/outside/3-jacobi-direct/summary.json"
