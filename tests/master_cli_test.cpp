@@ -101,6 +101,16 @@ TEST(MasterCli, AnExternalSoilWithoutItsAddressNamesTheFlag) {
             std::string::npos)
       << o.output;
   EXPECT_FALSE(fs::exists(out / "res" / "wr-xx+ss-xx-jacobi" / "soil.csv")) << "nothing may run";
+  // A study starts its own nodes: it cannot reach the external soil either.
+  const Outcome s = run_master("study --scene " + (out / "external.toml").string() + " --out " +
+                               (out / "study").string());
+  EXPECT_EQ(s.status, 2) << s.output;
+  EXPECT_NE(s.output.find("external.toml: the scene's soil is external (soil.model = "
+                          "\"external\"): a study starts its own nodes and cannot reach that "
+                          "program; run each case with master run --node soil=HOST:PORT"),
+            std::string::npos)
+      << s.output;
+  EXPECT_FALSE(fs::exists(out / "study" / "plan.txt")) << "nothing may run";
   fs::remove_all(out);
 }
 
