@@ -142,6 +142,7 @@ def serve(participant, argv=None):
     p = argparse.ArgumentParser(description="serve the %s participant" % participant.name)
     p.add_argument("--listen", default="127.0.0.1:0")
     p.add_argument("--config")
+    p.add_argument("--scene", dest="config", help=argparse.SUPPRESS)  # the example's old name
     p.add_argument("--table", default=participant.name)
     p.add_argument("--token-file")
     p.add_argument("--relayed-only", action="store_true")
