@@ -5,7 +5,9 @@ child process: the HMAC test vector of docs/protocol.md, the challenge
 errors a bad Configure, bad inputs, a bad step and a bad Restore get, each
 with its exact message; on the direct plane, BUSY for a connection that is
 not the awaited peer, and a master that leaves while the soil waits for its
-peer frees it for the next session. Usage: python_sdk_test.py SOURCE_DIR"""
+peer frees it for the next session; as the connecting end of a peer link,
+the hello, the shared secret, PeerData at points 0 and 1, the reports and
+WindowDone. Usage: python_sdk_test.py SOURCE_DIR"""
 
 import os
 import socket
@@ -169,6 +171,50 @@ try:
         time.sleep(0.05)
     check("shutdown", m.send(shutdown=pb.Shutdown()).HasField("ack"))
     check("closed after shutdown", m.receive() is None)
+    # The direct plane, the connecting end (here the soil connects to a
+    # stand-in for the track): hello as a peer, the challenge answered with
+    # the shared secret naming the track, PeerData at points 0 and 1, the
+    # reports, WindowDone.
+    peer_server = socket.socket()
+    peer_server.bind(("127.0.0.1", 0))
+    peer_server.listen(1)
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    links = pb.Links(session=b"k" * 16, timeout_ms=5000)
+    links.links.add(peer="track", host="127.0.0.1", port=peer_server.getsockname()[1],
+                    interfaces=[0])
+    check("links to connect", m.send(links=links).HasField("ack"))
+    m.id += 1
+    w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=1)).SerializeToString()
+    m.s.sendall(struct.pack(">I", len(w)) + w)
+    conn, _ = peer_server.accept()
+    peer = Master.__new__(Master)
+    peer.s, peer.buf, peer.id = conn, b"", 0
+    conn.settimeout(5)
+    h = peer.receive()
+    check("peer hello", h.HasField("hello") and h.hello.role == "peer" and
+          h.hello.participant == "track" and h.hello.peer_of == "soil" and
+          h.hello.session == b"k" * 16, str(h))
+    a = peer.send(challenge=pb.Challenge(nonce=bytes(32)))
+    check("peer auth", a.HasField("auth") and a.auth.mac == auth_answer("s3cret", "track",
+                                                                         bytes(32)), str(a))
+    first = peer.send(hello_reply=pb.HelloReply(protocol_version=2, participant="track"))
+    check("the soil's outputs at point 0", first.HasField("peer_data") and
+          first.peer_data.point == 0 and len(first.peer_data.data.interfaces) == 1 and
+          len(first.peer_data.data.interfaces[0].displacement) == 4, str(first))
+    after = peer.send(peer_data=pb.PeerData(point=0, data=data(4, 2e-4, 1e-3)))
+    check("the soil's outputs at point 1", after.HasField("peer_data") and
+          after.peer_data.point == 1 and not after.peer_data.last, str(after))
+    reports = m.receive()
+    check("reports", reports.id == m.id and reports.HasField("reports") and
+          [r.step for r in reports.reports.reports] == [1], str(reports))
+    done = m.receive()
+    check("window done", done.id == m.id and done.HasField("window_done") and
+          done.window_done.step == 1 and not done.window_done.reason, str(done))
+    check("shutdown after the window", m.send(shutdown=pb.Shutdown()).HasField("ack"))
+    check("closed after shutdown", m.receive() is None)
+    conn.close()
+    peer_server.close()
     m, r = configured(micro_steps=0)
     error(r, E.BAD_REQUEST, "configure: this soil integrates with fixed micro steps; set "
           "simulation.micro_steps in the scene")

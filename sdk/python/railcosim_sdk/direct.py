@@ -104,19 +104,29 @@ class Plane:
                 except (ProtocolError, OSError, LinkClosed) as e:
                     refused.append(str(e))
         finally:
-            self.inbox.waiting = False
+            self.inbox.stop_waiting()
         for l in self.links:
             l.chan.what = "the %s participant" % l.peer
         self.opened = True
 
     def connect(self, l, deadline):
         who = "the %s participant at %s:%d" % (l.peer, l.host, l.port)
+        while True:  # the peer may not listen yet: retry until the deadline
+            try:
+                sock = socket.create_connection((l.host, l.port),
+                                                max(deadline - time.monotonic(), 0.001))
+                break
+            except OSError as e:
+                if time.monotonic() + 0.05 >= deadline:
+                    raise ProtocolError(E.TIMEOUT, "peer link to %s: %s" % (who, e))
+                time.sleep(0.05)
         try:
-            sock = socket.create_connection((l.host, l.port), max(deadline - time.monotonic(),
-                                                                   0.001))
-        except OSError as e:
-            raise ProtocolError(E.TIMEOUT, "peer link to %s: %s" % (who, e))
-        ch = Channel(sock, who)
+            return self.handshake(l, Channel(sock, who), who, deadline)
+        except (socket.timeout, LinkClosed, OSError) as e:
+            raise ProtocolError(E.PEER_FAILED, "peer link to %s: %s" % (
+                who, str(e) or "no answer to the hello in time"))
+
+    def handshake(self, l, ch, who, deadline):
         ch.send(pb.Envelope(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer",
                                            participant=l.peer, peer_of=self.s.p.name,
                                            session=self.key, name=self.s.name)))

@@ -23,12 +23,34 @@ class Inbox:
     def __init__(self):
         self.waiting = False
         self.queue = queue.Queue()
+        self.lock = threading.Lock()
+
+    def offer(self, sock):
+        """Queues a new connection if the session waits for peers."""
+        with self.lock:
+            if self.waiting:
+                self.queue.put(sock)
+            return self.waiting
 
     def take(self, timeout):
         try:
             return self.queue.get(timeout=timeout)
         except queue.Empty:
             return None
+
+    def stop_waiting(self):
+        """No more peers: BUSY to the connections still queued."""
+        with self.lock:
+            self.waiting = False
+        while True:
+            try:
+                sock = self.queue.get_nowait()
+            except queue.Empty:
+                return
+            ch = Channel(sock, "a connection")
+            ch.send_error(0, E.BUSY, "this participant serves a session; its peer links are "
+                          "open")
+            ch.close()
 
 
 class Server:
@@ -56,9 +78,7 @@ class Server:
                     self.active = "%s:%d" % addr[:2]
                     self.sessions.put(conn)
                     continue
-                inbox = self.inbox
-                if inbox is not None and inbox.waiting:
-                    inbox.queue.put(conn)
+                if self.inbox is not None and self.inbox.offer(conn):
                     continue
                 active = self.active
             ch = Channel(conn, "%s:%d" % addr[:2])
@@ -120,6 +140,8 @@ class Server:
                               % (self.p.name, type(e).__name__, e), s.step,
                               max(s.step, 0) * s.H)
         finally:
+            if self.inbox is not None:
+                self.inbox.stop_waiting()
             if plane is not None and plane.links:
                 for l in plane.links:
                     if l.chan is not None:
