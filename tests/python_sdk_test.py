@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Python SDK's session rules, against the SDK example soil served in a
+"""The Python SDK's waveforms, and its session rules against the SDK example soil served in a
 child process: the HMAC test vector of docs/protocol.md, the challenge
 (wrong and right answers), BUSY for a second master, WRONG_ROLE, and the
 errors a bad Configure, bad inputs, a bad step and a bad Restore get, each
@@ -33,6 +33,17 @@ def check(what, cond, detail=""):
 vector = auth_answer("correct horse battery staple", "soil", bytes(range(32))).hex()
 check("HMAC test vector", vector ==
       "4e2d5487f0cf7d11491de7fa96b114c303c3bc603281743421002ef021887e49", vector)
+
+# Waveforms: held inputs stay, ramped ones are linear over the step.
+import numpy as np  # noqa: E402
+from railcosim_sdk import Waveform  # noqa: E402
+held = Waveform(np.array([1.0, -2.0]), None, 0.3, 0.1)
+check("held waveform", held.held and held.at(0.37) is held.start and held.end is held.start
+      and not held.rate().any())
+ramp = Waveform(np.array([1.0, -2.0]), np.array([3.0, 2.0]), 0.25, 0.5)
+check("ramped waveform", not ramp.held and list(ramp.at(0.25)) == [1.0, -2.0] and
+      list(ramp.at(0.5)) == [2.0, 0.0] and list(ramp.at(0.75)) == [3.0, 2.0] and
+      list(ramp.rate()) == [4.0, 8.0], str((ramp.at(0.5), ramp.rate())))
 
 work = tempfile.mkdtemp()
 with open(os.path.join(work, "token"), "w") as f:
