@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The Python SDK's waveforms, and its session rules against the SDK example soil served in a
-child process: the HMAC test vector of docs/protocol.md, the challenge
+"""The Python SDK's waveforms, and its session rules against the SDK example
+soil served in a child process: the HMAC test vector of docs/protocol.md, the challenge
 (wrong and right answers), BUSY for a second master, WRONG_ROLE, and the
 errors a bad Configure, bad inputs, a bad step and a bad Restore get, each
 with its exact message; on the direct plane, BUSY for a connection that is
