@@ -13,6 +13,7 @@ from . import participant as api
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 
 AUTH_TAG = b"railcosim-auth-v2"
+_sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
 def auth_answer(secret, participant, nonce):
@@ -69,7 +70,7 @@ class Session:
         if n != i.n:
             raise ProtocolError(E.BAD_REQUEST, "interface %s: %d %s values, expected %d (one "
                                 "per coupling point)" % (i.cut, n, q, i.n))
-        total = float(a.sum())  # not finite when a value is not (or on overflow)
+        total = float(_sum(a))  # not finite when a value is not (or on overflow)
         if total - total != 0.0 and not np.isfinite(a).all():
             raise ProtocolError(E.BAD_REQUEST, "interface %s: a %s value is not finite"
                                 % (i.cut, q))
@@ -122,7 +123,7 @@ class Session:
         total = peak + sum(hist)
         for i, o in zip(self.interfaces, outputs):
             for q in i.sends:
-                total += float(o[q].sum())
+                total += float(_sum(o[q]))
         finite = True
         if total - total != 0.0:  # a value is not finite, or the sum overflowed: look closer
             finite = math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
