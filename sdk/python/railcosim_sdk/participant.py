@@ -147,7 +147,9 @@ class Participant:
     def configure(self, config, interfaces):
         """config: this participant's own table (a dict, from --config);
         interfaces: a list of `Interface`. Build the model; raise
-        BadInterface / BadRequest when it cannot serve them."""
+        BadInterface / BadRequest when it cannot serve them. The same
+        instance serves one session after another: start afresh here
+        (self.micro_steps = 0 included)."""
         raise NotImplementedError
 
     def statics(self, inputs):
