@@ -95,6 +95,14 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
                                   ": expected ROLE=HOST:PORT, e.g. soil=127.0.0.1:7003");
     given[n.substr(0, eq)] = parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
   }
+  // An external soil is a program the master cannot start: its address must be given.
+  if (scene.soil_model == "external" && !spec.monolithic)
+    for (const auto& p : partition(scene, spec))
+      if (p.parts.has(Component::kSoil) && given.count(p.role) == 0)
+        throw std::invalid_argument(
+            "the scene's soil is external (soil.model = \"external\"): start its program and "
+            "give its address with --node " +
+            p.role + "=HOST:PORT" + (a.transport == "inproc" ? " (and --transport tcp)" : ""));
   if (given.empty()) return given;
   if (spec.monolithic)
     throw std::invalid_argument(

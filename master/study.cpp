@@ -224,6 +224,13 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
 }  // namespace
 
 CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt) {
+  // A study starts its own nodes: it cannot reach a soil that is a program of its own.
+  if (load_scene(scene_path).soil_model == "external")
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
+        "nodes and cannot reach that program; run each case with master run --node "
+        "soil=HOST:PORT");
   std::error_code ec;
   std::filesystem::remove(plan_file(opt.out, 2), ec);  // stage 2 follows from this stage 1
   const StudyPlan plan = make_plan(scene_path, opt);

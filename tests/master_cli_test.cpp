@@ -86,6 +86,34 @@ TEST(MasterCli, UnknownCaseListsTheValidOnes) {
   EXPECT_NE(o.output.find("rs-xt-gauss-seidel"), std::string::npos) << o.output;
 }
 
+// An external soil is a program of its own: without its address the run
+// must stop and name the flag (it used to run the built-in lumped soil).
+TEST(MasterCli, AnExternalSoilWithoutItsAddressNamesTheFlag) {
+  const fs::path out = temp_dir("cli_external");
+  std::string text = read_file(test::source_path("scenes/soil.toml"));
+  text.replace(text.find("model = \"lumped\""), 16, "model = \"external\"");
+  std::ofstream(out / "external.toml") << text;
+  const Outcome o = run_master("run --scene " + (out / "external.toml").string() +
+                               " --case wr-xx+ss-xx-jacobi --out " + (out / "res").string());
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("the scene's soil is external (soil.model = \"external\"): start its "
+                          "program and give its address with --node soil=HOST:PORT"),
+            std::string::npos)
+      << o.output;
+  EXPECT_FALSE(fs::exists(out / "res" / "wr-xx+ss-xx-jacobi" / "soil.csv")) << "nothing may run";
+  // A study starts its own nodes: it cannot reach the external soil either.
+  const Outcome s = run_master("study --scene " + (out / "external.toml").string() + " --out " +
+                               (out / "study").string());
+  EXPECT_EQ(s.status, 2) << s.output;
+  EXPECT_NE(s.output.find("external.toml: the scene's soil is external (soil.model = "
+                          "\"external\"): a study starts its own nodes and cannot reach that "
+                          "program; run each case with master run --node soil=HOST:PORT"),
+            std::string::npos)
+      << s.output;
+  EXPECT_FALSE(fs::exists(out / "study" / "plan.txt")) << "nothing may run";
+  fs::remove_all(out);
+}
+
 TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
   LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
   LaunchedNode track("track_node", std::chrono::seconds(10));

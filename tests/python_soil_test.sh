@@ -1,64 +1,145 @@
 #!/usr/bin/env bash
-# An outside participant for real: the Python soil participant of
-# examples/python_soil serves the soil of three-participant (and two-
-# participant X-T) cases over TCP; each run must agree with the same run on
-# the built-in soil node to 1e-6 relative (both with fixed micro steps).
+# An outside participant for real: the soil of examples/python_soil, written
+# on the Python SDK (sdk/python/railcosim_sdk), serves the soil over TCP. Every
+# run must agree with the same run on the built-in soil node to 1e-12
+# relative: relayed and direct data planes, explicit and implicit coupling,
+# two and three participants, resolved feedthrough, a shared secret. A soil
+# that ignores Restore must be caught by the implicit comparison; a soil whose
+# integrator gives up must end the run as diverged, with its message.
 # Usage: python_soil_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 bin=$1
 src=$2
 work=$(mktemp -d)
-participant=""
+pids=()
 cleanup() {
-  [[ -n $participant ]] && kill "$participant" 2>/dev/null || true
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
   rm -rf "$work"
 }
 trap cleanup EXIT
+export RAILCOSIM_SDK_CACHE=$work/cache
 
 # The soil scene, shortened, with 10 fixed micro steps per macro step.
-sed -e 's/^end_time = .*/end_time = 0.05/' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
+sed -e 's/^end_time = .*/end_time = 0.005/' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
   "$src/scenes/soil.toml" >"$work/soil.toml"
 grep -q '^micro_steps = 10' "$work/soil.toml"
 
-/usr/bin/python3 "$src/examples/python_soil/soil_participant.py" --scene "$work/soil.toml" \
-  --proto "$src/protocol/railcosim.proto" >"$work/participant.out" 2>"$work/participant.err" &
-participant=$!
-for _ in $(seq 100); do
-  grep -q '^listening on ' "$work/participant.out" && break
-  sleep 0.1
-done
-address=$(sed -n 's/^listening on //p' "$work/participant.out")
-if [[ -z $address ]]; then
-  echo "the Python participant did not start:"
-  cat "$work/participant.err"
-  exit 1
-fi
-
-run_both() {  # CASE [master options]: the same run on the outside and the built-in soil
-  local case=$1
-  shift
-  "$bin/master" run --scene "$work/soil.toml" --case "$case" --node "soil=$address" \
-    --out "$work/outside" "$@" >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
-  "$bin/master" run --scene "$work/soil.toml" --case "$case" --out "$work/builtin" "$@" \
-    >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
-  grep -q '"transport": "tcp"' "$work/outside/$case/summary.json"
+start() {  # NAME PROGRAM [options]: starts a participant; sets $address
+  local name=$1 program=$2
+  shift 2
+  if [[ $program == *.py ]]; then
+    /usr/bin/python3 "$program" --config "$work/soil.toml" "$@" >"$work/$name.out" \
+      2>"$work/$name.err" &
+  else
+    "$program" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+  fi
+  pids+=($!)
+  for _ in $(seq 100); do
+    grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break
+    sleep 0.1
+  done
+  address=$(sed -n 's/^listening on //p' "$work/$name.out")
+  if [[ -z $address ]]; then
+    echo "the participant $name did not start:"
+    cat "$work/$name.err"
+    exit 1
+  fi
 }
-for case in wr-xx+ss-xx-jacobi wr-xt+ss-xt-gauss-seidel ss-xt-jacobi; do
-  run_both "$case"
-done
-# Implicit coupling with ramped inputs: checkpoints (Save/Restore) and
-# inputs_end through the outside participant.
-run_both ss-xx-jacobi --coupling implicit --inputs linear
-grep -q '"method": "implicit"' "$work/outside/ss-xx-jacobi/summary.json"
+start sdk "$src/examples/python_soil/soil_participant.py"
+good=$address
+# A purpose-broken soil: it ignores Restore.
+cat >"$work/broken.py" <<PY
+import runpy, sys
+ns = runpy.run_path("$src/examples/python_soil/soil_participant.py")
+class Forgetful(ns["LumpedSoil"]):
+    def restore(self, state):
+        pass
+ns["rc"].serve(Forgetful())
+PY
+start broken "$work/broken.py"
+broken=$address
+# A soil whose integrator gives up at macro step 10 (StepFailed).
+cat >"$work/gives_up.py" <<PY
+import runpy
+ns = runpy.run_path("$src/examples/python_soil/soil_participant.py")
+class GivesUp(ns["LumpedSoil"]):
+    def advance(self, t, H, inputs):
+        if t >= 10 * H:
+            raise ns["rc"].StepFailed("the soil gives up at t = %g s" % t)
+        return super().advance(t, H, inputs)
+ns["rc"].serve(GivesUp())
+PY
+start gives-up "$work/gives_up.py"
+gives_up=$address
+# With a shared secret: the upper node and the SDK soil authenticate the
+# master and each other (the vehicle node, holding the track down to the
+# sleepers in ss-only cases, opens the peer link to the soil).
+echo "a shared secret of the run" >"$work/token"
+start secret-soil "$src/examples/python_soil/soil_participant.py" --token-file "$work/token"
+secret_soil=$address
+start secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "$work/token"
+secret_upper=$address
 
-/usr/bin/python3 - "$work/builtin" "$work/outside" <<'PY'
+run() {  # OUT NAME CASE [master options]: one run; NAME the run's folder under OUT
+  local out=$1 name=$2 case=$3
+  shift 3
+  "$bin/master" run --scene "$work/soil.toml" --case "$case" --out "$work/tmp" "$@" \
+    >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
+  mkdir -p "$work/$out"
+  mv "$work/tmp/$case" "$work/$out/$name"
+  rm -rf "$work/tmp"
+}
+both() {  # NAME CASE [master options]: the SDK soil and the built-in one
+  local name=$1 case=$2
+  shift 2
+  run outside "$name" "$case" --node "soil=$good" "$@"
+  run builtin "$name" "$case" "$@"
+  grep -q '"transport": "tcp"' "$work/outside/$name/summary.json"
+}
+for plane in relay direct; do
+  both "3-jacobi-$plane" wr-xx+ss-xx-jacobi --data-plane "$plane"
+  both "3-gs-$plane" wr-xt+ss-xt-gauss-seidel --data-plane "$plane"
+  both "2-xt-jacobi-$plane" ss-xt-jacobi --data-plane "$plane"
+  # The force the soil holds is resolved with fresh displacements (SetInputs,
+  # GetOutputs relayed; the track's second sending on the direct plane).
+  both "2-xt-resolved-$plane" ss-xt-jacobi --feedthrough resolved --data-plane "$plane"
+done
+run outside 2-secret ss-xx-jacobi --node "soil=$secret_soil" --node "vehicle=$secret_upper" \
+  --token-file "$work/token"
+run builtin 2-secret ss-xx-jacobi
+grep -q '"data_plane": "direct"' "$work/outside/2-secret/summary.json"
+# StepFailed: the run is diverged at that step, with the soil's words, on both planes.
+for plane in relay direct; do
+  run failed "gives-up-$plane" wr-xx+ss-xx-jacobi --node "soil=$gives_up" --data-plane "$plane"
+  summary=$work/failed/gives-up-$plane/summary.json
+  grep -q '"status": "diverged"' "$summary" && grep -q '"macro_steps": 11,' "$summary" &&
+    grep -q 'the soil gives up at t = 0.001 s at macro step 10' "$summary" || {
+    echo "a soil that gives up at macro step 10 ($plane plane):"
+    cat "$summary"
+    exit 1
+  }
+done
+grep -q '"data_plane": "direct"' "$work/outside/3-jacobi-direct/summary.json" || {
+  echo "the direct runs did not use the direct plane:"
+  cat "$work/outside/3-jacobi-direct/summary.json"
+  exit 1
+}
+# Implicit coupling with ramped inputs: Save/Restore and inputs_end.
+both 2-implicit ss-xx-jacobi --coupling implicit --inputs linear
+both 3-implicit wr-xx+ss-xx-jacobi --coupling implicit
+grep -q '"method": "implicit"' "$work/outside/2-implicit/summary.json"
+run forgetful 2-implicit ss-xx-jacobi --node "soil=$broken" --coupling implicit --inputs linear
+
+compare() {  # A B [expect-differ]
+  /usr/bin/python3 - "$@" <<'PY'
 import csv, os, sys
-builtin, outside = sys.argv[1], sys.argv[2]
-worst = 0.0
-for case in sorted(os.listdir(builtin)):
+a_dir, b_dir = sys.argv[1], sys.argv[2]
+differ = len(sys.argv) > 3
+worst, where = 0.0, ""
+for case in sorted(os.listdir(b_dir)):
     for name in ("deflection.csv", "history.csv", "soil.csv"):
-        a = list(csv.reader(open(os.path.join(builtin, case, name))))
-        b = list(csv.reader(open(os.path.join(outside, case, name))))
+        a = list(csv.reader(open(os.path.join(a_dir, case, name))))
+        b = list(csv.reader(open(os.path.join(b_dir, case, name))))
         assert a[0] == b[0], (case, name, a[0], b[0])
         assert len(a) == len(b), (case, name, len(a), len(b))
         for col in range(len(a[0])):
@@ -66,9 +147,20 @@ for case in sorted(os.listdir(builtin)):
             y = [float(r[col]) for r in b[1:]]
             scale = max(abs(v) for v in x) or 1.0
             diff = max(abs(p - q) for p, q in zip(x, y)) / scale
-            worst = max(worst, diff)
-            if diff > 1e-6:
-                sys.exit("%s/%s column %s differs by %.3g relative" % (case, name, a[0][col], diff))
-print("outside soil participant agrees with the built-in one: worst relative difference %.3g"
-      % worst)
+            if diff > worst:
+                worst, where = diff, "%s/%s column %s" % (case, name, a[0][col])
+            if os.environ.get("VERBOSE") and diff > 1e-13:
+                print(case, name, a[0][col], diff)
+if differ:
+    if worst <= 1e-6:
+        sys.exit("a soil that ignores restore went unnoticed (worst %.3g)" % worst)
+    print("the soil that ignores restore differs by %.3g relative (%s)" % (worst, where))
+elif worst > 1e-12:
+    sys.exit("%s differs by %.3g relative" % (where, worst))
+else:
+    print("the SDK soil agrees with the built-in one: worst relative difference %.3g (%s)"
+          % (worst, where))
 PY
+}
+compare "$work/builtin" "$work/outside"
+compare "$work/builtin" "$work/forgetful" differ

@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""What the Python SDK costs per macro step beyond the participant's physics.
+
+Serves the lumped soil of examples/python_soil (50 sleepers, ss-xx, 10
+micro steps) inside this process and times, per macro step:
+
+  physics   LumpedSoil.advance() alone, with the inputs already as arrays;
+  relayed   a Step frame's bytes -> Envelope -> Session -> StepReport -> bytes;
+  direct    a PeerData frame's bytes -> inputs -> advance -> PeerData bytes to
+            the peer and a StepReport into the Reports stream (flushed every
+            64 steps, as the master asks).
+
+The SDK's overhead is relayed - physics and direct - physics, and directly
+the relayed and direct times of the same soil with an advance() that
+computes nothing (steadier on a busy machine): everything the
+SDK does but the socket calls, which any participant makes (two per step
+relayed, send and receive; the same direct). Usage:
+  /usr/bin/python3 bench/python_sdk_overhead.py [STEPS]
+"""
+
+import os
+import runpy
+import struct
+import sys
+import time
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(here, "..", "sdk", "python"))
+import numpy as np  # noqa: E402
+
+from railcosim_sdk.direct import Link, Plane  # noqa: E402
+from railcosim_sdk.session import Session  # noqa: E402
+from railcosim_sdk.wire import pb  # noqa: E402
+
+SOIL = runpy.run_path(os.path.join(here, "..", "examples", "python_soil", "soil_participant.py"))
+CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
+          "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
+N_POINTS, H = 50, 1e-4
+
+
+class NoPhysics(SOIL["LumpedSoil"]):
+    """The same soil with an advance() that computes nothing: what remains
+    of a step is the SDK's."""
+
+    def advance(self, t, H, inputs):
+        return self.outputs()
+
+
+def session(kind=SOIL["LumpedSoil"]):
+    s = Session(kind(), None, "bench", CONFIG)
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=2, participant="soil")))
+    c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
+    i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
+    i.x.extend((np.arange(N_POINTS) + 0.5) * 0.6)
+    i.receives.extend([1, 2])
+    i.sends.extend([1, 2])
+    s.handle(pb.Envelope(id=2, configure=c))
+    s.handle(pb.Envelope(id=3, initialize=pb.Initialize(inputs=inputs(0))))
+    return s
+
+
+def inputs(n):
+    rng = np.random.default_rng(n)
+    d = pb.CouplingData()
+    w = d.interfaces.add()
+    w.displacement.extend((1e-3 * rng.random(N_POINTS)).tolist())
+    w.velocity.extend((1e-3 * rng.random(N_POINTS)).tolist())
+    return d
+
+
+def frame(env):
+    b = env.SerializeToString()
+    return struct.pack(">I", len(b)) + b
+
+
+def physics(steps):
+    s = session()
+    held = s.held
+    t0 = time.process_time()
+    for n in range(steps):
+        s.p.advance(n * H, H, held)
+    return (time.process_time() - t0) / steps
+
+
+def relayed(steps, kind=SOIL["LumpedSoil"]):
+    s = session(kind)
+    frames = [frame(pb.Envelope(id=10 + n, step=pb.Step(step=n, t=n * H, h=H, inputs=inputs(n))))
+              for n in range(steps)]
+    t0 = time.process_time()
+    for f in frames:
+        (length,) = struct.unpack_from(">I", f)
+        req = pb.Envelope.FromString(f[4:4 + length])
+        reply = s.handle(req).SerializeToString()
+        struct.pack(">I", len(reply)) + reply
+    return (time.process_time() - t0) / steps
+
+
+class Sink:
+    """A channel that parses what it is given and throws away what it sends."""
+
+    def __init__(self, frames=()):
+        self.frames, self.k, self.what = list(frames), 0, "bench"
+
+    def receive(self, timeout=None):
+        f = self.frames[self.k]
+        self.k += 1
+        return pb.Envelope.FromString(f[4:])
+
+    def send(self, env):
+        self.send_bytes(env.SerializeToString())
+
+    def send_bytes(self, b):
+        struct.pack(">I", len(b)) + b
+
+
+def direct(steps, kind=SOIL["LumpedSoil"]):
+    s = session(kind)
+    peer = Sink(frame(pb.Envelope(peer_data=pb.PeerData(point=n, data=inputs(n))))
+                for n in range(steps))
+    plane = Plane(s, Sink(), None)
+    link = Link(pb.PeerLink(peer="track", interfaces=[0]))
+    link.chan = peer
+    plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
+    plane.timeout, plane.id, plane.end, plane.why = 10.0, 1, steps, ""
+    plane.envelope = pb.Envelope(id=1)
+    plane.pending, plane.last_flush = plane.envelope.reports, time.process_time()
+    t0 = time.process_time()
+    plane.run(0.0, 64)
+    plane.flush()
+    return (time.process_time() - t0) / steps
+
+
+def main():
+    steps = int(sys.argv[1]) if len(sys.argv) > 1 else 3000
+    best = {}
+    for _ in range(3):  # the best of three, against a busy machine
+        for name, f in (("physics", physics), ("relayed", relayed), ("direct", direct),
+                        ("relayed0", lambda n: relayed(n, NoPhysics)),
+                        ("direct0", lambda n: direct(n, NoPhysics))):
+            best[name] = min(best.get(name, 1e9), f(steps))
+    us = {k: v * 1e6 for k, v in best.items()}
+    print("per macro step (best of 3 x %d steps): physics %.1f us, relayed %.1f us, "
+          "direct %.1f us" % (steps, us["physics"], us["relayed"], us["direct"]))
+    print("SDK overhead beyond physics: relayed %.1f us, direct %.1f us"
+          % (us["relayed"] - us["physics"], us["direct"] - us["physics"]))
+    print("the same with a physics that computes nothing: relayed %.1f us, direct %.1f us"
+          % (us["relayed0"], us["direct0"]))
+
+
+if __name__ == "__main__":
+    main()

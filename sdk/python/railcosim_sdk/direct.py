@@ -1,0 +1,341 @@
+"""The direct data plane (docs/protocol.md §17): Links, peer links, and the
+Window the participant runs on its own, streaming its reports."""
+
+import hmac
+import secrets
+import select
+import socket
+import time
+
+from . import packed
+from .session import auth_answer
+from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
+
+
+class Link:
+    def __init__(self, wire):
+        self.peer = wire.peer
+        self.host, self.port = wire.host, wire.port
+        self.interfaces = list(wire.interfaces)
+        self.ahead, self.refreshes = wire.ahead, wire.refreshes
+        self.chan = None
+        self.have, self.data = -1, None          # point and InterfaceData list
+        self.fresh_have, self.fresh = -1, None   # the second sending (refresh)
+
+
+class Plane:
+    """The direct plane of one session. `inbox` is the server's queue of
+    connections that arrive while this session waits for its peers."""
+
+    def __init__(self, session, master, inbox):
+        self.s, self.master, self.inbox = session, master, inbox
+        self.links = None
+        self.opened = False
+        self.sent = -1
+        self.sent_last = False
+
+    # ---- Links ----
+
+    def on_links(self, req, out):
+        s = self.s
+        if s.step != 0 or self.links is not None:
+            raise ProtocolError(E.OUT_OF_ORDER, "links are set once, after initialize and "
+                                "before the first step")
+        w = req.links
+        bad = lambda why: ProtocolError(E.BAD_REQUEST, "links for the %s participant: %s"
+                                        % (s.p.name, why))
+        if len(w.session) < 16:
+            raise bad("the session key must have at least 16 bytes")
+        self.key, self.refresh = w.session, w.refresh
+        self.timeout = (w.timeout_ms or 10000) / 1000.0
+        links = [Link(l) for l in w.links]
+        covered = [0] * len(s.interfaces)
+        for l in links:
+            if not l.peer or l.peer == s.p.name:
+                raise bad("a link names no other participant")
+            if l.host and not 0 < l.port < 65536:
+                raise bad("the link to %s has no port" % l.peer)
+            if not l.interfaces:
+                raise bad("the link to %s carries no interface" % l.peer)
+            for i in l.interfaces:
+                if not 0 <= i < len(covered):
+                    raise bad("interface %d does not exist" % i)
+                covered[i] += 1
+        if len({l.peer for l in links}) != len(links):
+            raise bad("two links to the same participant")
+        for i, c in enumerate(covered):
+            if c != 1:
+                raise bad("interface %d faces %d links instead of one" % (i, c))
+        self.links = links
+        self.inbox.waiting = any(not l.host for l in links)
+        out.ack.SetInParent()
+        return out
+
+    # ---- opening the links ----
+
+    def open(self):
+        deadline = time.monotonic() + self.timeout
+        try:
+            for l in self.links:
+                if l.host:
+                    l.chan = self.connect(l, deadline)
+            refused = []
+            while any(l.chan is None for l in self.links):
+                left = deadline - time.monotonic()
+                sock = self.inbox.take(min(left, 0.1)) if left > 0 else None
+                if self.master_gone():
+                    if sock is not None:
+                        late = Channel(sock, "a late connection")
+                        late.send_error(0, E.BUSY, "this participant is ending a session; "
+                                        "connect again")
+                        late.close()
+                    raise ProtocolError(E.PEER_FAILED, "the master ended the session while the "
+                                        "peer links were opening")
+                if sock is None and time.monotonic() < deadline:
+                    continue
+                if sock is None:
+                    missing = ", ".join(l.peer for l in self.links if l.chan is None)
+                    raise ProtocolError(E.TIMEOUT, "the peer link(s) from %s did not open within "
+                                        "%d ms%s" % (missing, self.timeout * 1000, (
+                                            " (refused meanwhile: %s)" % "; ".join(refused))
+                                            if refused else ""))
+                try:
+                    self.accept(sock, deadline)
+                except (ProtocolError, OSError, LinkClosed) as e:
+                    refused.append(str(e))
+        finally:
+            self.inbox.stop_waiting()
+        for l in self.links:
+            l.chan.what = "the %s participant" % l.peer
+        self.opened = True
+
+    def connect(self, l, deadline):
+        who = "the %s participant at %s:%d" % (l.peer, l.host, l.port)
+        while True:  # the peer may not listen yet: retry until the deadline
+            try:
+                sock = socket.create_connection((l.host, l.port),
+                                                max(deadline - time.monotonic(), 0.001))
+                break
+            except OSError as e:
+                if time.monotonic() + 0.05 >= deadline:
+                    raise ProtocolError(E.TIMEOUT, "peer link to %s: %s" % (who, e))
+                time.sleep(0.05)
+        try:
+            return self.handshake(l, Channel(sock, who), who, deadline)
+        except (socket.timeout, LinkClosed, OSError) as e:
+            raise ProtocolError(E.PEER_FAILED, "peer link to %s: %s" % (
+                who, str(e) or "no answer to the hello in time"))
+
+    def handshake(self, l, ch, who, deadline):
+        ch.send(pb.Envelope(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer",
+                                           participant=l.peer, peer_of=self.s.p.name,
+                                           session=self.key, name=self.s.name)))
+        left = lambda: max(deadline - time.monotonic(), 0.001)
+        reply = ch.receive(left())
+        if reply.HasField("challenge"):
+            if self.s.token is None:
+                raise ProtocolError(E.UNAUTHORIZED, "peer link to %s: that participant requires "
+                                    "a shared secret; start this one with the same "
+                                    "--token-file" % who)
+            ch.send(pb.Envelope(auth=pb.Auth(mac=auth_answer(self.s.token, l.peer,
+                                                             reply.challenge.nonce))))
+            reply = ch.receive(left())
+        if reply.HasField("error"):
+            raise ProtocolError(reply.error.code, "peer link to %s refused: %s: %s" % (
+                who, E.Code.Name(reply.error.code), reply.error.message))
+        if not reply.HasField("hello_reply") or reply.hello_reply.participant != l.peer:
+            raise ProtocolError(E.WRONG_ROLE, "peer link to %s: the program there does not "
+                                "serve %s" % (who, l.peer))
+        return ch
+
+    def accept(self, sock, deadline):
+        ch = Channel(sock, "a connection from %s:%d" % sock.getpeername()[:2])
+        e = ch.receive(max(deadline - time.monotonic(), 0.001))
+
+        def refuse(code, why):
+            ch.send_error(e.id, code, why)
+            ch.close()
+            raise ProtocolError(code, "%s: %s" % (ch.what, why))
+        me = self.s.p.name
+        if not e.HasField("hello") or e.hello.role != "peer":
+            refuse(E.BUSY, "this participant serves a session; it accepts nothing but its "
+                   "peer links")
+        h = e.hello
+        if h.participant != me:
+            refuse(E.WRONG_ROLE, "this program serves the %s participant, not the %s "
+                   "participant" % (me, h.participant))
+        expected = [l for l in self.links if not l.host and l.chan is None]
+        match = [l for l in expected if l.peer == h.peer_of]
+        if not match:
+            refuse(E.WRONG_ROLE, "this participant expects peer links from %s, not from the %s "
+                   "participant" % (", ".join(l.peer for l in expected) or "nobody",
+                                    h.peer_of))
+        if not hmac.compare_digest(h.session, self.key):
+            refuse(E.UNAUTHORIZED, "the session key of the %s participant is not this "
+                   "session's" % h.peer_of)
+        if self.s.token is not None:
+            nonce = secrets.token_bytes(32)
+            ch.send(pb.Envelope(challenge=pb.Challenge(nonce=nonce)))
+            a = ch.receive(max(deadline - time.monotonic(), 0.001))
+            if not a.HasField("auth") or not hmac.compare_digest(
+                    a.auth.mac, auth_answer(self.s.token, me, nonce)):
+                refuse(E.UNAUTHORIZED, "this participant requires the shared secret of its "
+                       "--token-file; the answer of the %s participant was missing or wrong"
+                       % h.peer_of)
+        ch.send(pb.Envelope(id=e.id, hello_reply=pb.HelloReply(
+            protocol_version=PROTOCOL_VERSION, participant=me, name=self.s.name)))
+        match[0].chan = ch
+
+    def master_gone(self):
+        """True when the master's connection has closed (it sends nothing
+        during a window, so anything readable is its end)."""
+        if self.master.pending():
+            return False
+        try:
+            r, _, _ = select.select([self.master.sock], [], [], 0)
+            return bool(r) and self.master.sock.recv(1, socket.MSG_PEEK) == b""
+        except OSError:
+            return True
+
+    # ---- the window ----
+
+    def send_outputs(self, encoded, last, refresh):
+        """Sends the outputs at self.point (encoded InterfaceData, one per
+        interface) to every peer, each its link's interfaces."""
+        for l in self.links:
+            l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
+                                               last, refresh))
+        if not refresh:
+            self.sent = self.point
+        self.sent_last = self.sent_last or last
+
+    def send_stop(self):
+        if self.sent_last:
+            return
+        self.sent_last = True
+        for l in self.links:
+            try:
+                l.chan.send(pb.Envelope(peer_data=pb.PeerData(point=self.point, last=True)))
+            except OSError:
+                pass
+
+    def flush(self, waiting_for=""):
+        if len(self.pending.reports) == 0 and not waiting_for:
+            return
+        self.pending.waiting_for = waiting_for
+        self.master.send(self.envelope)
+        self.envelope = pb.Envelope(id=self.id)
+        self.pending = self.envelope.reports
+        self.last_flush = time.monotonic()
+
+    def await_link(self, l, need, fresh):
+        while (l.fresh_have if fresh else l.have) < need:
+            if self.end < need:
+                return False
+            waited = 0.0
+            while True:
+                patience = min(0.05, self.timeout)
+                try:
+                    e = l.chan.receive(patience)
+                    break
+                except socket.timeout:
+                    waited += patience
+                    if waited >= self.timeout:
+                        raise ProtocolError(E.PEER_FAILED, "%s sent nothing for %d ms" % (
+                            l.chan.what, self.timeout * 1000))
+                    if waited == patience:
+                        self.flush(l.peer)
+                    if self.master_gone():
+                        raise ProtocolError(E.PEER_FAILED, "the master closed the session while "
+                                            "this participant waited for %s" % l.chan.what)
+                except (LinkClosed, OSError) as x:
+                    raise ProtocolError(E.PEER_FAILED, "the peer link to %s: %s" % (
+                        l.chan.what, x))
+            if not e.HasField("peer_data"):
+                raise ProtocolError(E.PEER_FAILED, "%s sent %s on its peer link" % (
+                    l.chan.what, e.WhichOneof("body")))
+            d = e.peer_data
+            if d.last and d.point < self.end:
+                self.end = d.point
+                self.why = "%s stops at macro step %d" % (l.chan.what, d.point)
+            if not len(d.data.interfaces):
+                continue
+            if len(d.data.interfaces) != len(l.interfaces):
+                raise ProtocolError(E.PEER_FAILED, "%s sent %d interfaces on a link of %d" % (
+                    l.chan.what, len(d.data.interfaces), len(l.interfaces)))
+            if d.refresh:
+                l.fresh, l.fresh_have = d.data.interfaces, d.point
+            else:
+                l.data, l.have = d.data.interfaces, d.point
+        return True
+
+    def gathered(self, fresh):
+        data = [None] * len(self.s.interfaces)
+        for l in self.links:
+            src = l.fresh if fresh and l.refreshes else l.data
+            for k, i in enumerate(l.interfaces):
+                data[i] = src[k]
+        return data
+
+    def on_window(self, req, out):
+        s, w = self.s, req.window
+        if self.links is None:
+            raise ProtocolError(E.OUT_OF_ORDER, "a window needs links first")
+        if not self.opened:
+            self.open()
+            self.point = s.step
+        if w.first_step != s.step:
+            raise ProtocolError(E.OUT_OF_ORDER, "window from macro step %d, but this "
+                                "participant is at %d" % (w.first_step, s.step))
+        if w.end_step <= w.first_step:
+            raise ProtocolError(E.BAD_REQUEST, "a window must hold at least one macro step")
+        self.end, self.why, self.id = w.end_step, "", req.id
+        self.envelope = pb.Envelope(id=self.id)
+        self.pending, self.last_flush = self.envelope.reports, time.monotonic()
+        every = w.report_steps or 64
+        try:
+            self.run(w.divergence_bound, every)
+        except Exception:  # the peers stop too; the master gets the reports, then the error
+            self.send_stop()
+            self.flush()
+            raise
+        if self.point < w.end_step:
+            self.send_stop()
+        self.flush()
+        out.window_done.step = self.point
+        if self.point < w.end_step:
+            out.window_done.reason = self.why
+        return out
+
+    def run(self, bound, every):
+        s = self.s
+        if self.sent < self.point:
+            s.coupling(s.last, pb.CouplingData())
+            self.send_outputs(s.encoded, False, False)
+        while self.point < self.end:
+            n = self.point
+            if not all([self.await_link(l, n + (1 if l.ahead else 0), False)
+                        for l in self.links]) or n >= self.end:
+                break
+            s.set_inputs(self.gathered(False))
+            if self.refresh:
+                s.coupling(s.current_outputs(), pb.CouplingData())
+                self.send_outputs(s.encoded, False, True)
+            again = [l for l in self.links if l.refreshes]
+            if again:
+                if not all([self.await_link(l, n, True) for l in again]):
+                    break
+                s.set_inputs(self.gathered(True))
+            try:
+                r = s.advance(n, self.pending.reports.add())
+            except ProtocolError:
+                del self.pending.reports[-1]  # the step that failed has no report
+                raise
+            self.point = n + 1
+            diverged = bound > 0 and (not r.finite or r.max_abs_displacement > bound)
+            if diverged:
+                self.end = self.point
+                self.why = "diverged at macro step %d" % self.point
+            self.send_outputs(s.encoded, diverged, False)
+            if len(self.pending.reports) >= every or time.monotonic() - self.last_flush >= 0.02:
+                self.flush()

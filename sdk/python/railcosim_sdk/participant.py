@@ -1,0 +1,195 @@
+"""What a solver author writes: a subclass of `Participant`, physics only.
+
+The SDK calls, in this order, once per session:
+
+    configure(config, interfaces)          -> None
+    statics(inputs)                        -> outputs   (any number of times)
+    initialize(inputs)                     -> outputs   (default: statics)
+    advance(t, H, inputs)                  -> outputs   (once per macro step,
+                                                         repeated after restore
+                                                         under implicit coupling)
+    save() -> list of floats; restore(state)             (around repeated steps)
+    results()                              -> list of arrays (after the last step)
+
+`inputs` is a list with one `Inputs` per interface, in the configured order;
+each quantity the interface receives is a `Waveform` over the macro step.
+`outputs` is a list with one dict per interface, {"displacement": array,
+"velocity": array} or {"force": array}: the quantities the interface sends,
+one value per coupling point, at the end of the call (t + H for advance).
+
+Everything else (frames, authentication, order of messages, the relayed and
+the direct data plane, implicit iterations, the step counter, the held
+inputs, checking shapes and finiteness) is the SDK's.
+"""
+
+import numpy as np
+
+QUANTITIES = ("displacement", "velocity", "force")
+
+
+class StepFailed(Exception):
+    """Raise from advance() when the integrator gives up on a macro step: the
+    master records the run as diverged (a result, not a failure)."""
+
+
+class BadInterface(Exception):
+    """Raise from configure() when an interface cannot be honoured (a cut the
+    model has no side of, a wrong number of points, quantities it cannot
+    receive or send). Say which interface and why."""
+
+
+class BadRequest(Exception):
+    """Raise when a request cannot be served (e.g. a Configure asking for
+    adaptive micro steps from a solver with fixed ones)."""
+
+
+class Interface:
+    """One side of one cut, as this participant sees it (read-only).
+
+    cut: "wr", "rs" or "ss"; peer: the participant on the other side;
+    upper: True when this side is above the element; x: coupling point
+    positions at t = 0 (numpy array, m); n: the number of points; speed:
+    m/s the points move at; receives, sends: tuples of quantity names
+    ("displacement", "velocity", "force"); stiffness (N/m), damping (N s/m),
+    hertz_constant (N/m^1.5): the element at the cut, per point.
+    """
+
+    def __init__(self, wire):
+        self.cut = wire.cut
+        self.peer = wire.peer
+        self.upper = wire.upper
+        self.x = np.array(wire.x, dtype=float)
+        self.n = len(self.x)
+        self.speed = wire.speed
+        self.receives = tuple(QUANTITIES[q - 1] for q in wire.receives)
+        self.sends = tuple(QUANTITIES[q - 1] for q in wire.sends)
+        self.stiffness = wire.stiffness
+        self.damping = wire.damping
+        self.hertz_constant = wire.hertz_constant
+
+    def __repr__(self):
+        return "Interface(%s %s side, %d points, receives %s, sends %s)" % (
+            self.cut, "upper" if self.upper else "lower", self.n,
+            "/".join(self.receives), "/".join(self.sends))
+
+
+class Waveform:
+    """An input quantity over the macro step [t0, t0 + H]: `start` at t0,
+    `end` at t0 + H (numpy arrays, one value per coupling point). Held
+    inputs have end is start; ramped ones (linear, extrapolated inputs,
+    implicit coupling) are linear in between. `at(t)` evaluates it."""
+
+    __slots__ = ("start", "end", "t0", "H", "held")
+
+    def __init__(self, start, end, t0, H):
+        self.start, self.t0, self.H = start, t0, H
+        self.held = end is None
+        self.end = start if end is None else end
+
+    def at(self, t):
+        if self.held:
+            return self.start
+        return self.start + (self.end - self.start) * ((t - self.t0) / self.H)
+
+    def rate(self):
+        """d/dt over the step (zeros when held)."""
+        if self.held:
+            return np.zeros_like(self.start)
+        return (self.end - self.start) / self.H
+
+
+class Inputs:
+    """The inputs of one interface over a macro step: one `Waveform` per
+    received quantity, as attributes (`displacement`, `velocity`, `force`);
+    quantities the interface does not receive are None."""
+
+    __slots__ = QUANTITIES
+
+    def __init__(self, displacement=None, velocity=None, force=None):
+        self.displacement, self.velocity, self.force = displacement, velocity, force
+
+
+class Run:
+    """The run's settings from Configure (read-only): macro_step (H, s),
+    end_time (s), tolerance (m), micro_steps (> 0: that many per macro step;
+    0: adapt), max_micro_steps (0: own limit), carry_acceleration (the
+    restart convention: False = consistent)."""
+
+    def __init__(self, c):
+        self.macro_step = c.macro_step
+        self.end_time = c.end_time
+        self.tolerance = c.tolerance
+        self.micro_steps = c.micro_steps
+        self.max_micro_steps = c.max_micro_steps
+        self.carry_acceleration = c.carry_acceleration
+
+
+class Participant:
+    """Base class of a participant. Subclass it and override the physics.
+
+    Class attributes to set:
+      name:    the participant served ("soil"); the master's hello must ask
+               for it, and its configuration table defaults to [name].
+      history: the names of the values history() returns after every step.
+      results_fields: the names of the arrays results() returns.
+
+    Attributes the SDK sets before configure(): self.run (a `Run`).
+    Attribute the author keeps up to date: self.micro_steps (int, the micro
+    steps taken in the whole run, reported with the results).
+    """
+
+    name = "participant"
+    history = ()
+    results_fields = ()
+    micro_steps = 0
+    run = None
+
+    def configure(self, config, interfaces):
+        """config: this participant's own table (a dict, from --config);
+        interfaces: a list of `Interface`. Build the model; raise
+        BadInterface / BadRequest when it cannot serve them. The same
+        instance serves one session after another: start afresh here
+        (self.micro_steps = 0 included)."""
+        raise NotImplementedError
+
+    def statics(self, inputs):
+        """The participant's own static equilibrium with inputs held
+        (waveforms with end == start), velocities zero; returns outputs."""
+        raise NotImplementedError
+
+    def initialize(self, inputs):
+        """Start at t = 0 from the static equilibrium for these inputs."""
+        return self.statics(inputs)
+
+    def advance(self, t, H, inputs):
+        """Advance from t to t + H with these input waveforms; returns the
+        outputs at t + H. May raise StepFailed."""
+        raise NotImplementedError
+
+    def outputs(self, inputs):
+        """The outputs of the current state with these inputs held (asked
+        for a force resolved with fresh inputs). Default: None, meaning the
+        outputs last returned (right for any side that sends no force)."""
+        return None
+
+    def save(self):
+        """Everything needed to go on from here, as a flat list/array of
+        floats (the SDK adds its own step counter and held inputs)."""
+        raise NotImplementedError
+
+    def restore(self, state):
+        """Return bit for bit to a state save() returned (a numpy array)."""
+        raise NotImplementedError
+
+    def history_values(self):
+        """One float per declared history channel, for the last state."""
+        return ()
+
+    def max_abs_displacement(self):
+        """The largest |displacement| over the participant's degrees of
+        freedom. Default: over the displacements of its last outputs."""
+        return None
+
+    def results(self):
+        """One array per declared result field, at the current time."""
+        return ()

@@ -1,0 +1,200 @@
+"""serve(): listen, accept sessions one after another, refuse a second one
+with BUSY, hand the peer links of the direct plane to the running session."""
+
+import argparse
+import queue
+import socket
+import sys
+import threading
+import tomllib
+import traceback
+
+from .direct import Plane
+from .session import Session
+from .wire import E, Channel, LinkClosed, ProtocolError
+
+HELLO_SECONDS = 10.0
+IDLE_SECONDS = 60.0
+
+
+class Inbox:
+    """Connections that arrive while the session waits for its peer links."""
+
+    def __init__(self):
+        self.waiting = False
+        self.queue = queue.Queue()
+        self.lock = threading.Lock()
+
+    def offer(self, sock):
+        """Queues a new connection if the session waits for peers."""
+        with self.lock:
+            if self.waiting:
+                self.queue.put(sock)
+            return self.waiting
+
+    def take(self, timeout):
+        try:
+            return self.queue.get(timeout=timeout)
+        except queue.Empty:
+            return None
+
+    def stop_waiting(self):
+        """No more peers: BUSY to the connections still queued."""
+        with self.lock:
+            self.waiting = False
+        while True:
+            try:
+                sock = self.queue.get_nowait()
+            except queue.Empty:
+                return
+            ch = Channel(sock, "a connection")
+            ch.send_error(0, E.BUSY, "this participant serves a session; its peer links are "
+                          "open")
+            ch.close()
+
+
+class Server:
+    def __init__(self, participant, listen, token, config, name, direct=True):
+        self.p, self.token, self.config, self.name = participant, token, config, name
+        self.direct = direct
+        host, port = listen.rsplit(":", 1)
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self.sock.bind((host, int(port)))
+        self.sock.listen(16)
+        self.sessions = queue.Queue()
+        self.active = None  # the master's address while a session runs
+        self.inbox = None
+        self.lock = threading.Lock()
+
+    def address(self):
+        return "%s:%d" % self.sock.getsockname()[:2]
+
+    def acceptor(self):
+        while True:
+            conn, addr = self.sock.accept()
+            with self.lock:
+                if self.active is None:
+                    self.active = "%s:%d" % addr[:2]
+                    self.sessions.put(conn)
+                    continue
+                if self.inbox is not None and self.inbox.offer(conn):
+                    continue
+                active = self.active
+            ch = Channel(conn, "%s:%d" % addr[:2])
+            ch.send_error(0, E.BUSY, "this participant already serves a session (from %s)"
+                          % active)
+            ch.close()
+
+    def run(self):
+        threading.Thread(target=self.acceptor, daemon=True).start()
+        while True:
+            conn = self.sessions.get()
+            try:
+                self.session(conn)
+            finally:
+                with self.lock:  # before the close: a master that saw it may come back
+                    self.active, self.inbox = None, None
+                conn.close()
+
+    def session(self, conn):
+        master = Channel(conn, "the master at %s" % self.active)
+        plane = None
+        hook = None
+        if self.direct:
+            with self.lock:
+                self.inbox = Inbox()
+
+            def hook(session, req, out):
+                nonlocal plane
+                if plane is None:
+                    plane = Plane(session, master, self.inbox)
+                kind = req.WhichOneof("body")
+                return plane.on_links(req, out) if kind == "links" else plane.on_window(req, out)
+        s = Session(self.p, self.token, self.name, self.config, hook)
+        req_id = 0
+        try:
+            while not s.closing:
+                timeout = HELLO_SECONDS if s.state in ("hello", "auth") else IDLE_SECONDS
+                try:
+                    req = master.receive(timeout)
+                except socket.timeout:
+                    raise ProtocolError(E.TIMEOUT, "the master sent no complete request within "
+                                        "%g s" % timeout)
+                req_id = req.id
+                master.send(s.handle(req))
+                req_id = 0
+        except LinkClosed as e:
+            if e.inside_frame:
+                master.send_error(0, E.BAD_FRAME, "the connection closed inside a frame",
+                                  s.step, max(s.step, 0) * s.H)
+        except ProtocolError as e:
+            master.send_error(req_id, e.code, str(e), s.step, max(s.step, 0) * s.H)
+            print("session from %s: %s: %s" % (self.active, E.Code.Name(e.code), e),
+                  file=sys.stderr, flush=True)
+        except OSError as e:
+            print("session from %s: %s" % (self.active, e), file=sys.stderr, flush=True)
+        except Exception as e:  # a bug in the participant must not take the server down
+            traceback.print_exc()
+            master.send_error(req_id, E.INTERNAL, "internal error in the %s participant: %s: %s"
+                              % (self.p.name, type(e).__name__, e), s.step,
+                              max(s.step, 0) * s.H)
+        finally:
+            if self.inbox is not None:
+                self.inbox.stop_waiting()
+            if plane is not None and plane.links:
+                for l in plane.links:
+                    if l.chan is not None:
+                        l.chan.close()
+
+
+def serve(participant, argv=None):
+    """Serves `participant` (a Participant instance) until interrupted.
+
+    Command line (argv, default sys.argv[1:]):
+      --listen HOST:PORT   where to listen (default 127.0.0.1:0: any free port);
+                           prints "listening on HOST:PORT" once it does
+      --config FILE        a TOML file; its table [--table] is the config
+                           configure() receives (default: no config, {})
+      --table NAME         the table of --config (default: the participant's name)
+      --token-file FILE    the shared secret (the master's --token-file)
+      --relayed-only       do not offer the direct data plane
+      --name TEXT          the name given in the hello reply (logs)
+    """
+    p = argparse.ArgumentParser(description="serve the %s participant" % participant.name)
+    p.add_argument("--listen", default="127.0.0.1:0")
+    p.add_argument("--config")
+    p.add_argument("--scene", dest="config", help=argparse.SUPPRESS)  # the example's old name
+    p.add_argument("--table", default=participant.name)
+    p.add_argument("--token-file")
+    p.add_argument("--relayed-only", action="store_true")
+    p.add_argument("--name", default="%s (railcosim_sdk)" % type(participant).__name__)
+    a = p.parse_args(argv)
+    config = {}
+    if a.config:
+        try:
+            with open(a.config, "rb") as f:
+                doc = tomllib.load(f)
+        except (OSError, tomllib.TOMLDecodeError) as e:
+            sys.exit("%s: %s" % (a.config, e))
+        if a.table not in doc:
+            sys.exit("%s: no [%s] table (the configuration of the %s participant)"
+                     % (a.config, a.table, participant.name))
+        config = doc[a.table]
+    token = None
+    if a.token_file:
+        try:
+            token = open(a.token_file).read().strip()
+        except OSError as e:
+            sys.exit("--token-file: %s" % e)
+        if not token:
+            sys.exit("--token-file %s is empty" % a.token_file)
+    try:
+        server = Server(participant, a.listen, token, config, a.name, not a.relayed_only)
+    except (OSError, ValueError) as e:
+        sys.exit("--listen %s: %s" % (a.listen, e))
+    print("listening on %s" % server.address(), flush=True)
+    try:
+        server.run()
+    except KeyboardInterrupt:
+        pass

@@ -1,0 +1,357 @@
+"""One session with a master: the order of messages (docs/protocol.md §3)
+and the translation between the wire and the participant's arrays."""
+
+import hashlib
+import hmac
+import math
+import secrets
+
+import numpy as np
+
+from . import packed
+from . import participant as api
+from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
+
+AUTH_TAG = b"railcosim-auth-v2"
+_sum = np.add.reduce  # ndarray.sum without its Python wrapper
+
+
+def auth_answer(secret, participant, nonce):
+    message = AUTH_TAG + participant.encode() + b"\0" + nonce
+    return hmac.new(secret.encode(), message, hashlib.sha256).digest()
+
+
+class Session:
+    """The participant's side of one session. `handle(envelope)` returns the
+    reply (or raises ProtocolError); `closing` is set after Shutdown."""
+
+    def __init__(self, participant, token, name, config=None, links_hook=None):
+        self.p = participant
+        self.config = {} if config is None else config
+        self.token, self.name = token, name
+        self.state = "hello"
+        self.nonce = b""
+        self.closing = False
+        self.step = -1
+        self.H = 0.0
+        self.interfaces = []
+        self.held = None       # list of api.Inputs for the coming step
+        self.held_wire = None  # (start, end) lists of InterfaceData, for Save
+        self.last = None       # the outputs last returned, a list of dicts
+        self.links_hook = links_hook  # (session, envelope) -> reply; the direct plane
+
+    # ---- inputs and outputs ----
+
+    def inputs(self, start, end=None):
+        """Inputs from lists of InterfaceData (one per interface), checked."""
+        if len(start) != len(self.interfaces) or (end is not None and len(end) != len(start)):
+            raise ProtocolError(E.BAD_REQUEST, "inputs for %d interfaces; this participant "
+                                "has %d" % (len(start), len(self.interfaces)))
+        t0 = max(self.step, 0) * self.H
+        out = []
+        for k, i in enumerate(self.interfaces):
+            got = packed.decode(start[k])
+            ends = None if end is None else packed.decode(end[k])
+            extra = [q for q in got if q not in i.receives] + (
+                [] if ends is None else [q for q in ends if q not in i.receives])
+            if extra:
+                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                    "does not receive it" % (i.cut, extra[0]))
+            w = api.Inputs()
+            for q in i.receives:
+                e = None if ends is None else self._check(ends.get(q), i, q)
+                setattr(w, q, api.Waveform(self._check(got.get(q), i, q), e, t0, self.H))
+            out.append(w)
+        return out
+
+    @staticmethod
+    def _check(a, i, q):
+        n = 0 if a is None else a.shape[0]
+        if n != i.n:
+            raise ProtocolError(E.BAD_REQUEST, "interface %s: %d %s values, expected %d (one "
+                                "per coupling point)" % (i.cut, n, q, i.n))
+        total = float(_sum(a))  # not finite when a value is not (or on overflow)
+        if total - total != 0.0 and not np.isfinite(a).all():
+            raise ProtocolError(E.BAD_REQUEST, "interface %s: a %s value is not finite"
+                                % (i.cut, q))
+        return a
+
+    def set_inputs(self, start, end=None):
+        self.held = self.inputs(start, end)
+        self.held_wire = (list(start), None if end is None else list(end))
+
+    def coupling(self, outputs, data):
+        """Writes the participant's outputs into a CouplingData."""
+        if outputs is None or len(outputs) != len(self.interfaces):
+            raise ProtocolError(E.INTERNAL, "the participant returned outputs for %s "
+                                "interfaces; it has %d" % (
+                                    "no" if outputs is None else len(outputs),
+                                    len(self.interfaces)))
+        for i, o in zip(self.interfaces, outputs):
+            for q in i.sends:
+                if len(o[q]) != i.n:
+                    raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
+                                        "values, expected %d" % (i.cut, len(o[q]), q, i.n))
+        self.encoded = [packed.encode(o, i.sends) for i, o in zip(self.interfaces, outputs)]
+        for b in self.encoded:
+            data.interfaces.add().MergeFromString(b)
+        return data
+
+    def report(self, outputs, step, r=None):
+        """Fills a StepReport (a new one, or r) from the participant's outputs."""
+        self.last = outputs
+        if r is None:
+            r = pb.StepReport()
+        r.step = step
+        r.t = step * self.H
+        self.coupling(outputs, r.outputs)
+        hist = [float(h) for h in self.p.history_values()]
+        if len(hist) != len(self.p.history):
+            raise ProtocolError(E.INTERNAL, "history_values() gave %d values for %d declared "
+                                "channels" % (len(hist), len(self.p.history)))
+        r.history.extend(hist)
+        peak = self.p.max_abs_displacement()
+        if peak is None:
+            peak = 0.0
+            for o in outputs:
+                d = o.get("displacement")
+                if d is not None and len(d):
+                    m = float(np.abs(d).max())
+                    if not m <= peak:  # NaN too
+                        peak = m
+        r.max_abs_displacement = peak
+        total = peak + sum(hist)
+        for i, o in zip(self.interfaces, outputs):
+            for q in i.sends:
+                total += float(_sum(o[q]))
+        finite = True
+        if total - total != 0.0:  # a value is not finite, or the sum overflowed: look closer
+            finite = math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
+                bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
+                for q in i.sends)
+        r.finite = finite
+        return r
+
+    def advance(self, n, r=None):
+        """Macro step n with the held inputs; fills its StepReport (new or r)."""
+        try:
+            outputs = self.p.advance(n * self.H, self.H, self.held)
+        except api.StepFailed as e:
+            raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
+        self.step = n + 1
+        return self.report(outputs, self.step, r)
+
+    def current_outputs(self):
+        o = self.p.outputs(self.held)
+        return self.last if o is None else o
+
+    # ---- the messages ----
+
+    def handle(self, req):
+        try:
+            return self.dispatch(req)
+        except api.BadRequest as e:
+            raise ProtocolError(E.BAD_REQUEST, str(e))
+        except api.BadInterface as e:
+            raise ProtocolError(E.BAD_INTERFACE, "participant %s: %s" % (self.p.name, e))
+
+    def dispatch(self, req):
+        kind = req.WhichOneof("body")
+        out = pb.Envelope(id=req.id)
+        if kind == "shutdown" and self.state != "auth":
+            out.ack.SetInParent()
+            self.closing = True
+            return out
+        if self.state == "hello":
+            return self.hello(req, kind, out)
+        if self.state == "auth":
+            return self.auth(req, kind, out)
+        if self.state == "configure":
+            if kind != "configure":
+                raise ProtocolError(E.OUT_OF_ORDER, "expected configure, got %s" % kind)
+            return self.configure(req.configure, out)
+        handler = getattr(self, "on_" + str(kind), None)
+        if handler is None:
+            raise ProtocolError(E.BAD_REQUEST, "this participant does not accept %s messages "
+                                "here" % kind)
+        return handler(req, out)
+
+    def hello(self, req, kind, out):
+        if kind != "hello":
+            raise ProtocolError(E.OUT_OF_ORDER, "expected hello, got %s" % kind)
+        h = req.hello
+        if h.protocol_version != PROTOCOL_VERSION:
+            raise ProtocolError(E.VERSION_MISMATCH, "this participant speaks protocol version "
+                                "%d, the hello version %d" % (PROTOCOL_VERSION,
+                                                              h.protocol_version))
+        if h.role == "peer":
+            raise ProtocolError(E.WRONG_ROLE, "a peer link for the %s participant, but this "
+                                "one expects no peer links now" % (h.participant or "unnamed"))
+        if h.participant != self.p.name:
+            raise ProtocolError(E.WRONG_ROLE, "this program serves the %s participant, not the "
+                                "%s participant" % (self.p.name, h.participant or "unnamed"))
+        if self.token is not None:
+            self.nonce = secrets.token_bytes(32)
+            self.state = "auth"
+            out.challenge.nonce = self.nonce
+            return out
+        self.state = "configure"
+        return self.hello_reply(out)
+
+    def auth(self, req, kind, out):
+        nonce, self.nonce = self.nonce, b""
+        if kind != "auth" or not hmac.compare_digest(
+                req.auth.mac, auth_answer(self.token, self.p.name, nonce)):
+            raise ProtocolError(E.UNAUTHORIZED, "this participant requires the shared secret "
+                                "of its --token-file; the answer to its challenge was missing "
+                                "or wrong")
+        self.state = "configure"
+        return self.hello_reply(out)
+
+    def hello_reply(self, out):
+        r = out.hello_reply
+        r.protocol_version = PROTOCOL_VERSION
+        r.participant = self.p.name
+        r.name = self.name
+        if self.links_hook is not None:
+            r.capabilities.append("direct")
+        return out
+
+    def configure(self, c, out):
+        if c.participant != self.p.name:
+            raise ProtocolError(E.WRONG_ROLE, "configure names the %s participant; this "
+                                "session serves the %s participant" % (c.participant,
+                                                                       self.p.name))
+        if not c.macro_step > 0:
+            raise ProtocolError(E.BAD_REQUEST, "configure: macro_step must be > 0")
+        self.interfaces = [api.Interface(i) for i in c.interfaces]
+        self.H = c.macro_step
+        self.p.run = api.Run(c)
+        try:
+            self.p.configure(self.config, self.interfaces)
+        except api.BadInterface as e:
+            raise ProtocolError(E.BAD_INTERFACE, "participant %s: %s" % (self.p.name, e))
+        except api.BadRequest as e:
+            raise ProtocolError(E.BAD_REQUEST, "configure: %s" % e)
+        self.state = "ready"
+        out.configured.history.extend(self.p.history)
+        out.configured.results.extend(self.p.results_fields)
+        return out
+
+    def on_statics(self, req, out):
+        if self.step >= 0:
+            raise ProtocolError(E.OUT_OF_ORDER, "statics after initialize")
+        outputs = self.p.statics(self.inputs(req.statics.inputs.interfaces))
+        out.outputs.SetInParent()
+        self.coupling(outputs, out.outputs.data)
+        return out
+
+    def on_initialize(self, req, out):
+        if self.step >= 0:
+            raise ProtocolError(E.OUT_OF_ORDER, "a second initialize")
+        self.step = 0
+        self.set_inputs(req.initialize.inputs.interfaces)
+        self.report(self.p.initialize(self.held), 0, out.step_report)
+        return out
+
+    def check_step(self, n, what):
+        if self.step < 0:
+            raise ProtocolError(E.OUT_OF_ORDER, "%s before initialize" % what)
+        if n != self.step:
+            raise ProtocolError(E.OUT_OF_ORDER, "%s for macro step %d; the participant is at "
+                                "macro step %d" % (what, n, self.step))
+
+    def on_set_inputs(self, req, out):
+        s = req.set_inputs
+        self.check_step(s.step, "inputs")
+        self.set_inputs(s.inputs.interfaces,
+                        s.inputs_end.interfaces if s.HasField("inputs_end") else None)
+        out.ack.SetInParent()
+        return out
+
+    def on_step(self, req, out):
+        s = req.step
+        self.check_step(s.step, "a step")
+        if s.h != self.H:
+            raise ProtocolError(E.BAD_REQUEST, "step with h = %r; the configured macro step is "
+                                "%r" % (s.h, self.H))
+        if s.HasField("inputs"):
+            self.set_inputs(s.inputs.interfaces,
+                            s.inputs_end.interfaces if s.HasField("inputs_end") else None)
+        elif s.HasField("inputs_end"):
+            raise ProtocolError(E.BAD_REQUEST, "inputs_end without inputs")
+        self.advance(s.step, out.step_report)
+        return out
+
+    def on_get_outputs(self, req, out):
+        if self.step < 0:
+            raise ProtocolError(E.OUT_OF_ORDER, "get_outputs before initialize")
+        out.outputs.step = self.step
+        out.outputs.t = self.step * self.H
+        self.coupling(self.current_outputs(), out.outputs.data)
+        return out
+
+    def on_get_results(self, req, out):
+        r = out.results
+        fields = list(self.p.results())
+        if len(fields) != len(self.p.results_fields):
+            raise ProtocolError(E.INTERNAL, "results() gave %d fields for %d declared"
+                                % (len(fields), len(self.p.results_fields)))
+        for f in fields:
+            r.fields.add().values.extend(np.asarray(f, dtype=float).tolist())
+        r.micro_steps = int(self.p.micro_steps)
+        return out
+
+    def on_save(self, req, out):
+        if self.step < 0:
+            raise ProtocolError(E.OUT_OF_ORDER, "save before initialize")
+        mine = [float(x) for x in self.p.save()]
+        start, end = self.held_wire
+        held = pb.CouplingData(interfaces=start).SerializeToString()
+        ramp = b"" if end is None else pb.CouplingData(interfaces=end).SerializeToString()
+        last = self.coupling(self.last, pb.CouplingData()).SerializeToString()
+        blob = b"".join((held, ramp, last))
+        out.state.values.extend([float(self.step), float(self.p.micro_steps), float(len(mine)),
+                                 float(len(held)), float(len(ramp)), float(len(last))] + mine
+                                + list(blob))
+        return out
+
+    def on_restore(self, req, out):
+        v = np.array(req.restore.state.values, dtype=float)
+        bad = ProtocolError(E.BAD_REQUEST, "restore: the state does not fit this participant "
+                            "(it was not saved by it in this session)")
+        if len(v) < 6 or not np.isfinite(v[:6]).all() or (v[:6] < 0).any() \
+                or (v[:6] != np.floor(v[:6])).any():
+            raise bad
+        step, micro, n, a, b, c = (int(x) for x in v[:6])
+        if len(v) != 6 + n + a + b + c or step > 2**53:
+            raise bad
+        blob = bytes(int(x) & 0xFF for x in v[6 + n:])
+        try:
+            held = pb.CouplingData.FromString(blob[:a]).interfaces
+            ramp = pb.CouplingData.FromString(blob[a:a + b]).interfaces if b else None
+            last = pb.CouplingData.FromString(blob[a + b:]).interfaces
+        except Exception:
+            raise bad
+        self.p.restore(v[6:6 + n])
+        self.step = step
+        self.p.micro_steps = micro
+        self.set_inputs(held, ramp)
+        self.last = [{q: np.array(getattr(d, q)) for q in i.sends}
+                     for i, d in zip(self.interfaces, last)]
+        out.ack.SetInParent()
+        return out
+
+    def out_of_order(self, req, out):
+        raise ProtocolError(E.OUT_OF_ORDER, "%s is allowed once, at the start of a session"
+                            % req.WhichOneof("body"))
+
+    on_hello = on_auth = on_configure = out_of_order
+
+    def on_links(self, req, out):
+        if self.links_hook is None:
+            raise ProtocolError(E.BAD_REQUEST, "this participant does not serve the direct "
+                                "data plane")
+        return self.links_hook(self, req, out)
+
+    on_window = on_links

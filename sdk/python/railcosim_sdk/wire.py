@@ -1,0 +1,168 @@
+"""The protocol's messages and frames.
+
+The message classes are generated from protocol/railcosim.proto by protoc
+at first import, into a cache folder keyed by the schema's hash:
+$RAILCOSIM_SDK_CACHE, else $XDG_CACHE_HOME/railcosim, else
+~/.cache/railcosim (a temporary folder if none is writable). The schema is
+$RAILCOSIM_PROTO, else protocol/railcosim.proto of the checkout this
+package lives in. Needs Debian's protobuf-compiler and python3-protobuf.
+"""
+
+import hashlib
+import importlib.util
+import os
+import socket
+import struct
+import subprocess
+import tempfile
+import time
+
+PROTOCOL_VERSION = 2
+MAX_FRAME = 8 << 20
+
+
+def _schema_path():
+    here = os.path.dirname(os.path.abspath(__file__))
+    return os.environ.get("RAILCOSIM_PROTO") or os.path.normpath(
+        os.path.join(here, "..", "..", "..", "protocol", "railcosim.proto"))
+
+
+def _cache_roots():
+    if os.environ.get("RAILCOSIM_SDK_CACHE"):
+        yield os.environ["RAILCOSIM_SDK_CACHE"]
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    yield os.path.join(base, "railcosim")
+    yield os.path.join(tempfile.gettempdir(), "railcosim-%d" % os.getuid())
+
+
+def _compile(proto):
+    with open(proto, "rb") as f:
+        key = hashlib.sha256(f.read()).hexdigest()[:16]
+    folder, name = os.path.split(proto)
+    module = name.replace(".proto", "_pb2.py")
+    for root in _cache_roots():
+        target = os.path.join(root, key)
+        if os.path.exists(os.path.join(target, module)):
+            return os.path.join(target, module)
+        try:
+            os.makedirs(root, exist_ok=True)
+            work = tempfile.mkdtemp(dir=root)
+        except OSError:
+            continue
+        try:
+            subprocess.run(["protoc", "-I", folder, "--python_out", work, name], check=True)
+        except FileNotFoundError:
+            raise SystemExit("railcosim_sdk: protoc not found; install Debian's "
+                             "protobuf-compiler (scripts/install-deps.sh does)")
+        try:
+            os.rename(work, target)  # atomic: another process may race us
+        except OSError:
+            pass
+        if os.path.exists(os.path.join(target, module)):
+            return os.path.join(target, module)
+    raise SystemExit("railcosim_sdk: no writable cache folder for the compiled schema; "
+                     "set RAILCOSIM_SDK_CACHE")
+
+
+def _load():
+    proto = _schema_path()
+    if not os.path.exists(proto):
+        raise SystemExit("railcosim_sdk: the schema %s does not exist; set RAILCOSIM_PROTO "
+                         "to protocol/railcosim.proto" % proto)
+    path = _compile(proto)
+    spec = importlib.util.spec_from_file_location("railcosim_pb2", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+pb = _load()
+E = pb.Error  # codes: E.BAD_REQUEST, ...
+
+
+class ProtocolError(Exception):
+    """Ends the session with Error{code, message}."""
+
+    def __init__(self, code, message):
+        super().__init__(message)
+        self.code = code
+
+
+class LinkClosed(Exception):
+    """The other end closed the connection (between frames, or inside one)."""
+
+    def __init__(self, message, inside_frame=False):
+        super().__init__(message)
+        self.inside_frame = inside_frame
+
+
+class Channel:
+    """Frames over one TCP connection: 4-byte big-endian length, then an
+    Envelope. Reads in large chunks and hands out every complete frame."""
+
+    def __init__(self, sock, what):
+        self.sock = sock
+        self.what = what
+        self.buf = bytearray()
+        sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+
+    def receive(self, timeout=None):
+        """The next Envelope; raises socket.timeout, LinkClosed, ProtocolError."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        buf = self.buf
+        while True:
+            if len(buf) >= 4:
+                (length,) = struct.unpack_from(">I", buf)
+                if length > MAX_FRAME:
+                    raise ProtocolError(E.FRAME_TOO_LARGE, "%s announced a frame of %d bytes; "
+                                        "the limit is %d" % (self.what, length, MAX_FRAME))
+                if len(buf) >= 4 + length:
+                    env = pb.Envelope()
+                    try:
+                        env.ParseFromString(bytes(buf[4:4 + length]))
+                    except Exception:
+                        raise ProtocolError(E.BAD_FRAME, "%s sent a frame that is not an "
+                                            "Envelope" % self.what)
+                    del buf[:4 + length]
+                    if env.WhichOneof("body") is None:
+                        raise ProtocolError(E.BAD_FRAME, "%s sent an Envelope with no body"
+                                            % self.what)
+                    return env
+            if deadline is not None:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise socket.timeout()
+                self.sock.settimeout(left)
+            else:
+                self.sock.settimeout(None)
+            chunk = self.sock.recv(1 << 16)
+            if not chunk:
+                raise LinkClosed("%s closed the connection" % self.what, len(buf) > 0)
+            buf += chunk
+
+    def pending(self):
+        """True when a complete frame is already buffered."""
+        if len(self.buf) < 4:
+            return False
+        return len(self.buf) >= 4 + struct.unpack_from(">I", self.buf)[0]
+
+    def send(self, env):
+        self.send_bytes(env.SerializeToString())
+
+    def send_bytes(self, payload):
+        """Sends one frame holding an already serialised Envelope."""
+        self.sock.settimeout(None)
+        self.sock.sendall(struct.pack(">I", len(payload)) + payload)
+
+    def send_error(self, req_id, code, message, step=-1, t=0.0):
+        try:
+            self.send(pb.Envelope(id=req_id, error=pb.Error(code=code, message=message,
+                                                             step=step, t=t)))
+        except OSError:
+            pass
+
+    def close(self):
+        try:
+            self.sock.close()
+        except OSError:
+            pass

@@ -1,0 +1,238 @@
+#!/usr/bin/env python3
+"""The Python SDK's waveforms, and its session rules against the SDK example
+soil served in a child process: the HMAC test vector of docs/protocol.md, the challenge
+(wrong and right answers), BUSY for a second master, WRONG_ROLE, and the
+errors a bad Configure, bad inputs, a bad step and a bad Restore get, each
+with its exact message; on the direct plane, BUSY for a connection that is
+not the awaited peer, and a master that leaves while the soil waits for its
+peer frees it for the next session; as the connecting end of a peer link,
+the hello, the shared secret, PeerData at points 0 and 1, the reports and
+WindowDone. Usage: python_sdk_test.py SOURCE_DIR"""
+
+import os
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+
+src = sys.argv[1]
+sys.path.insert(0, os.path.join(src, "sdk", "python"))
+from railcosim_sdk.session import auth_answer  # noqa: E402
+from railcosim_sdk.wire import E, pb  # noqa: E402
+
+failures = []
+
+
+def check(what, cond, detail=""):
+    if not cond:
+        failures.append("%s %s" % (what, detail))
+
+
+vector = auth_answer("correct horse battery staple", "soil", bytes(range(32))).hex()
+check("HMAC test vector", vector ==
+      "4e2d5487f0cf7d11491de7fa96b114c303c3bc603281743421002ef021887e49", vector)
+
+# Waveforms: held inputs stay, ramped ones are linear over the step.
+import numpy as np  # noqa: E402
+from railcosim_sdk import Waveform  # noqa: E402
+held = Waveform(np.array([1.0, -2.0]), None, 0.3, 0.1)
+check("held waveform", held.held and held.at(0.37) is held.start and held.end is held.start
+      and not held.rate().any())
+ramp = Waveform(np.array([1.0, -2.0]), np.array([3.0, 2.0]), 0.25, 0.5)
+check("ramped waveform", not ramp.held and list(ramp.at(0.25)) == [1.0, -2.0] and
+      list(ramp.at(0.5)) == [2.0, 0.0] and list(ramp.at(0.75)) == [3.0, 2.0] and
+      list(ramp.rate()) == [4.0, 8.0], str((ramp.at(0.5), ramp.rate())))
+
+work = tempfile.mkdtemp()
+with open(os.path.join(work, "token"), "w") as f:
+    f.write("  s3cret\n")
+with open(os.path.join(work, "soil.toml"), "w") as f:
+    f.write("[soil]\nmass = 699.6\nstiffness = 121.08e6\ndamping = 341.9e3\n"
+            "coupling_stiffness = 43.72e6\ncoupling_damping = 0.0\n")
+child = subprocess.Popen(
+    ["/usr/bin/python3", os.path.join(src, "examples", "python_soil", "soil_participant.py"),
+     "--config", os.path.join(work, "soil.toml"), "--token-file", os.path.join(work, "token")],
+    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+try:
+    line = child.stdout.readline()
+    assert line.startswith("listening on "), line
+    host, port = line.split()[-1].rsplit(":", 1)
+
+    class Master:
+        def __init__(self):
+            self.s = socket.create_connection((host, int(port)), timeout=5)
+            self.buf = b""
+            self.id = 0
+
+        def send(self, **body):
+            self.id += 1
+            p = pb.Envelope(id=self.id, **body).SerializeToString()
+            self.s.sendall(struct.pack(">I", len(p)) + p)
+            return self.receive()
+
+        def receive(self):
+            while len(self.buf) < 4 or len(self.buf) < 4 + struct.unpack(">I", self.buf[:4])[0]:
+                chunk = self.s.recv(65536)
+                if not chunk:
+                    return None
+                self.buf += chunk
+            n = struct.unpack(">I", self.buf[:4])[0]
+            e = pb.Envelope.FromString(self.buf[4:4 + n])
+            self.buf = self.buf[4 + n:]
+            return e
+
+        def hello(self, participant="soil", secret="s3cret"):
+            r = self.send(hello=pb.Hello(protocol_version=2, role="master",
+                                         participant=participant))
+            if not r.HasField("challenge"):
+                return r
+            return self.send(auth=pb.Auth(mac=auth_answer(secret, participant,
+                                                          r.challenge.nonce)))
+
+    def error(r, code, message, conn=None):
+        if conn is not None:  # the session ends: wait until it is closed
+            check("closed after the error", conn.receive() is None)
+        check("error %s" % E.Code.Name(code), r is not None and r.HasField("error")
+              and r.error.code == code and r.error.message == message, str(r))
+
+    m = Master()
+    error(m.hello(secret="wrong"), E.UNAUTHORIZED, "this participant requires the shared secret "
+          "of its --token-file; the answer to its challenge was missing or wrong", m)
+    m = Master()
+    error(m.hello("track"), E.WRONG_ROLE,
+          "this program serves the soil participant, not the track participant", m)
+
+    def configured(micro_steps=10, n=4):
+        m = Master()
+        r = m.hello()
+        check("hello reply", r.HasField("hello_reply") and list(r.hello_reply.capabilities)
+              == ["direct"], str(r))
+        c = pb.Configure(participant="soil", macro_step=1e-4, end_time=1e-3,
+                         micro_steps=micro_steps)
+        i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
+        i.x.extend([0.3 + 0.6 * k for k in range(n)])
+        i.receives.extend([1, 2])
+        i.sends.extend([1, 2])
+        return m, m.send(configure=c)
+
+    m, r = configured()
+    check("configured", list(r.configured.history) == ["soil_peak_m"] and
+          list(r.configured.results) == ["soil_m"], str(r))
+    busy = Master()  # a second master while the first one's session runs
+    error(busy.receive(), E.BUSY, "this participant already serves a session (from %s:%d)"
+          % m.s.getsockname()[:2])
+
+    def data(n, d=1e-4, v=0.0):
+        c = pb.CouplingData()
+        c.interfaces.add(displacement=[d] * n, velocity=[v] * n)
+        return c
+    r = m.send(initialize=pb.Initialize(inputs=data(4)))
+    check("initialize", r.HasField("step_report") and r.step_report.finite and
+          len(r.step_report.outputs.interfaces[0].displacement) == 4, str(r))
+    state = m.send(save=pb.Save()).state
+    r1 = m.send(step=pb.Step(step=0, h=1e-4, inputs=data(4, 2e-4, 1e-3))).step_report
+    check("restore", m.send(restore=pb.Restore(state=state)).HasField("ack"))
+    r2 = m.send(step=pb.Step(step=0, h=1e-4, inputs=data(4, 2e-4, 1e-3))).step_report
+    check("a step after restore is bitwise the same", r1.SerializeToString() ==
+          r2.SerializeToString())
+    error(m.send(step=pb.Step(step=3, h=1e-4)), E.OUT_OF_ORDER,
+          "a step for macro step 3; the participant is at macro step 1", m)
+
+    m, _ = configured()
+    error(m.send(configure=pb.Configure(participant="soil", macro_step=1e-4)), E.OUT_OF_ORDER,
+          "configure is allowed once, at the start of a session", m)
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    error(m.send(step=pb.Step(step=0, h=1e-4, inputs=data(3))), E.BAD_REQUEST,
+          "interface ss: 3 displacement values, expected 4 (one per coupling point)", m)
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    error(m.send(step=pb.Step(step=0, h=1e-4, inputs=data(4, float("nan")))), E.BAD_REQUEST,
+          "interface ss: a displacement value is not finite", m)
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    error(m.send(restore=pb.Restore(state=pb.State(values=[1.0, 2.0]))), E.BAD_REQUEST,
+          "restore: the state does not fit this participant (it was not saved by it in this "
+          "session)", m)
+    # The direct plane: a master that leaves while the soil waits for its
+    # peer link frees the participant at once for the next session.
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    links = pb.Links(session=bytes(16), timeout_ms=20000)
+    links.links.add(peer="track", interfaces=[0])
+    check("links", m.send(links=links).HasField("ack"))
+    m.id += 1
+    w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=5)).SerializeToString()
+    m.s.sendall(struct.pack(">I", len(w)) + w)
+    intruder = Master()  # not a peer: BUSY, and the soil waits on for its peer
+    error(intruder.send(hello=pb.Hello(protocol_version=2, role="master", participant="soil")),
+          E.BUSY, "this participant serves a session; it accepts nothing but its peer links")
+    m.s.close()
+    t0 = time.monotonic()
+    while True:
+        m = Master()
+        r = m.hello()
+        if r is not None and r.HasField("hello_reply"):
+            break
+        check("freed within 2 s of the master leaving", time.monotonic() - t0 < 2, str(r))
+        if time.monotonic() - t0 > 2:
+            break
+        time.sleep(0.05)
+    check("shutdown", m.send(shutdown=pb.Shutdown()).HasField("ack"))
+    check("closed after shutdown", m.receive() is None)
+    # The direct plane, the connecting end (here the soil connects to a
+    # stand-in for the track): hello as a peer, the challenge answered with
+    # the shared secret naming the track, PeerData at points 0 and 1, the
+    # reports, WindowDone.
+    peer_server = socket.socket()
+    peer_server.bind(("127.0.0.1", 0))
+    peer_server.listen(1)
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    links = pb.Links(session=b"k" * 16, timeout_ms=5000)
+    links.links.add(peer="track", host="127.0.0.1", port=peer_server.getsockname()[1],
+                    interfaces=[0])
+    check("links to connect", m.send(links=links).HasField("ack"))
+    m.id += 1
+    w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=1)).SerializeToString()
+    m.s.sendall(struct.pack(">I", len(w)) + w)
+    conn, _ = peer_server.accept()
+    peer = Master.__new__(Master)
+    peer.s, peer.buf, peer.id = conn, b"", 0
+    conn.settimeout(5)
+    h = peer.receive()
+    check("peer hello", h.HasField("hello") and h.hello.role == "peer" and
+          h.hello.participant == "track" and h.hello.peer_of == "soil" and
+          h.hello.session == b"k" * 16, str(h))
+    a = peer.send(challenge=pb.Challenge(nonce=bytes(32)))
+    check("peer auth", a.HasField("auth") and a.auth.mac == auth_answer("s3cret", "track",
+                                                                         bytes(32)), str(a))
+    first = peer.send(hello_reply=pb.HelloReply(protocol_version=2, participant="track"))
+    check("the soil's outputs at point 0", first.HasField("peer_data") and
+          first.peer_data.point == 0 and len(first.peer_data.data.interfaces) == 1 and
+          len(first.peer_data.data.interfaces[0].displacement) == 4, str(first))
+    after = peer.send(peer_data=pb.PeerData(point=0, data=data(4, 2e-4, 1e-3)))
+    check("the soil's outputs at point 1", after.HasField("peer_data") and
+          after.peer_data.point == 1 and not after.peer_data.last, str(after))
+    reports = m.receive()
+    check("reports", reports.id == m.id and reports.HasField("reports") and
+          [r.step for r in reports.reports.reports] == [1], str(reports))
+    done = m.receive()
+    check("window done", done.id == m.id and done.HasField("window_done") and
+          done.window_done.step == 1 and not done.window_done.reason, str(done))
+    check("shutdown after the window", m.send(shutdown=pb.Shutdown()).HasField("ack"))
+    check("closed after shutdown", m.receive() is None)
+    conn.close()
+    peer_server.close()
+    m, r = configured(micro_steps=0)
+    error(r, E.BAD_REQUEST, "configure: this soil integrates with fixed micro steps; set "
+          "simulation.micro_steps in the scene")
+finally:
+    child.kill()
+    child.wait()
+
+if failures:
+    sys.exit("FAILED:\n  " + "\n  ".join(failures))
+print("python SDK session rules: all checks passed")
