@@ -65,14 +65,11 @@ def layer_fields(mesh, params: SoilParams):
     mid = dolfinx.mesh.compute_midpoints(mesh, tdim, np.arange(n_cells, dtype=np.int32))
     names = ("rho", "mu", "lam", "cp", "cs", "xi")
     fields = {name: fem.Function(Q, name=name) for name in names}
-    dofs = np.array([Q.dofmap.cell_dofs(c)[0] for c in range(n_cells)], dtype=np.int32)
-    for c, z in enumerate(mid[:, 2]):
-        layer = params.layer_at(z)
-        d = dofs[c]
-        fields["rho"].x.array[d] = layer.density
-        fields["mu"].x.array[d] = layer.shear_modulus
-        fields["lam"].x.array[d] = layer.lame_lambda
-        fields["cp"].x.array[d] = layer.p_speed
-        fields["cs"].x.array[d] = layer.shear_speed
-        fields["xi"].x.array[d] = layer.damping
+    dofs = Q.dofmap.list.array.reshape(-1)[:n_cells]  # one DOF per cell
+    bottoms = np.cumsum([layer.thickness for layer in params.layers[:-1]])
+    layer_of = np.searchsorted(bottoms, -mid[:, 2], side="right")
+    for name, attr in (("rho", "density"), ("mu", "shear_modulus"), ("lam", "lame_lambda"),
+                       ("cp", "p_speed"), ("cs", "shear_speed"), ("xi", "damping")):
+        values = np.array([getattr(layer, attr) for layer in params.layers])
+        fields[name].x.array[dofs] = values[layer_of]
     return fields
