@@ -59,7 +59,7 @@ def lumped_mass(V, f):
     return assemble_diagonal(fem.form(f["rho"] * ufl.dot(ones, w) * ufl.dx))
 
 
-def lumped_damping(V, f, ds, a0):
+def lumped_damping(V, f, ds, a0, dashpots=True):
     """Diagonal damping: the mass-proportional Rayleigh part a0 M (a0 layer-
     wise) plus the Lysmer-Kuhlemeyer dashpots, rho c_P normal and rho c_S
     tangential per unit area, lumped to the nodes."""
@@ -68,7 +68,9 @@ def lumped_damping(V, f, ds, a0):
     ones = ufl.as_vector((1.0, 1.0, 1.0))
     rho, cp, cs = f["rho"], f["cp"], f["cs"]
     dash = ufl.as_vector([rho * (cp * n[i] ** 2 + cs * (1.0 - n[i] ** 2)) for i in range(3)])
-    form = a0 * rho * ufl.dot(ones, w) * ufl.dx + ufl.dot(dash, w) * ds(ABSORBING)
+    form = a0 * rho * ufl.dot(ones, w) * ufl.dx
+    if dashpots:
+        form = form + ufl.dot(dash, w) * ds(ABSORBING)
     return assemble_diagonal(fem.form(form))
 
 

@@ -74,7 +74,7 @@ class FESoil:
         xi = f["xi"]
         w1, w2 = (2.0 * math.pi * fr for fr in p.damping_band)
         a0 = 2.0 * xi * w1 * w2 / (w1 + w2)
-        self.c = forms.lumped_damping(V, f, ds, a0)
+        self.c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
         xis = {layer.damping for layer in p.layers}
         self.a1 = None  # uniform a1, folded into K (u + a1 v)
         self.Ka1 = None

@@ -62,6 +62,7 @@ class SoilParams:
     symmetric: bool = True  # model y >= 0 with u_y = 0 on y = 0
     damping_band: Tuple[float, float] = (5.0, 50.0)  # Rayleigh fit, Hz
     spring_alpha: Tuple[float, float] = (4.0 / 3.0, 2.0 / 3.0)  # (normal, tangential)
+    dashpots: bool = True  # False: springs alone (a reflecting boundary, for comparison)
     cfl_safety: float = 0.8
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
