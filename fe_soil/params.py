@@ -150,3 +150,54 @@ def graded_nodes(a: float, b: float, centre: float, h_fine: float, fine_half: fl
     right = [centre + d for d in side(b - centre)] if b > centre else [centre]
     left = [centre - d for d in side(centre - a)][1:] if a < centre else []
     return sorted(set(left + right))
+
+
+DEFAULT_RECEIVER_DISTANCES = (4.0, 8.0, 16.0, 32.0)  # m from the track axis
+
+
+def sized_block(track_length: float, layers: List[Layer], sleeper_spacing: float = 0.6,
+                footprint: Tuple[float, float] = (0.25, 2.6),
+                distances: Sequence[float] = DEFAULT_RECEIVER_DISTANCES,
+                margin: float = 8.0, depth: float = 20.0, f_max: float = 20.0,
+                **kwargs) -> SoilParams:
+    """A block under a straight track of `track_length` m: `margin` m beyond
+    each end along the track and beyond the farthest receiver across it,
+    `depth` m deep; one footprint (along x across) per sleeper; receivers
+    at `distances` from the track axis beside the middle of the track."""
+    length = track_length + 2.0 * margin
+    n_sleepers = int(math.floor(track_length / sleeper_spacing + 1e-9)) + 1
+    footprints = [Footprint(margin + i * sleeper_spacing, footprint[0], footprint[1])
+                  for i in range(n_sleepers)]
+    receivers = [(0.5 * length, d) for d in distances]
+    return SoilParams(length=length, half_width=max(distances) + margin, depth=depth,
+                      layers=layers, footprints=footprints, receivers=receivers,
+                      f_max=f_max, **kwargs)
+
+
+def resolved_frequency(h: float, dt: float, layer: Layer, distance: float,
+                       phase_tolerance: float = math.pi / 4.0) -> float:
+    """The highest frequency whose phase error after `distance` m stays
+    within `phase_tolerance` (45 degrees by default), from the 1D dispersion
+    of linear elements with a lumped mass and central differences,
+    sin(w dt/2) = (c dt/h) sin(k_h h/2), at the layer's Rayleigh speed. An
+    estimate: the 3D mesh adds direction-dependent error (measured in
+    docs/ground-vibration.md)."""
+    c = rayleigh_speed(layer.shear_speed, layer.poisson)
+    courant = c * dt / h
+
+    def phase_error(f: float) -> float:
+        w = 2.0 * math.pi * f
+        s = math.sin(0.5 * w * dt) / courant
+        if s >= 1.0:
+            return math.inf
+        k_h = 2.0 / h * math.asin(s)
+        return abs(k_h - w / c) * distance
+
+    lo, hi = 0.0, 0.5 / dt  # w dt / 2 < pi / 2
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        if phase_error(mid) <= phase_tolerance:
+            lo = mid
+        else:
+            hi = mid
+    return lo
