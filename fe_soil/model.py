@@ -218,26 +218,37 @@ class FESoil:
         return self.footprint_average(self.u), self.footprint_average(self.v)
 
     def run(self, dt, n, f0, df):
+        """n steps of dt; the load is f0 + (k/n) df at the end of step k.
+        In-place numpy on the owned DOFs (one K product per step)."""
         u, v, a, m = self.u, self.v, self.a, self.m
         inv = self.mask / (m + 0.5 * dt * self.c)
         W, KU = self.W, self.KU
-        w = W.array
+        w, ku = W.array, KU.array
+        vh, r = np.empty_like(v), np.empty_like(v)
         for k in range(1, n + 1):
-            vh = v + 0.5 * dt * a
-            u += dt * vh
+            np.multiply(a, 0.5 * dt, out=vh)
+            vh += v  # v(n + 1/2)
+            np.multiply(vh, dt, out=r)
+            u += r  # u(n + 1)
             if self.a1 is not None:
                 np.multiply(vh, self.a1, out=w)
                 w += u
-                self.K.mult(W, KU)
-                r = f0 + (k / n) * df - KU.array
+                self.K.mult(W, KU)  # K (u + a1 v)
             else:
                 self.K.mult(self.U, KU)
                 w[:] = vh
                 self.Ka1.mult(W, self.KV)
-                r = f0 + (k / n) * df - KU.array - self.KV.array
-            v_new = inv * (m * vh + 0.5 * dt * r)
-            a[:] = (v_new - vh) * (2.0 / dt)
-            v[:] = v_new
+                ku += self.KV.array
+            np.multiply(df, k / n, out=r)
+            r += f0
+            r -= ku
+            r *= 0.5 * dt
+            np.multiply(m, vh, out=a)
+            r += a
+            r *= inv  # v(n + 1)
+            np.subtract(r, vh, out=a)
+            a *= 2.0 / dt  # a(n + 1)
+            v[:] = r
 
     # ---- receivers and energy -----------------------------------------------
     def receiver_velocities(self):

@@ -6,7 +6,7 @@ import unittest
 
 import numpy as np
 
-from support import HALF_SPACE, Footprint, Layer, SoilParams, graded_nodes
+from support import Footprint, Layer, SoilParams, graded_nodes
 
 from fe_soil.model import FESoil
 
@@ -57,8 +57,10 @@ class Statics(unittest.TestCase):
         self.assertAlmostEqual(fine / k_square, 1.0, delta=0.03)
 
     def test_static_state_stays_at_rest_and_restore_repeats_bitwise(self):
+        # Two layers of different damping: the stiffness-proportional
+        # Rayleigh part as its own product.
         p = square_footing(6.0, 0.5)
-        p.layers = [HALF_SPACE]
+        p.layers = [Layer(2.0, 1800.0, 100.0, 1.0 / 3.0, 0.05), Layer(1.0, 2000.0, 150.0, 0.25, 0.02)]
         p.footprints = [Footprint(5.0, 0.5, 2.6), Footprint(6.0, 0.5, 2.6), Footprint(7.0, 0.5, 2.6)]
         soil = FESoil(p)
         forces = [3e4, 5e4, 3e4]
