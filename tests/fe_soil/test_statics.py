@@ -46,10 +46,11 @@ class Statics(unittest.TestCase):
         k_lysmer = lysmer(SOIL, B / math.sqrt(math.pi))
         k_square = SOIL.shear_modulus * B / (0.5 * I_MEAN * (1.0 - SOIL.poisson))
         self.assertAlmostEqual(k_square / k_lysmer, 0.9364, delta=1e-4)
-        # Measured (k / k_lysmer): block 12 m: h 0.25 -> 0.968, 0.125 ->
-        # 0.929; block 24 m: h 0.25 -> 0.985, h 0.125 -> 0.944; block 48 m,
-        # h 0.25 -> 0.994. The displacement FE is stiff (falls with h), the
-        # spring boundary soft (k rises 1-2 % per doubling of the block).
+        # Measured (k / k_lysmer) on half blocks L x W x D: 12 x 6 x 6 m:
+        # h 0.25 -> 0.968, 0.125 -> 0.929; 24 x 12 x 12 m (this test): h 0.25
+        # -> 0.985, 0.125 -> 0.944 (1.008 of the square); 48 x 24 x 24 m,
+        # h 0.25 -> 0.994. The displacement FE is stiff (k falls with h),
+        # the spring boundary soft (k rises 1-2 % per doubling of the block).
         coarse = self.stiffness(12.0, 0.25)
         fine = self.stiffness(12.0, 0.125)
         self.assertLess(fine, coarse)
