@@ -91,3 +91,19 @@ def kb_f(v, dt, tau=KB_TAU, f0=KB_F0):
 
 def kb_fmax(v, dt, tau=KB_TAU, f0=KB_F0):
     return float(np.max(kb_f(v, dt, tau, f0))) if len(v) else 0.0
+
+
+def receiver_summary(v, dt, f_lo=1.0, f_hi=100.0):
+    """The measures of one receiver's velocity v[time, 3] (m/s), sampled
+    every dt: PPV of each component and of the largest, the band levels of
+    each component, KB_Fmax of each component (DIN 4150-2 rates each
+    direction on its own)."""
+    v = np.asarray(v, dtype=float).reshape(len(v), -1)
+    levels = [third_octave_levels(v[:, i], dt, f_lo, f_hi) for i in range(v.shape[1])]
+    return {
+        "ppv": ppv(v),
+        "ppv_components": [ppv(v[:, i]) for i in range(v.shape[1])],
+        "band_centres": levels[0][0].tolist() if levels else [],
+        "band_levels": [lv.tolist() for _, lv in levels],
+        "kb_fmax": [kb_fmax(v[:, i], dt) for i in range(v.shape[1])],
+    }

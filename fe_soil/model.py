@@ -76,6 +76,7 @@ class FESoil:
         a0 = 2.0 * xi * w1 * w2 / (w1 + w2)
         self.c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
         xis = {layer.damping for layer in p.layers}
+        self.a1_max = rayleigh_coefficients(max(xis), *p.damping_band)[1]
         self.a1 = None  # uniform a1, folded into K (u + a1 v)
         self.Ka1 = None
         if len(xis) == 1:
@@ -134,8 +135,7 @@ class FESoil:
             x.array[:] = y.array * s * self.mask
             lam = self.comm.allreduce(float(z @ x.array))
         w_max = math.sqrt(lam)
-        a1 = self.a1 if self.a1 is not None else 0.0
-        xi = 0.5 * a1 * w_max
+        xi = 0.5 * self.a1_max * w_max  # the stiffness-proportional damping ratio at w_max
         return self.p.cfl_safety * 2.0 / w_max * (math.sqrt(1.0 + xi * xi) - xi)
 
     # ---- state --------------------------------------------------------

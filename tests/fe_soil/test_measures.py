@@ -74,6 +74,18 @@ class Measures(unittest.TestCase):
         y = measures.kb_weighting(v, dt)[int(2.0 / dt) :]
         self.assertAlmostEqual(float(np.max(np.abs(y))), 1.0 / math.sqrt(2.0), delta=2e-3)
 
+    def test_receiver_summary_per_component(self):
+        dt = 1e-3
+        _, vz = sine(2e-4, 10.0, 2.0, dt)
+        v = np.stack([0.5 * vz, 0.0 * vz, vz], axis=1)
+        s = measures.receiver_summary(v, dt)
+        self.assertAlmostEqual(s["ppv"], 2e-4, delta=1e-12)
+        self.assertEqual(len(s["band_centres"]), 21)
+        k = s["band_centres"].index(min(s["band_centres"], key=lambda f: abs(f - 10.0)))
+        self.assertAlmostEqual(s["band_levels"][0][k] - s["band_levels"][2][k], 20.0 * math.log10(0.5), delta=1e-9)
+        self.assertAlmostEqual(s["kb_fmax"][0] / s["kb_fmax"][2], 0.5, delta=1e-9)
+        self.assertEqual(s["kb_fmax"][1], 0.0)
+
 
 if __name__ == "__main__":
     unittest.main()
