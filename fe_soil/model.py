@@ -275,6 +275,21 @@ class FESoil:
         v = np.array([h[1] for h in self.history]).reshape(len(t), len(self.rec_points), 3)
         return t, v
 
+    def open_xdmf(self, path):
+        """An XDMF file (ParaView opens it) with the mesh; `write_snapshot`
+        adds the velocity field at the current time."""
+        import dolfinx.io
+
+        xdmf = dolfinx.io.XDMFFile(self.comm, path, "w")
+        xdmf.write_mesh(self.mesh)
+        self.vfun.name = "velocity"
+        return xdmf
+
+    def write_snapshot(self, xdmf):
+        self.vfun.x.array[: self.n_owned] = self.v
+        self.vfun.x.scatter_forward()
+        xdmf.write_function(self.vfun, self.t)
+
     def kinetic_energy(self, dofs_weight=None):
         e = 0.5 * self.m * self.v**2
         if dofs_weight is not None:

@@ -2,6 +2,8 @@
 against Lysmer's analog and the flexible square's closed form; the static
 state stays at rest when stepped; save/restore continues bitwise."""
 import math
+import os
+import tempfile
 import unittest
 
 import numpy as np
@@ -82,6 +84,18 @@ class Statics(unittest.TestCase):
         for (w1, v1), (w2, v2) in zip(first, again):
             self.assertTrue(np.array_equal(w1, w2) and np.array_equal(v1, v2))
         self.assertGreater(np.max(np.abs(first[-1][1])), 0.0)
+
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "soil.xdmf")
+            xdmf = soil.open_xdmf(path)
+            soil.write_snapshot(xdmf)
+            soil.advance(soil.t, H, forces, forces)
+            soil.write_snapshot(xdmf)
+            xdmf.close()
+            with open(path) as f:
+                text = f.read()
+            self.assertEqual(text.count('<Time Value="'), 2, text[:2000])
+            self.assertTrue(os.path.getsize(path.replace(".xdmf", ".h5")) > 0)
 
 
 if __name__ == "__main__":
