@@ -1,13 +1,13 @@
 """The variational forms of the soil: elasticity with layer-wise material,
 Lysmer-Kuhlemeyer dashpots and viscous-spring boundary springs, the lumped
-mass, and the footprint indicator."""
+mass."""
 from __future__ import annotations
 
 import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
-from .mesh import ABSORBING, SURFACE
+from .mesh import ABSORBING
 
 
 def strain(u):
@@ -72,34 +72,3 @@ def lumped_damping(V, f, ds, a0, dashpots=True):
     if dashpots:
         form = form + ufl.dot(dash, w) * ds(ABSORBING)
     return assemble_diagonal(fem.form(form))
-
-
-class FootprintForms:
-    """One compiled pair of forms for every footprint: the indicator of the
-    rectangle |x - xc| < a/2, |y - yc| < b/2 integrated against the downward
-    test component (its load vector) and alone (its modelled area). The
-    indicator is integrated at a high quadrature degree, so a footprint need
-    not align with the mesh."""
-
-    def __init__(self, V, ds, degree=16):
-        mesh = V.mesh
-        self.c = {k: fem.Constant(mesh, PETSc.ScalarType(0.0)) for k in ("xc", "yc", "ha", "hb")}
-        x = ufl.SpatialCoordinate(mesh)
-        inside = ufl.And(
-            ufl.lt(abs(x[0] - self.c["xc"]), self.c["ha"]),
-            ufl.lt(abs(x[1] - self.c["yc"]), self.c["hb"]),
-        )
-        chi = ufl.conditional(inside, 1.0, 0.0)
-        w = ufl.TestFunction(V)
-        dsq = ds(SURFACE, metadata={"quadrature_degree": degree})
-        self.load = fem.form(-chi * w[2] * dsq)
-        self.area = fem.form(chi * dsq)
-
-    def vector(self, fp):
-        self.c["xc"].value = fp.x
-        self.c["yc"].value = fp.y
-        self.c["ha"].value = 0.5 * fp.along
-        self.c["hb"].value = 0.5 * fp.across
-        b = assemble_diagonal(self.load)
-        area = fem.assemble_scalar(self.area)
-        return b, area

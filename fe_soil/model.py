@@ -22,7 +22,7 @@ import dolfinx.geometry
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from . import forms
+from . import footprints, forms
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 from .params import SoilParams, rayleigh_coefficients
 
@@ -40,7 +40,7 @@ class FESoil:
         self.fields = f
         centre = ufl.as_vector((0.5 * (self.nodes[0][0] + self.nodes[0][-1]), 0.0, 0.0))
         self._setup_operators(f, ds, tags, centre)
-        self._setup_footprints(ds)
+        self._setup_footprints()
         self._setup_receivers()
         self.dt = self._stable_step()
         self.reset()
@@ -91,19 +91,17 @@ class FESoil:
         self.KU = self.U.duplicate()
         self.KV = self.U.duplicate()
 
-    def _setup_footprints(self, ds):
-        ff = forms.FootprintForms(self.V, ds)
+    def _setup_footprints(self):
+        index = footprints.surface_node_index(self.V, self.nodes)
         self.fp_idx, self.fp_val, self.fp_area, self.fp_share = [], [], [], []
         for fp in self.p.footprints:
-            b, area = ff.vector(fp)
-            area = self.comm.allreduce(area, op=MPI.SUM)
+            idx, val, area = footprints.footprint_vector(fp, self.nodes, index)
             if area <= 0.0:
                 raise ValueError(
                     f"soil: footprint at x = {fp.x} m, y = {fp.y} m lies outside the mesh surface"
                 )
-            nz = np.flatnonzero(b)
-            self.fp_idx.append(nz)
-            self.fp_val.append(b[nz])
+            self.fp_idx.append(idx)
+            self.fp_val.append(val)
             self.fp_area.append(area)
             # On the symmetry plane the half block carries half the force.
             on_axis = self.p.symmetric and abs(fp.y) < 1e-12

@@ -59,6 +59,23 @@ class Statics(unittest.TestCase):
         self.assertAlmostEqual(fine / k_lysmer, 0.95, delta=0.05)
         self.assertAlmostEqual(fine / k_square, 1.0, delta=0.03)
 
+    def test_half_block_with_symmetry_equals_the_full_block(self):
+        # The same loads on the half block (u_y = 0 on y = 0, half of each
+        # axis footprint's force) and on the full block: the same answers.
+        answers = []
+        for symmetric in (True, False):
+            p = SoilParams(
+                length=8.0, half_width=4.0, depth=4.0, layers=[SOIL], symmetric=symmetric,
+                footprints=[Footprint(3.4, 0.25, 2.6), Footprint(4.0, 0.25, 2.6)], receivers=[(4.0, 2.0)],
+                x_nodes=graded_nodes(0.0, 8.0, 4.0, 0.25, 1.0),
+                y_nodes=graded_nodes(0.0 if symmetric else -4.0, 4.0, 0.0, 0.25, 1.5),
+                z_nodes=graded_nodes(-4.0, 0.0, 0.0, 0.25, 1.0))
+            soil = FESoil(p)
+            w0 = soil.statics([2e4, 4e4])
+            w, v = soil.advance(0.0, 2e-3, [2e4, 4e4], [5e4, 4e4])
+            answers.append(np.concatenate([w0, w, v, soil.receiver_velocities()[0]]))
+        np.testing.assert_allclose(answers[0], answers[1], rtol=1e-6, atol=1e-9 * np.max(np.abs(answers[1])))
+
     def test_static_state_stays_at_rest_and_restore_repeats_bitwise(self):
         # Two layers of different damping: the stiffness-proportional
         # Rayleigh part as its own product.
