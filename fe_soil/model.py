@@ -57,7 +57,6 @@ class FESoil:
         n_owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
         self.n_owned = n_owned
         self.mask = np.ones(n_owned)
-        self.bcs = []
         rows = np.array([], dtype=np.int32)
         if p.symmetric:
             Vy, _ = V.sub(1).collapse()
