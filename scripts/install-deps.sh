@@ -16,6 +16,7 @@ packages=(
   libtomlplusplus-dev
   libcli11-dev
   python3 python3-matplotlib python3-protobuf python3-numpy
+  python3-dolfinx   # the finite-element soil (fe_soil/): FEniCSx with PETSc and MPI
   iproute2
   parallel          # runs a study plan (master study --plan), and its test
 )

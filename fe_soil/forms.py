@@ -1,0 +1,74 @@
+"""The variational forms of the soil: elasticity with layer-wise material,
+Lysmer-Kuhlemeyer dashpots and viscous-spring boundary springs, the lumped
+mass."""
+from __future__ import annotations
+
+import ufl
+from dolfinx import fem
+from petsc4py import PETSc
+
+from .mesh import ABSORBING
+
+
+def strain(u):
+    return ufl.sym(ufl.grad(u))
+
+
+def stress(u, f):
+    return 2.0 * f["mu"] * strain(u) + f["lam"] * ufl.tr(strain(u)) * ufl.Identity(3)
+
+
+def boundary_measures(mesh, tags):
+    ds = ufl.Measure("ds", domain=mesh, subdomain_data=tags)
+    return ds
+
+
+def stiffness_form(V, f, ds, spring_centre, alpha):
+    """K: elasticity plus springs on the absorbing boundary, k_n = alpha_n G/R
+    normal and k_t = alpha_t G/R tangential per unit area, R the distance of
+    the boundary point from `spring_centre` (the viscous-spring boundary:
+    with the dashpots it carries static load and absorbs)."""
+    u, w = ufl.TrialFunction(V), ufl.TestFunction(V)
+    x = ufl.SpatialCoordinate(V.mesh)
+    n = ufl.FacetNormal(V.mesh)
+    R = ufl.sqrt(ufl.dot(x - spring_centre, x - spring_centre))
+    kn = alpha[0] * f["mu"] / R
+    kt = alpha[1] * f["mu"] / R
+    un, wn = ufl.dot(u, n), ufl.dot(w, n)
+    spring = kn * un * wn + kt * ufl.dot(u - un * n, w - wn * n)
+    a = ufl.inner(stress(u, f), strain(w)) * ufl.dx + spring * ds(ABSORBING)
+    return fem.form(a)
+
+
+def damping_stiffness_form(V, f, a1):
+    """The stiffness-proportional Rayleigh part with a layer-wise a1."""
+    u, w = ufl.TrialFunction(V), ufl.TestFunction(V)
+    return fem.form(a1 * ufl.inner(stress(u, f), strain(w)) * ufl.dx)
+
+
+def assemble_diagonal(form):
+    vec = fem.petsc.assemble_vector(form)
+    vec.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    return vec.array.copy()
+
+
+def lumped_mass(V, f):
+    """Row-sum lumped mass (positive for Q1), one entry per DOF."""
+    w = ufl.TestFunction(V)
+    ones = ufl.as_vector((1.0, 1.0, 1.0))
+    return assemble_diagonal(fem.form(f["rho"] * ufl.dot(ones, w) * ufl.dx))
+
+
+def lumped_damping(V, f, ds, a0, dashpots=True):
+    """Diagonal damping: the mass-proportional Rayleigh part a0 M (a0 layer-
+    wise) plus the Lysmer-Kuhlemeyer dashpots, rho c_P normal and rho c_S
+    tangential per unit area, lumped to the nodes."""
+    w = ufl.TestFunction(V)
+    n = ufl.FacetNormal(V.mesh)
+    ones = ufl.as_vector((1.0, 1.0, 1.0))
+    rho, cp, cs = f["rho"], f["cp"], f["cs"]
+    dash = ufl.as_vector([rho * (cp * n[i] ** 2 + cs * (1.0 - n[i] ** 2)) for i in range(3)])
+    form = a0 * rho * ufl.dot(ones, w) * ufl.dx
+    if dashpots:
+        form = form + ufl.dot(dash, w) * ds(ABSORBING)
+    return assemble_diagonal(fem.form(form))
