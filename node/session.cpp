@@ -47,10 +47,17 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
     if (!links_) throw ProtocolError(wire::Error::OUT_OF_ORDER, "a window needs links first");
     if (!report_)
       throw ProtocolError(wire::Error::BAD_REQUEST, "this connection cannot stream reports");
-    LinkIdentity me{participant_, options_.token, options_.name};
-    runner_ = std::make_unique<WindowRunner>(*subsystem_, *links_,
-                                             open_links(*links_, me, *inbox_, master_gone_),
-                                             macro_step_, outputs_, step_);
+    LinkIdentity me{participant_, options_.token, options_.name, max_frame_bytes_};
+    // A Reports frame with no reports tells the master whom this node waits for.
+    auto waiting = [this, id = req.id()](const std::string& peer) {
+      wire::Envelope e;
+      e.set_id(id);
+      e.mutable_reports()->set_waiting_for(peer);
+      report_(encode_frame(e));
+    };
+    runner_ = std::make_unique<WindowRunner>(
+        *subsystem_, *links_, open_links(*links_, me, *inbox_, master_gone_, waiting), macro_step_,
+        outputs_, step_, max_frame_bytes_);
   }
   wire::Envelope reply;
   reply.set_id(req.id());
@@ -72,6 +79,19 @@ void NodeSession::check_pinned_scene() const {
                         "the master's scene (fingerprint " + hex(fingerprint_) +
                             ") differs from this node's " + options_.pinned_scene->source +
                             " (fingerprint " + hex(mine) + ")");
+}
+
+void NodeSession::check_hello_target() const {
+  if (options_.role != "any" && participant_ != options_.role)
+    throw ProtocolError(wire::Error::WRONG_ROLE,
+                        "this node serves the " + options_.role + " participant, not the " +
+                            (participant_.empty() ? "unnamed" : participant_) + " participant");
+  if (participant_.empty())
+    throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
+  if (peer_hello_)
+    throw ProtocolError(wire::Error::WRONG_ROLE,
+                        "a peer link from the " + peer_of_ +
+                            " participant reached a node that has no session expecting it");
 }
 
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
@@ -128,27 +148,20 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                             "protocol version " + std::to_string(h.protocol_version()) +
                                 " is not supported; this node speaks version " +
                                 std::to_string(kProtocolVersion));
-      if (options_.role != "any" && h.participant() != options_.role)
-        throw ProtocolError(wire::Error::WRONG_ROLE,
-                            "this node serves the " + options_.role + " participant, not the " +
-                                (h.participant().empty() ? "unnamed" : h.participant()) +
-                                " participant");
-      if (h.participant().empty())
-        throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
-      if (h.role() == "peer")
-        throw ProtocolError(wire::Error::WRONG_ROLE,
-                            "a peer link from the " + h.peer_of() +
-                                " participant reached a node that has no session expecting it");
       participant_ = h.participant();
+      peer_hello_ = h.role() == "peer";
+      peer_of_ = h.peer_of();
       fingerprint_ = h.scene_fingerprint();
-      // Nothing about the scene before the peer has proved it knows the secret.
-      if (!options_.token) check_pinned_scene();
+      // Before a node with a secret has its answer, it says nothing but the
+      // challenge: not whom it serves, not its scene.
       if (options_.token) {
         nonce_ = random_nonce();
         state_ = State::kAwaitAuth;
         reply.mutable_challenge()->set_nonce(nonce_);
         return reply;
       }
+      check_hello_target();
+      check_pinned_scene();
       state_ = State::kAwaitConfigure;
       return hello_reply(req.id());
     }
@@ -159,6 +172,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
         throw ProtocolError(wire::Error::UNAUTHORIZED,
                             "this node requires the shared secret of its --token-file; the answer "
                             "to its challenge was missing or wrong");
+      check_hello_target();
       check_pinned_scene();
       state_ = State::kAwaitConfigure;
       return hello_reply(req.id());
