@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "auth.hpp"
+#include "channel_names.hpp"
 
 namespace railcosim {
 namespace {
@@ -235,6 +236,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       description_ = subsystem_->name();
       state_ = State::kConfigured;
       const Channels ch = subsystem_->channels();
+      if (const std::string why = check_declared_channels({{"this node", ch}}); !why.empty())
+        throw ProtocolError(wire::Error::INTERNAL, why);
       auto* w = reply.mutable_configured();
       for (const auto& h : ch.history) w->add_history(h);
       for (const auto& r : ch.results) w->add_results(r);
