@@ -56,17 +56,24 @@ PeerHandshakes::~PeerHandshakes() {
 }
 
 void PeerHandshakes::add(int fd, std::string from) {
-  if (pending_.size() >= kMaxPeerHandshakes) {
-    Pending& oldest = *pending_.front();
-    refuse(oldest, wire::Error::BUSY, kBusyText, "closed for a newer connection");
-    pending_.pop_front();
-  }
   const int flags = ::fcntl(fd, F_GETFL);
   if (flags >= 0) ::fcntl(fd, F_SETFL, flags | O_NONBLOCK);
   auto p = std::make_unique<Pending>();
   p->fd = fd;
   p->from = std::move(from);
   p->deadline = Clock::now() + kPeerHandshakeTimeout;
+  // A peer's hello is usually there already: it is answered at once.
+  if (advance(*p)) return;
+  if (pending_.size() >= kMaxPeerHandshakes) {
+    auto victim = pending_.begin();
+    for (auto it = pending_.begin(); it != pending_.end(); ++it)
+      if (!(*it)->hello && (*it)->decoder.buffered() == 0) {
+        victim = it;
+        break;
+      }
+    refuse(**victim, wire::Error::BUSY, kBusyText, "closed for a newer connection");
+    pending_.erase(victim);
+  }
   pending_.push_back(std::move(p));
 }
 
@@ -74,7 +81,8 @@ std::optional<PeerHandshakes::Accepted> PeerHandshakes::serve(milliseconds wait)
   if (done_.empty() && !pending_.empty()) {
     std::vector<pollfd> fds;
     for (const auto& p : pending_) fds.push_back(pollfd{p->fd, POLLIN, 0});
-    const auto soonest = pending_.front()->deadline;  // they were added in order
+    auto soonest = pending_.front()->deadline;
+    for (const auto& p : pending_) soonest = std::min(soonest, p->deadline);
     const auto until = std::chrono::duration_cast<milliseconds>(soonest - Clock::now());
     const int ms = static_cast<int>(std::clamp(until, milliseconds(0), wait).count());
     const int ready = ::poll(fds.data(), fds.size(), ms);

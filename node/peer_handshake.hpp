@@ -26,9 +26,10 @@ namespace railcosim {
 inline constexpr std::chrono::milliseconds kPeerHandshakeTimeout{2000};
 // Handshake frames are small: a larger one is refused before it is read.
 inline constexpr std::size_t kPeerHandshakeFrameBytes = 4096;
-// At most this many handshakes at once; a further connection closes the
-// oldest (its sender may connect again).
-inline constexpr std::size_t kMaxPeerHandshakes = 64;
+// At most this many handshakes at once (and sockets waiting to be taken up);
+// a further connection closes the oldest that has not said anything yet, or
+// else the oldest (a connecting node tries again until its link deadline).
+inline constexpr std::size_t kMaxPeerHandshakes = 256;
 
 class PeerHandshakes {
  public:

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <set>
+#include <thread>
 
 #include "auth.hpp"
 #include "peer_handshake.hpp"
@@ -170,6 +171,25 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
   return ch;
 }
 
+// connect_link again while the accepting node turns the connection away
+// without a verdict (closed, reset, BUSY, no answer within twice its
+// handshake bound: a flood may have crowded it out), until the deadline.
+std::unique_ptr<FdChannel> connect_link_retrying(const LinksPlan& plan, const LinkPlan& l,
+                                                 const LinkIdentity& me,
+                                                 Clock::time_point deadline) {
+  while (true) {
+    const auto attempt = std::min(deadline, Clock::now() + 2 * kPeerHandshakeTimeout);
+    try {
+      return connect_link(plan, l, me, attempt);
+    } catch (const LinkError&) {
+      if (Clock::now() + milliseconds(100) >= deadline) throw;
+    } catch (const ProtocolError& e) {
+      if (e.code() != wire::Error::BUSY || Clock::now() + milliseconds(100) >= deadline) throw;
+    }
+    std::this_thread::sleep_for(milliseconds(100));
+  }
+}
+
 }  // namespace
 
 std::vector<std::unique_ptr<FdChannel>> open_links(
@@ -193,7 +213,7 @@ std::vector<std::unique_ptr<FdChannel>> open_links(
   try {
     for (std::size_t k = 0; k < plan.links.size(); ++k)
       if (plan.links[k].connect) {
-        out[k] = connect_link(plan, plan.links[k], me, deadline);
+        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline);
         open[k] = true;
       }
     PeerHandshakes handshakes(plan, me, open);
@@ -211,7 +231,7 @@ std::vector<std::unique_ptr<FdChannel>> open_links(
       }
       if (o.cancelled) throw ProtocolError(wire::Error::PEER_FAILED, "the node stops");
       if (!handshakes.idle())
-        if (auto a = handshakes.serve(milliseconds(20))) {
+        if (auto a = handshakes.serve(milliseconds(5))) {
           out[a->index] = std::move(a->channel);
           open[a->index] = true;
           --to_accept;
