@@ -174,10 +174,12 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
 // connect_link again while the accepting node turns the connection away
 // without a verdict (closed, reset, BUSY, no answer within twice its
 // handshake bound: a flood may have crowded it out), until the deadline.
-std::unique_ptr<FdChannel> connect_link_retrying(const LinksPlan& plan, const LinkPlan& l,
-                                                 const LinkIdentity& me,
-                                                 Clock::time_point deadline) {
-  while (true) {
+// The master hears, before the first retry, whom this node waits for.
+std::unique_ptr<FdChannel> connect_link_retrying(
+    const LinksPlan& plan, const LinkPlan& l, const LinkIdentity& me, Clock::time_point deadline,
+    const std::function<void(const std::string&)>& waiting) {
+  for (int tries = 0;; ++tries) {
+    if (tries == 1 && waiting) waiting(l.peer);
     const auto attempt = std::min(deadline, Clock::now() + 2 * kPeerHandshakeTimeout);
     try {
       return connect_link(plan, l, me, attempt);
@@ -213,7 +215,7 @@ std::vector<std::unique_ptr<FdChannel>> open_links(
   try {
     for (std::size_t k = 0; k < plan.links.size(); ++k)
       if (plan.links[k].connect) {
-        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline);
+        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline, waiting);
         open[k] = true;
       }
     PeerHandshakes handshakes(plan, me, open);
