@@ -177,9 +177,13 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
 // The master hears, before the first retry, whom this node waits for.
 std::unique_ptr<FdChannel> connect_link_retrying(
     const LinksPlan& plan, const LinkPlan& l, const LinkIdentity& me, Clock::time_point deadline,
+    const std::function<bool()>& abandoned,
     const std::function<void(const std::string&)>& waiting) {
   for (int tries = 0;; ++tries) {
     if (tries == 1 && waiting) waiting(l.peer);
+    if (tries > 0 && abandoned && abandoned())
+      throw ProtocolError(wire::Error::PEER_FAILED,
+                          "the master ended the session while the peer links were opening");
     const auto attempt = std::min(deadline, Clock::now() + 2 * kPeerHandshakeTimeout);
     try {
       return connect_link(plan, l, me, attempt);
@@ -215,7 +219,7 @@ std::vector<std::unique_ptr<FdChannel>> open_links(
   try {
     for (std::size_t k = 0; k < plan.links.size(); ++k)
       if (plan.links[k].connect) {
-        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline, waiting);
+        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline, abandoned, waiting);
         open[k] = true;
       }
     PeerHandshakes handshakes(plan, me, open);
