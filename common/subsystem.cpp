@@ -68,28 +68,34 @@ StepResult Subsystem::initialize(const CouplingData& inputs) {
   return report();
 }
 
+std::string Subsystem::input_fault(std::size_t j, const InterfaceData& data, bool any_value) const {
+  const auto& ifs = config_.participant.interfaces;
+  if (j >= ifs.size()) return "interface " + std::to_string(j) + " does not exist";
+  bool want[3] = {false, false, false};
+  for (Quantity q : ifs[j].receives()) want[static_cast<int>(q)] = true;
+  const std::vector<double>* got[3] = {&data.displacement, &data.velocity, &data.force};
+  for (int q = 0; q < 3; ++q) {
+    const std::size_t size = want[q] ? static_cast<std::size_t>(points_[j]) : 0;
+    const std::string what =
+        std::string(ifs[j].kind().name) + " " + to_string(static_cast<Quantity>(q));
+    if (got[q]->size() != size)
+      return "expected " + std::to_string(size) + " " + what + " value(s), got " +
+             std::to_string(got[q]->size());
+    for (double x : *got[q])
+      if (!any_value && !std::isfinite(x)) return "non-finite " + what + " value";
+  }
+  return "";
+}
+
 void Subsystem::check_inputs(const CouplingData& in) const {
   const auto& ifs = config_.participant.interfaces;
   if (in.size() != ifs.size())
     throw BadInputError(name() + ": inputs rejected: expected values for " +
                         std::to_string(ifs.size()) + " interface(s), got " +
                         std::to_string(in.size()));
-  for (std::size_t j = 0; j < ifs.size(); ++j) {
-    bool want[3] = {false, false, false};
-    for (Quantity q : ifs[j].receives()) want[static_cast<int>(q)] = true;
-    const std::vector<double>* got[3] = {&in[j].displacement, &in[j].velocity, &in[j].force};
-    for (int q = 0; q < 3; ++q) {
-      const std::size_t size = want[q] ? static_cast<std::size_t>(points_[j]) : 0;
-      const std::string what =
-          std::string(ifs[j].kind().name) + " " + to_string(static_cast<Quantity>(q));
-      if (got[q]->size() != size)
-        throw BadInputError(name() + ": inputs rejected: expected " + std::to_string(size) + " " +
-                            what + " value(s), got " + std::to_string(got[q]->size()));
-      for (double x : *got[q])
-        if (!std::isfinite(x))
-          throw BadInputError(name() + ": inputs rejected: non-finite " + what + " value");
-    }
-  }
+  for (std::size_t j = 0; j < ifs.size(); ++j)
+    if (const std::string why = input_fault(j, in[j]); !why.empty())
+      throw BadInputError(name() + ": inputs rejected: " + why);
 }
 
 Subsystem::Loads Subsystem::loads_of(const CouplingData& in) const {

@@ -63,6 +63,11 @@ class Subsystem final : public Participant {
   ParticipantState save() override;
   void restore(const ParticipantState& state) override;
 
+  // Why `data` cannot be this participant's inputs at interface `j` (a
+  // wrong number of values of a quantity, a non-finite value unless
+  // `any_value`), or "" if it can.
+  std::string input_fault(std::size_t j, const InterfaceData& data, bool any_value = false) const;
+
   // For tests: the integrator state.
   const NewmarkState& integrator_state() const { return newmark_->state(); }
   const Structure& structure() const { return sys_; }

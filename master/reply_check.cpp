@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
+#include "channel_names.hpp"
 #include "scene.hpp"
 #include "subsystem.hpp"
 
@@ -63,17 +65,15 @@ std::string declare_channels(ReplyShape& shape, const Channels& declared) {
     if (r == "soil_m") n = shape.sleepers;
     shape.result_sizes.push_back(n);
   }
-  auto twice = [](const std::vector<std::string>& names) -> std::string {
-    for (std::size_t a = 0; a < names.size(); ++a)
-      for (std::size_t b = a + 1; b < names.size(); ++b)
-        if (names[a] == names[b]) return names[a];
-    return "";
-  };
-  if (const std::string h = twice(declared.history); !h.empty())
-    return "configured: the history channel '" + h + "' is declared twice";
-  if (const std::string r = twice(declared.results); !r.empty())
-    return "configured: the result field '" + r + "' is declared twice";
-  return "";
+  // Each name plain and declared once (channel_names.hpp).
+  return check_declared_channels({{"configured: the node", declared}});
+}
+
+void require_distinct_channels(const std::vector<Participant*>& ps) {
+  std::vector<std::pair<std::string, Channels>> declared;
+  for (Participant* p : ps) declared.emplace_back(p->name(), p->channels());
+  if (const std::string why = check_declared_channels(declared); !why.empty())
+    throw std::runtime_error(why);
 }
 
 std::string check_reply_id(std::uint64_t got, std::uint64_t want) {

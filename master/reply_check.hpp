@@ -42,6 +42,10 @@ ReplyShape reply_shape(const Scene& scene, const SubsystemConfig& config);
 // Adds what the node declared in reply to configure; returns what is wrong
 // with the declaration (a channel twice, a known field of no use, ...).
 std::string declare_channels(ReplyShape& shape, const Channels& declared);
+// Throws std::runtime_error, naming the participant and the name, unless
+// every name the participants declare is acceptable and declared once in the
+// run (channel_names.hpp): a second `wheel_m` would overwrite the vehicle's.
+void require_distinct_channels(const std::vector<Participant*>& ps);
 
 // The id of a reply against that of the request it answers.
 std::string check_reply_id(std::uint64_t got, std::uint64_t want);

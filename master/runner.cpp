@@ -9,6 +9,7 @@
 #include "evaluation.hpp"
 #include "log.hpp"
 #include "monolithic.hpp"
+#include "reply_check.hpp"
 #include "schedule.hpp"
 #include "window_schedule.hpp"
 
@@ -224,6 +225,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   log->debug("{}: static state after {} interface iterations (residual {})", r.case_name,
              statics.iterations, statics.residual);
 
+  require_distinct_channels(ps);  // reply_check.hpp
   HistoryAssembler history(ps);
   r.extra_channels = history.extra_names();
   if (o.on_channels) o.on_channels(r.extra_channels);

@@ -4,8 +4,10 @@
 #include <unistd.h>
 
 #include <set>
+#include <thread>
 
 #include "auth.hpp"
+#include "peer_handshake.hpp"
 
 namespace railcosim {
 
@@ -72,6 +74,11 @@ bool PeerInbox::waiting() const {
 void PeerInbox::offer(int fd, std::string from) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // A flood waiting to be taken up holds no more than this many sockets.
+    if (queue_.size() >= kMaxPeerHandshakes) {
+      ::close(queue_.front().fd);
+      queue_.pop_front();
+    }
     queue_.push_back({fd, std::move(from)});
   }
   cv_.notify_one();
@@ -132,7 +139,7 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
   } catch (const NetError& e) {
     throw ProtocolError(wire::Error::TIMEOUT, "peer link to " + who + ": " + e.what());
   }
-  auto ch = std::make_unique<FdChannel>(c->release_fd(), who);
+  auto ch = std::make_unique<FdChannel>(c->release_fd(), who, me.max_frame_bytes);
   wire::Envelope hello;
   auto* h = hello.mutable_hello();
   h->set_protocol_version(kProtocolVersion);
@@ -164,103 +171,99 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
   return ch;
 }
 
-// The accepting end: which expected peer this connection is, or why it is refused.
-int accept_link(const LinksPlan& plan, const LinkIdentity& me, FdChannel& ch,
-                const std::vector<bool>& open, Clock::time_point deadline) {
-  const wire::Envelope e = ch.receive(left(deadline));
-  auto refuse = [&](wire::Error::Code code, const std::string& why) -> int {
+// connect_link again while the accepting node turns the connection away
+// without a verdict (closed, reset, BUSY, no answer within twice its
+// handshake bound: a flood may have crowded it out), until the deadline.
+// The master hears, before the first retry, whom this node waits for.
+std::unique_ptr<FdChannel> connect_link_retrying(
+    const LinksPlan& plan, const LinkPlan& l, const LinkIdentity& me, Clock::time_point deadline,
+    const std::function<bool()>& abandoned,
+    const std::function<void(const std::string&)>& waiting) {
+  for (int tries = 0;; ++tries) {
+    if (tries == 1 && waiting) waiting(l.peer);
+    if (tries > 0 && abandoned && abandoned())
+      throw ProtocolError(wire::Error::PEER_FAILED,
+                          "the master ended the session while the peer links were opening");
+    const auto attempt = std::min(deadline, Clock::now() + 2 * kPeerHandshakeTimeout);
     try {
-      ch.send(error_envelope(e.id(), code, why), milliseconds(1000));
+      return connect_link(plan, l, me, attempt);
     } catch (const LinkError&) {
+      if (Clock::now() + milliseconds(100) >= deadline) throw;
+    } catch (const ProtocolError& e) {
+      if (e.code() != wire::Error::BUSY || Clock::now() + milliseconds(100) >= deadline) throw;
     }
-    throw ProtocolError(code, why);
-  };
-  if (!e.has_hello() || e.hello().role() != "peer")
-    refuse(wire::Error::BUSY, "this node serves a session; it accepts nothing but its peer links");
-  const wire::Hello& h = e.hello();
-  if (h.participant() != me.participant)
-    refuse(wire::Error::WRONG_ROLE, "this node serves " + participant_text(me.participant) +
-                                        ", not " + participant_text(h.participant()));
-  int index = -1;
-  std::string expected;
-  for (std::size_t k = 0; k < plan.links.size(); ++k) {
-    const LinkPlan& l = plan.links[k];
-    if (l.connect || open[k]) continue;
-    expected += (expected.empty() ? "" : ", ") + l.peer;
-    if (l.peer == h.peer_of()) index = static_cast<int>(k);
+    std::this_thread::sleep_for(milliseconds(100));
   }
-  if (index < 0)
-    refuse(wire::Error::WRONG_ROLE, "this node expects peer links from " +
-                                        (expected.empty() ? "nobody" : expected) + ", not from " +
-                                        participant_text(h.peer_of()));
-  if (!constant_time_equal(h.session(), plan.session))
-    refuse(wire::Error::UNAUTHORIZED,
-           "the session key of " + participant_text(h.peer_of()) + " is not this session's");
-  if (me.token) {
-    const std::string nonce = random_nonce();
-    wire::Envelope challenge;
-    challenge.mutable_challenge()->set_nonce(nonce);
-    ch.send(challenge, left(deadline));
-    const wire::Envelope answer = ch.receive(left(deadline));
-    if (!answer.has_auth() ||
-        !constant_time_equal(answer.auth().mac(), auth_answer(*me.token, me.participant, nonce)))
-      refuse(wire::Error::UNAUTHORIZED,
-             "this node requires the shared secret of its --token-file; the answer of " +
-                 participant_text(h.peer_of()) + " to its challenge was missing or wrong");
-  }
-  wire::Envelope reply;
-  reply.set_id(e.id());
-  auto* r = reply.mutable_hello_reply();
-  r->set_protocol_version(kProtocolVersion);
-  r->set_participant(me.participant);
-  r->set_name(me.name);
-  ch.send(reply, left(deadline));
-  return index;
 }
 
 }  // namespace
 
-std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const LinkIdentity& me,
-                                                   PeerInbox& inbox,
-                                                   const std::function<bool()>& abandoned) {
-  const auto deadline = Clock::now() + plan.timeout;
+std::vector<std::unique_ptr<FdChannel>> open_links(
+    const LinksPlan& plan, const LinkIdentity& me, PeerInbox& inbox,
+    const std::function<bool()>& abandoned,
+    const std::function<void(const std::string&)>& waiting) {
+  const auto start = Clock::now();
+  const auto deadline = start + plan.timeout;
   std::vector<std::unique_ptr<FdChannel>> out(plan.links.size());
   std::vector<bool> open(plan.links.size(), false);
   std::size_t to_accept = 0;
   for (const LinkPlan& l : plan.links)
     if (!l.connect) ++to_accept;
   inbox.set_waiting(to_accept > 0);
-  std::string refused;
+  auto missing = [&] {
+    std::string m;
+    for (std::size_t k = 0; k < plan.links.size(); ++k)
+      if (!open[k]) m += (m.empty() ? "" : ", ") + plan.links[k].peer;
+    return m;
+  };
   try {
     for (std::size_t k = 0; k < plan.links.size(); ++k)
       if (plan.links[k].connect) {
-        out[k] = connect_link(plan, plan.links[k], me, deadline);
+        out[k] = connect_link_retrying(plan, plan.links[k], me, deadline, abandoned, waiting);
         open[k] = true;
       }
+    PeerHandshakes handshakes(plan, me, open);
+    bool told = false;
+    auto next_probe = start;
     while (to_accept > 0) {
-      PeerInbox::Offered o = inbox.take(std::min(deadline, Clock::now() + milliseconds(100)));
+      const auto now = Clock::now();
+      // Connections the server accepted meanwhile; a wait here only when
+      // no handshake is under way.
+      PeerInbox::Offered o =
+          inbox.take(handshakes.idle() ? std::min(deadline, now + milliseconds(100)) : now);
+      while (!o.cancelled && o.fd >= 0) {
+        handshakes.add(o.fd, std::move(o.from));
+        o = inbox.take(Clock::now());
+      }
       if (o.cancelled) throw ProtocolError(wire::Error::PEER_FAILED, "the node stops");
-      if (o.fd < 0 && abandoned && abandoned())
-        throw ProtocolError(wire::Error::PEER_FAILED,
-                            "the master ended the session while the peer links were opening");
-      if (o.fd < 0 && Clock::now() < deadline) continue;
-      if (o.fd < 0) {
-        std::string missing;
-        for (std::size_t k = 0; k < plan.links.size(); ++k)
-          if (!open[k]) missing += (missing.empty() ? "" : ", ") + plan.links[k].peer;
+      if (!handshakes.idle())
+        if (auto a = handshakes.serve(milliseconds(5))) {
+          out[a->index] = std::move(a->channel);
+          open[a->index] = true;
+          --to_accept;
+          continue;
+        }
+      // The master learns whom this node waits for, so that it names that
+      // node if the link never opens.
+      if (!told && waiting && Clock::now() - start >= milliseconds(50)) {
+        for (std::size_t k = 0; k < plan.links.size() && !told; ++k)
+          if (!open[k]) {
+            waiting(plan.links[k].peer);
+            told = true;
+          }
+      }
+      if (Clock::now() >= next_probe) {
+        next_probe = Clock::now() + milliseconds(100);
+        if (abandoned && abandoned())
+          throw ProtocolError(wire::Error::PEER_FAILED,
+                              "the master ended the session while the peer links were opening");
+      }
+      if (Clock::now() >= deadline) {
+        const std::string refused = handshakes.refused();
         throw ProtocolError(wire::Error::TIMEOUT,
-                            "the peer link(s) from " + missing + " did not open within " +
+                            "the peer link(s) from " + missing() + " did not open within " +
                                 std::to_string(plan.timeout.count()) + " ms" +
                                 (refused.empty() ? "" : " (refused meanwhile: " + refused + ")"));
-      }
-      auto ch = std::make_unique<FdChannel>(o.fd, "a connection from " + o.from);
-      try {
-        const int k = accept_link(plan, me, *ch, open, deadline);
-        out[static_cast<std::size_t>(k)] = std::move(ch);
-        open[static_cast<std::size_t>(k)] = true;
-        --to_accept;
-      } catch (const std::exception& e) {
-        refused += (refused.empty() ? "" : "; ") + o.from + ": " + e.what();
       }
     }
   } catch (...) {
@@ -268,11 +271,7 @@ std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const 
     throw;
   }
   inbox.set_waiting(false);
-  // Each link is named after its peer in the errors of the window.
-  for (std::size_t k = 0; k < out.size(); ++k) {
-    out[k]->rename(participant_text(plan.links[k].peer));
-    inbox.track(out[k]->fd());
-  }
+  for (const auto& l : out) inbox.track(l->fd());
   return out;
 }
 

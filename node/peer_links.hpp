@@ -20,6 +20,11 @@
 
 namespace railcosim {
 
+// What a node answers (BUSY) to any connection it cannot serve while a
+// session runs: the same words whether or not peer links are opening.
+inline constexpr const char* kBusyText =
+    "this node already serves a session; try again when it has ended";
+
 struct LinkPlan {
   std::string peer;                // the participant at the other end
   std::optional<Address> connect;  // set: connect there; unset: the peer connects here
@@ -73,20 +78,24 @@ class PeerInbox {
 };
 
 struct LinkIdentity {
-  std::string participant;           // the participant this node serves
-  std::optional<std::string> token;  // this node's shared secret, if any
-  std::string name;                  // for logs
+  std::string participant;                              // the participant this node serves
+  std::optional<std::string> token;                     // this node's shared secret, if any
+  std::string name;                                     // for logs
+  std::size_t max_frame_bytes = kDefaultMaxFrameBytes;  // on the links, both ways
 };
 
 // Opens every link of `plan` (connecting where it says so, accepting the
-// others from `inbox`), returns them in the plan's order. A connection that
-// is not one of the expected peers is refused with an error reply that says
-// why, and the wait goes on. Throws ProtocolError naming the peer when a link
-// cannot be made within the plan's timeout.
+// others from `inbox`), returns them in the plan's order, each named after its
+// peer and the peer's address. Incoming connections are served side by side,
+// each within kPeerHandshakeTimeout (peer_handshake.hpp); one that is not an
+// expected peer is refused and the wait goes on. Throws ProtocolError naming
+// the peer when a link cannot be made within the plan's timeout.
 // `abandoned` is asked every 100 ms while the links open: true when the
-// master has gone (the wait then ends with PEER_FAILED).
-std::vector<std::unique_ptr<FdChannel>> open_links(const LinksPlan& plan, const LinkIdentity& me,
-                                                   PeerInbox& inbox,
-                                                   const std::function<bool()>& abandoned);
+// master has gone (the wait then ends with PEER_FAILED). `waiting` is told,
+// once, the peer this node still waits for after 50 ms.
+std::vector<std::unique_ptr<FdChannel>> open_links(
+    const LinksPlan& plan, const LinkIdentity& me, PeerInbox& inbox,
+    const std::function<bool()>& abandoned,
+    const std::function<void(const std::string&)>& waiting = {});
 
 }  // namespace railcosim

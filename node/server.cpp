@@ -52,6 +52,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
       write_all(socket_.native_handle(), frame, server_.limits_.message_timeout,
                 "the master at " + peer_);
     });
+    session_.set_max_frame_bytes(server.limits_.max_frame_bytes);
     session_.set_master_gone([this] {
       if (!socket_.is_open()) return true;
       pollfd p{socket_.native_handle(), POLLRDHUP, 0};
@@ -72,12 +73,11 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   }
 
   // Refuses a connection that arrived while another session runs.
-  void refuse_busy(const std::string& active_peer) {
+  // The refusal names nobody: whose session runs is not for a stranger.
+  void refuse_busy() {
     closing_ = true;
     arm(server_.limits_.message_timeout, "read the refusal");
-    queue(encode_frame(error_envelope(0, wire::Error::BUSY,
-                                      "this node already serves a session (from " + active_peer +
-                                          "); try again when it has ended")));
+    queue(encode_frame(error_envelope(0, wire::Error::BUSY, kBusyText)));
   }
 
   const std::string& peer() const { return peer_; }
@@ -354,7 +354,7 @@ void NodeServer::accept() {
       logger(component(options_.role))
           ->warn("refused a connection from {}: busy with the session from {}", conn->peer(),
                  active_->peer());
-      conn->refuse_busy(active_->peer());
+      conn->refuse_busy();
     } else {
       active_ = conn;
       ++sessions_;

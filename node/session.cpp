@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "auth.hpp"
+#include "channel_names.hpp"
 
 namespace railcosim {
 namespace {
@@ -47,10 +48,17 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
     if (!links_) throw ProtocolError(wire::Error::OUT_OF_ORDER, "a window needs links first");
     if (!report_)
       throw ProtocolError(wire::Error::BAD_REQUEST, "this connection cannot stream reports");
-    LinkIdentity me{participant_, options_.token, options_.name};
-    runner_ = std::make_unique<WindowRunner>(*served_, *links_,
-                                             open_links(*links_, me, *inbox_, master_gone_),
-                                             macro_step_, outputs_, step_);
+    LinkIdentity me{participant_, options_.token, options_.name, max_frame_bytes_};
+    // A Reports frame with no reports tells the master whom this node waits for.
+    auto waiting = [this, id = req.id()](const std::string& peer) {
+      wire::Envelope e;
+      e.set_id(id);
+      e.mutable_reports()->set_waiting_for(peer);
+      report_(encode_frame(e));
+    };
+    runner_ = std::make_unique<WindowRunner>(
+        *served_, *links_, open_links(*links_, me, *inbox_, master_gone_, waiting), macro_step_,
+        outputs_, step_, max_frame_bytes_);
   }
   wire::Envelope reply;
   reply.set_id(req.id());
@@ -74,6 +82,19 @@ void NodeSession::check_pinned_scene() const {
                             " (fingerprint " + hex(mine) + ")");
 }
 
+void NodeSession::check_hello_target() const {
+  if (options_.role != "any" && participant_ != options_.role)
+    throw ProtocolError(wire::Error::WRONG_ROLE,
+                        "this node serves the " + options_.role + " participant, not the " +
+                            (participant_.empty() ? "unnamed" : participant_) + " participant");
+  if (participant_.empty())
+    throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
+  if (peer_hello_)
+    throw ProtocolError(wire::Error::WRONG_ROLE,
+                        "a peer link from the " + peer_of_ +
+                            " participant reached a node that has no session expecting it");
+}
+
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
   wire::Error::Code code = wire::Error::INTERNAL;
@@ -93,11 +114,10 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     code = wire::Error::BAD_REQUEST;
     message = e.what();
   } catch (const LinkError& e) {
-    // A peer that broke the protocol or sent data that cannot be used is at
-    // fault (BAD_REQUEST, the message names it); a link that closed or fell
-    // silent is a symptom of a failure elsewhere (PEER_FAILED).
-    code = e.kind() == LinkError::Kind::kProtocol ? wire::Error::BAD_REQUEST
-                                                  : wire::Error::PEER_FAILED;
+    // Everything that goes wrong on a peer link is PEER_FAILED; the message
+    // says which (a peer that sent data this node refuses is named as its
+    // sender: "the R participant at HOST:PORT sent ...").
+    code = wire::Error::PEER_FAILED;
     message = e.what();
   } catch (const std::exception& e) {
     message = std::string("internal error: ") + e.what();
@@ -132,27 +152,20 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                             "protocol version " + std::to_string(h.protocol_version()) +
                                 " is not supported; this node speaks version " +
                                 std::to_string(kProtocolVersion));
-      if (options_.role != "any" && h.participant() != options_.role)
-        throw ProtocolError(wire::Error::WRONG_ROLE,
-                            "this node serves the " + options_.role + " participant, not the " +
-                                (h.participant().empty() ? "unnamed" : h.participant()) +
-                                " participant");
-      if (h.participant().empty())
-        throw ProtocolError(wire::Error::WRONG_ROLE, "the hello names no participant to serve");
-      if (h.role() == "peer")
-        throw ProtocolError(wire::Error::WRONG_ROLE,
-                            "a peer link from the " + h.peer_of() +
-                                " participant reached a node that has no session expecting it");
       participant_ = h.participant();
+      peer_hello_ = h.role() == "peer";
+      peer_of_ = h.peer_of();
       fingerprint_ = h.scene_fingerprint();
-      // Nothing about the scene before the peer has proved it knows the secret.
-      if (!options_.token) check_pinned_scene();
+      // Before a node with a secret has its answer, it says nothing but the
+      // challenge: not whom it serves, not its scene.
       if (options_.token) {
         nonce_ = random_nonce();
         state_ = State::kAwaitAuth;
         reply.mutable_challenge()->set_nonce(nonce_);
         return reply;
       }
+      check_hello_target();
+      check_pinned_scene();
       state_ = State::kAwaitConfigure;
       return hello_reply(req.id());
     }
@@ -163,6 +176,7 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
         throw ProtocolError(wire::Error::UNAUTHORIZED,
                             "this node requires the shared secret of its --token-file; the answer "
                             "to its challenge was missing or wrong");
+      check_hello_target();
       check_pinned_scene();
       state_ = State::kAwaitConfigure;
       return hello_reply(req.id());
@@ -231,6 +245,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       description_ = served_->name();
       state_ = State::kConfigured;
       const Channels ch = served_->channels();
+      if (const std::string why = check_declared_channels({{"this node", ch}}); !why.empty())
+        throw ProtocolError(wire::Error::INTERNAL, why);
       auto* w = reply.mutable_configured();
       for (const auto& h : ch.history) w->add_history(h);
       for (const auto& r : ch.results) w->add_results(r);

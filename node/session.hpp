@@ -60,6 +60,8 @@ class NodeSession {
   // from the thread that handles the window).
   const std::shared_ptr<PeerInbox>& inbox() const { return inbox_; }
   void set_report_sink(std::function<void(const std::string&)> sink) { report_ = std::move(sink); }
+  // The node's frame limit, which report frames respect.
+  void set_max_frame_bytes(std::size_t bytes) { max_frame_bytes_ = bytes; }
   // Whether the master has closed its connection (asked while links open).
   void set_master_gone(std::function<bool()> probe) { master_gone_ = std::move(probe); }
 
@@ -68,6 +70,8 @@ class NodeSession {
   wire::Envelope hello_reply(std::uint64_t id) const;
   // SCENE_MISMATCH unless the hello's fingerprint is the pinned scene's.
   void check_pinned_scene() const;
+  // WRONG_ROLE unless the hello asks for the participant this node serves.
+  void check_hello_target() const;
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
   wire::Envelope links(const wire::Envelope& request);
   wire::Envelope window(const wire::Envelope& request);
@@ -76,6 +80,8 @@ class NodeSession {
   State state_ = State::kAwaitHello;
   std::uint64_t fingerprint_ = 0;
   std::string participant_;  // named by the hello
+  bool peer_hello_ = false;  // the hello came from a peer, not a master
+  std::string peer_of_;
   std::string nonce_;
   std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
@@ -87,6 +93,7 @@ class NodeSession {
   std::unique_ptr<WindowRunner> runner_;
   std::function<void(const std::string&)> report_;
   std::function<bool()> master_gone_;
+  std::size_t max_frame_bytes_ = kDefaultMaxFrameBytes;
 };
 
 }  // namespace railcosim

@@ -11,15 +11,17 @@ using Clock = std::chrono::steady_clock;
 
 WindowRunner::WindowRunner(Participant& participant, LinksPlan plan,
                            std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
-                           CouplingData outputs, long point)
+                           CouplingData outputs, long point, std::size_t max_frame_bytes)
     : sub_(participant),
+      max_frame_bytes_(max_frame_bytes),
       refresh_(plan.refresh),
       timeout_(plan.timeout),
       macro_step_(macro_step),
       outputs_(std::move(outputs)),
       point_(point) {
+  // Every link's data starts at the current point.
   for (std::size_t k = 0; k < links.size(); ++k)
-    links_.push_back(Link{std::move(links[k]), plan.links[k], -1, {}, -1, {}});
+    links_.push_back(Link{std::move(links[k]), plan.links[k], point - 1, {}, point - 1, {}});
 }
 
 void WindowRunner::send_outputs(const CouplingData& outputs, bool last, bool refresh) {
@@ -82,39 +84,65 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
     }
     if (!e.has_peer_data())
       throw LinkError(LinkError::Kind::kProtocol,
-                      l.channel->what() + " sent " + body_name(e) + " on its peer link");
-    const wire::PeerData& d = e.peer_data();
-    if (d.last() && d.point() < end_) {
-      end_ = d.point();
-      why_ = l.channel->what() + " stops at macro step " + std::to_string(end_);
-    }
-    if (d.data().interfaces_size() == 0) continue;  // a marker only
-    if (static_cast<std::size_t>(d.data().interfaces_size()) != l.plan.interfaces.size())
-      throw LinkError(LinkError::Kind::kProtocol,
-                      l.channel->what() + " sent " + std::to_string(d.data().interfaces_size()) +
-                          " interfaces on a link of " + std::to_string(l.plan.interfaces.size()));
-    // Every number is checked before it is used: the point is the next one
-    // due on this link (a point from the future would be taken for data not
-    // yet sent), and every value is finite.
-    long& have = d.refresh() ? l.fresh_have : l.have;
-    const long due = have < 0 ? point_ : have + 1;
-    if (static_cast<long>(d.point()) != due)
-      throw LinkError(LinkError::Kind::kProtocol, l.channel->what() +
-                                                      " sent data for macro step point " +
-                                                      std::to_string(d.point()) + " where point " +
-                                                      std::to_string(due) + " was due");
-    CouplingData got = from_wire(d.data());
-    for (const InterfaceData& i : got)
+                      l.channel->what() + " sent " + body_name(e) + " on its peer link" + at());
+    take(l, e.peer_data());
+  }
+  return true;
+}
+
+std::string WindowRunner::at() const {
+  return " at macro step " + std::to_string(point_) +
+         " (t = " + std::to_string(static_cast<double>(point_) * macro_step_) + " s)";
+}
+
+void WindowRunner::take(Link& l, const wire::PeerData& d) {
+  auto bad = [&](const std::string& what) {
+    return LinkError(LinkError::Kind::kProtocol, l.channel->what() + " sent " + what + at());
+  };
+  const long p = d.point();  // wide enough for any value on the wire
+  const bool data = d.data().interfaces_size() > 0;
+  // Points go up by one on a link: data at every point, in order; the
+  // second sending (refresh) of a point after its first; a stop marker at
+  // the last point sent or the next.
+  long due = l.have + 1;
+  if (!data && d.last()) {
+    if (p < l.have || p > l.have + 1)
+      throw bad("a stop marker for point " + std::to_string(p) + ", its data being at point " +
+                std::to_string(l.have));
+  } else if (!data) {
+    throw bad("peer data for point " + std::to_string(p) + " with no values and no stop");
+  } else if (d.refresh()) {
+    if (!l.plan.refreshes)
+      throw bad("a second sending (refresh) on a link whose peer sends once per step");
+    due = l.fresh_have + 1;
+    if (p != due || p > l.have)
+      throw bad("a second sending for point " + std::to_string(p) + " where point " +
+                std::to_string(due) + " was due");
+  } else if (p != due) {
+    throw bad("data for point " + std::to_string(p) + " where point " + std::to_string(due) +
+              " was due");
+  }
+  if (d.last() && p < end_) {
+    end_ = p;
+    why_ = l.channel->what() + " stops at macro step " + std::to_string(end_);
+  }
+  if (!data) return;  // a marker only
+  if (static_cast<std::size_t>(d.data().interfaces_size()) != l.plan.interfaces.size())
+    throw bad(std::to_string(d.data().interfaces_size()) + " interfaces on a link of " +
+              std::to_string(l.plan.interfaces.size()));
+  CouplingData values = from_wire(d.data());
+  // A peer's last data may hold its divergence (values not finite); it
+  // ends the run there.
+  // The lengths are the participant's to check (set_inputs names the peers
+  // when it refuses them).
+  if (!d.last())
+    for (const InterfaceData& i : values)
       for (const auto* v : {&i.displacement, &i.velocity, &i.force})
         for (double x : *v)
           if (!std::isfinite(x))
-            throw LinkError(LinkError::Kind::kProtocol,
-                            l.channel->what() + " sent a non-finite value for macro step point " +
-                                std::to_string(d.point()));
-    (d.refresh() ? l.fresh : l.data) = std::move(got);
-    have = d.point();
-  }
-  return true;
+            throw bad("a non-finite value for point " + std::to_string(p));
+  (d.refresh() ? l.fresh : l.data) = std::move(values);
+  (d.refresh() ? l.fresh_have : l.have) = p;
 }
 
 void WindowRunner::set_inputs(long n, bool fresh) {
@@ -143,11 +171,32 @@ CouplingData WindowRunner::inputs(bool fresh) const {
 void WindowRunner::flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
                          const std::string& waiting_for) {
   if (pending_.reports_size() == 0 && waiting_for.empty()) return;
+  // As many reports per frame as the node's frame limit allows: the frame's
+  // header, the envelope and a report's own tag and length cost at most this.
+  const std::size_t overhead = kFrameHeaderBytes + 32 + waiting_for.size();
   wire::Envelope e;
   e.set_id(id);
-  e.mutable_reports()->Swap(&pending_);
-  e.mutable_reports()->set_waiting_for(waiting_for);
-  report(encode_frame(e));
+  auto* out = e.mutable_reports();
+  out->set_waiting_for(waiting_for);
+  std::size_t size = overhead;
+  for (auto& r : *pending_.mutable_reports()) {
+    const std::size_t cost = r.ByteSizeLong() + 6;
+    if (overhead + cost > max_frame_bytes_)
+      throw ProtocolError(wire::Error::FRAME_TOO_LARGE,
+                          "the step report of macro step " + std::to_string(r.step()) + " (" +
+                              std::to_string(cost) + " bytes) does not fit in a frame under " +
+                              "this node's --max-frame-bytes of " +
+                              std::to_string(max_frame_bytes_));
+    if (size + cost > max_frame_bytes_) {
+      report(encode_frame(e, max_frame_bytes_));
+      out->clear_reports();
+      size = overhead;
+    }
+    *out->add_reports() = std::move(r);
+    size += cost;
+  }
+  pending_.clear_reports();
+  report(encode_frame(e, max_frame_bytes_));
 }
 
 wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
@@ -213,6 +262,9 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
   } catch (const LinkError&) {
     send_stop();
     flush(id, report);
+    throw;
+  } catch (const ProtocolError&) {
+    send_stop();
     throw;
   }
   if (point_ < w.end_step()) send_stop();

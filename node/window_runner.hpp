@@ -32,10 +32,12 @@ namespace railcosim {
 class WindowRunner {
  public:
   // `outputs`: the participant's outputs at communication point `point` (its
-  // initialize() result before the first window).
+  // initialize() result before the first window). Report frames stay within
+  // `max_frame_bytes` (the node's --max-frame-bytes): a block of reports is
+  // split over as many frames as it needs.
   WindowRunner(Participant& participant, LinksPlan plan,
-               std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
-               CouplingData outputs, long point);
+               std::vector<std::unique_ptr<FdChannel>> links, double macro_step, CouplingData outputs, long point,
+               std::size_t max_frame_bytes = kDefaultMaxFrameBytes);
 
   // Runs steps from the current point to w.end_step(). `report` sends one
   // encoded frame to the master. Returns where it stopped and why; throws
@@ -52,7 +54,7 @@ class WindowRunner {
   struct Link {
     std::unique_ptr<FdChannel> channel;
     LinkPlan plan;
-    long have = -1;  // the point of `data`
+    long have = -1;  // the point of `data` (one before the first point: none yet)
     CouplingData data;
     long fresh_have = -1;  // resolved feedthrough: the second sending
     CouplingData fresh;
@@ -63,6 +65,11 @@ class WindowRunner {
   // Reads link `l` until it holds the peer's data at `need`; false if the
   // peer stops before that point.
   bool await(Link& l, long need, bool fresh);
+  // Checks one PeerData from link `l` against what is due (its point, its
+  // shape, finite values) and keeps it; throws LinkError naming the sender.
+  void take(Link& l, const wire::PeerData& d);
+  // " at macro step N (t = ... s)", for errors.
+  std::string at() const;
   CouplingData inputs(bool fresh) const;
   // The participant's inputs for step n from the links; a rejection is a
   // LinkError (kProtocol) naming the peers.
@@ -71,6 +78,7 @@ class WindowRunner {
              const std::string& waiting_for = "");
 
   Participant& sub_;
+  std::size_t max_frame_bytes_;
   std::vector<Link> links_;
   bool refresh_;
   std::chrono::milliseconds timeout_;

@@ -20,7 +20,11 @@ std::string ms_text(std::chrono::milliseconds t) {
 }  // namespace
 
 FdChannel::FdChannel(int fd, std::string what, std::size_t max_frame_bytes)
-    : fd_(fd), what_(std::move(what)), decoder_(max_frame_bytes), buffer_(65536) {
+    : fd_(fd),
+      what_(std::move(what)),
+      max_frame_bytes_(max_frame_bytes),
+      decoder_(max_frame_bytes),
+      buffer_(65536) {
   const int flags = ::fcntl(fd_, F_GETFL);
   if (flags >= 0) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
   const int one = 1;
@@ -44,7 +48,7 @@ void FdChannel::set_timeout(int option, std::chrono::milliseconds timeout,
 }
 
 void FdChannel::send(const wire::Envelope& envelope, std::chrono::milliseconds timeout) {
-  send_frame(encode_frame(envelope), timeout);
+  send_frame(encode_frame(envelope, max_frame_bytes_), timeout);
 }
 
 void FdChannel::send_frame(const std::string& frame, std::chrono::milliseconds timeout) {

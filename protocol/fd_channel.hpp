@@ -29,6 +29,7 @@ class FdChannel {
  public:
   // Takes ownership of a connected TCP socket: makes it blocking and sets
   // TCP_NODELAY. `what` names the other end in errors ("the soil participant").
+  // Frames over `max_frame_bytes` are neither read nor sent.
   FdChannel(int fd, std::string what, std::size_t max_frame_bytes = kDefaultMaxFrameBytes);
   ~FdChannel();
   FdChannel(const FdChannel&) = delete;
@@ -48,6 +49,7 @@ class FdChannel {
 
   int fd_;
   std::string what_;
+  std::size_t max_frame_bytes_;
   FrameDecoder decoder_;
   std::vector<char> buffer_;
   std::chrono::milliseconds recv_timeout_{-1}, send_timeout_{-1};

@@ -173,6 +173,18 @@ class PeerRefusal : public ::testing::Test {
     return c.receive(milliseconds(5000));
   }
 
+  // The same, answering the node's challenge with its secret; returns the
+  // reply to the answer.
+  wire::Envelope peer_hello_with_secret(const std::string& peer_of, const std::string& session,
+                                        Connection& c) const {
+    const wire::Envelope challenge = peer_hello(peer_of, session, c);
+    EXPECT_TRUE(challenge.has_challenge()) << body_name(challenge);
+    wire::Envelope auth;
+    auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+    c.send(auth);
+    return c.receive(milliseconds(5000));
+  }
+
   static std::string refusal(const wire::Envelope& reply, wire::Error::Code code) {
     EXPECT_TRUE(reply.has_error()) << body_name(reply);
     EXPECT_EQ(reply.error().code(), code) << wire::Error::Code_Name(reply.error().code());
@@ -189,13 +201,15 @@ class PeerRefusal : public ::testing::Test {
 TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefused) {
   const Address at = server_->local_address();
   auto soil = Connection::connect(at, milliseconds(5000));
-  const std::string who = refusal(peer_hello("soil", session_, *soil), wire::Error::WRONG_ROLE);
+  const std::string who =
+      refusal(peer_hello_with_secret("soil", session_, *soil), wire::Error::WRONG_ROLE);
   EXPECT_NE(who.find("expects peer links from vehicle"), std::string::npos) << who;
   EXPECT_NE(who.find("soil"), std::string::npos) << who;
 
   auto stranger = Connection::connect(at, milliseconds(5000));
   const std::string key =
-      refusal(peer_hello("vehicle", std::string(32, 'x'), *stranger), wire::Error::UNAUTHORIZED);
+      refusal(peer_hello_with_secret("vehicle", std::string(32, 'x'), *stranger),
+              wire::Error::UNAUTHORIZED);
   EXPECT_NE(key.find("session key"), std::string::npos) << key;
 
   auto guesser = Connection::connect(at, milliseconds(5000));
@@ -209,6 +223,12 @@ TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefuse
       refusal(guesser->receive(milliseconds(5000)), wire::Error::UNAUTHORIZED);
   EXPECT_NE(secret.find("--token-file"), std::string::npos) << secret;
 
+  // The master hears at once whom the node waits for (so that it can name
+  // that node if it never comes).
+  const wire::Envelope waiting = master_->receive(milliseconds(5000));
+  ASSERT_TRUE(waiting.has_reports()) << body_name(waiting);
+  EXPECT_EQ(waiting.reports().waiting_for(), "vehicle");
+  EXPECT_EQ(waiting.reports().reports_size(), 0);
   // The real peer never came: the window fails, naming it and the refusals.
   const wire::Envelope failed = master_->receive(milliseconds(5000));
   const std::string why = refusal(failed, wire::Error::TIMEOUT);

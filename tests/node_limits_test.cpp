@@ -1,7 +1,8 @@
 // A node against clients that drip, flood, ask for too much or hold it with
 // a long step: every wait is a deadline for a whole message, a session holds
 // a bounded amount of memory, a reply over the limit is an error reply, a
-// step's work is bounded in time, and the node keeps answering meanwhile.
+// step's work is bounded in time, the node keeps answering meanwhile, and
+// it tells a client nothing about itself before the authentication.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -241,6 +242,52 @@ TEST_F(NodeLimitsTest, NothingAboutTheSceneBeforeAuthentication) {
   const wire::Envelope mismatch = d->receive(milliseconds(5000));
   ASSERT_TRUE(mismatch.has_error());
   EXPECT_EQ(mismatch.error().code(), wire::Error::SCENE_MISMATCH);
+}
+
+// A node with a secret, idle: a hello for another participant gets
+// the challenge, not the name of the one the node serves.
+TEST(NodeLimitsIdle, ANodeWithASecretDoesNotTellItsRoleBeforeAuthentication) {
+  NodeOptions o;
+  o.role = "track";
+  o.token = kToken;
+  NodeServer server(o, Address{"127.0.0.1", 0});
+  std::thread t([&] { server.run(false); });
+  struct Stop {
+    NodeServer& s;
+    std::thread& t;
+    ~Stop() {
+      s.stop();
+      t.join();
+    }
+  } stop{server, t};
+  auto c = Connection::connect(server.local_address(), milliseconds(5000));
+  c->send(hello_envelope("vehicle", 1));
+  const wire::Envelope challenge = c->receive(milliseconds(5000));
+  ASSERT_TRUE(challenge.has_challenge()) << challenge.ShortDebugString();
+  // With the right answer, the role check holds.
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kToken, "vehicle", challenge.challenge().nonce()));
+  c->send(auth);
+  const wire::Envelope wrong = c->receive(milliseconds(5000));
+  ASSERT_TRUE(wrong.has_error());
+  EXPECT_EQ(wrong.error().code(), wire::Error::WRONG_ROLE);
+  // A second client while that session runs: BUSY, naming nobody.
+  auto d = Connection::connect(server.local_address(), milliseconds(5000));
+  auto e = Connection::connect(server.local_address(), milliseconds(5000));
+  e->send(hello_envelope("track", 1));
+  d->send(hello_envelope("track", 1));
+  int busy = 0, challenged = 0;
+  for (Connection* x : {d.get(), e.get()}) {
+    const wire::Envelope r = x->receive(milliseconds(5000));
+    challenged += r.has_challenge() ? 1 : 0;
+    if (r.has_error()) {
+      ++busy;
+      EXPECT_EQ(r.error().code(), wire::Error::BUSY);
+      EXPECT_EQ(r.error().message(), kBusyText);
+    }
+  }
+  EXPECT_EQ(busy, 1);
+  EXPECT_EQ(challenged, 1);
 }
 
 }  // namespace

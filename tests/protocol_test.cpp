@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "model.hpp"
 #include "test_support.hpp"
@@ -108,6 +110,24 @@ TEST(Fingerprint, Fnv1a64MatchesThePublishedVectors) {
   EXPECT_EQ(fnv1a64(""), 0xcbf29ce484222325ull);
   EXPECT_EQ(fnv1a64("a"), 0xaf63dc4c8601ec8cull);
   EXPECT_EQ(fnv1a64("foobar"), 0x85944171f73967e8ull);
+}
+
+// The fingerprint the protocol document gives for scenes/soil.toml, in its
+// text and in its worked example, is the one the master sends for that scene.
+TEST(Fingerprint, TheProtocolDocumentsExampleIsTheSoilScenes) {
+  std::ifstream in(test::source_path("docs/protocol.md"));
+  std::stringstream doc;
+  doc << in.rdbuf();
+  const std::string text = doc.str();
+  const std::string want = std::to_string(scene_fingerprint(soil_scene()));
+  std::vector<std::string> quoted;
+  for (const std::string key : {"`scenes/soil.toml` gives", "scene_fingerprint:"})
+    for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+      const auto from = text.find_first_not_of(" \n", at + key.size());
+      quoted.push_back(text.substr(from, text.find_first_not_of("0123456789", from) - from));
+    }
+  ASSERT_EQ(quoted.size(), 2u) << "the document's fingerprint examples moved";
+  for (const std::string& q : quoted) EXPECT_EQ(q, want);
 }
 
 TEST(Conversions, SceneRoundTripsAndItsFingerprintSeesEveryChange) {

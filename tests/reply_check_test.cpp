@@ -138,6 +138,55 @@ TEST(ReplyCheck, WrongNumberOfInterfacesValuesOrHistoryIsRefused) {
                  "carries 0 history values", "vehicle");
 }
 
+// Edits the declarations of configure.
+test::FakeNode::Edit declaring(std::function<void(wire::Configured&)> f) {
+  return [f](const wire::Envelope& req, wire::Envelope& reply) {
+    if (req.has_configure() && reply.has_configured()) f(*reply.mutable_configured());
+    return false;
+  };
+}
+
+// A declared name goes into history.csv as it is: one that would forge a
+// row, an empty one, one the node declares twice are refused naming the node
+// and the name (before, the forged row reached the file and the run was ok).
+TEST(ReplyCheck, ChannelNamesOutsideTheDocumentedSetAreRefused) {
+  const std::string rule = "1 to 64 characters from A-Z, a-z, 0-9 and _, the first a letter";
+  expect_refused(declaring([](wire::Configured& c) { c.add_history("soil_peak_m,fake\n9,9,9"); }),
+                 "the history channel 'soil_peak_m?fake?9?9?9': a name with a character other "
+                 "than A-Z, a-z, 0-9 and _; a name is " +
+                     rule);
+  expect_refused(declaring([](wire::Configured& c) { c.add_history(""); }),
+                 "the history channel '': an empty name");
+  expect_refused(declaring([](wire::Configured& c) { c.add_history("9lives"); }),
+                 "'9lives': a name that does not start with a letter");
+  expect_refused(declaring([](wire::Configured& c) { c.add_history(std::string(65, 'a')); }),
+                 "a name of 65 characters (at most 64)");
+  expect_refused(declaring([](wire::Configured& c) {
+                   c.add_history("peak");
+                   c.add_history("peak");
+                 }),
+                 "the history channel 'peak', which it declares already");
+  expect_refused(declaring([](wire::Configured& c) { c.add_results("rail w"); }),
+                 "the result field 'rail?w'");
+}
+
+// A node that declares a channel another participant declares (the
+// vehicle's wheel_m) would overwrite its column: the run is refused naming both.
+TEST(ReplyCheck, AChannelDeclaredByTwoParticipantsIsRefused) {
+  test::FakeNode node("track", declaring([](wire::Configured& c) { c.add_history("wheel_m"); }));
+  try {
+    run_against(node);
+    ADD_FAILURE() << "a second wheel_m was accepted";
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("track node at " + node.address().str() +
+                     " declares the history channel 'wheel_m', which vehicle"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("declares too"), std::string::npos) << m;
+  }
+}
+
 TEST(ReplyCheck, ResultsOfTheWrongSizeOrNotFiniteAreRefused) {
   const std::string nodes = std::to_string(short_scene().rail_nodes());
   // More rail values than the rail has nodes: the master once wrote memory
