@@ -32,6 +32,10 @@ void set_interrupt_flag(const std::atomic<int>* flag) {
   g_interrupt.store(flag);
 }
 
+int interrupt_signal() {
+  return interrupted();
+}
+
 Address parse_address(const std::string& text, const std::string& what) {
   const auto colon = text.rfind(':');
   if (colon == std::string::npos)

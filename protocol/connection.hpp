@@ -47,6 +47,8 @@ Address parse_address(const std::string& text, const std::string& what);
 // kInterruptPoll and gives up with NetError(kInterrupted) once it is set, so
 // a master blocked on a silent or dripping node still stops within a second.
 void set_interrupt_flag(const std::atomic<int>* flag);
+// The signal that asks to stop, or 0 (for waits that are not a Connection's).
+int interrupt_signal();
 inline constexpr std::chrono::milliseconds kInterruptPoll{100};
 
 class Connection {
