@@ -60,13 +60,19 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
     // can name the one that hangs; the wait goes on to the link's deadline.
     wire::Envelope e;
     const auto patience = std::chrono::milliseconds(50);
-    for (auto waited = std::chrono::milliseconds(0);; waited += patience) {
+    const auto started = Clock::now();
+    for (bool first = true;; first = false) {
+      const auto waited =
+          std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
+      if (waited >= timeout_)
+        throw LinkError(LinkError::Kind::kTimeout, l.channel->what() + " sent nothing within " +
+                                                       std::to_string(timeout_.count()) + " ms");
       try {
-        e = l.channel->receive(std::min(patience, timeout_));
+        e = l.channel->receive(std::min(patience, timeout_ - waited));
         break;
       } catch (const LinkError& x) {
-        if (x.kind() != LinkError::Kind::kTimeout || waited + patience >= timeout_) throw;
-        if (waited.count() == 0 && report_) flush(id_, *report_, l.plan.peer);
+        if (x.kind() != LinkError::Kind::kTimeout) throw;
+        if (first && report_) flush(id_, *report_, l.plan.peer);
         if (abandoned_ && *abandoned_ && (*abandoned_)())
           throw LinkError(LinkError::Kind::kClosed,
                           "the master closed the session while this participant waited for " +

@@ -216,6 +216,27 @@ TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefuse
   EXPECT_NE(why.find("refused meanwhile"), std::string::npos) << why;
 }
 
+// A peer that opens its link and then stays silent: the window fails after
+// the link's deadline, and the message states that deadline (it once said
+// 50 ms, the length of one slice of the wait).
+TEST_F(PeerRefusal, ASilentPeerIsReportedWithTheRealWait) {
+  auto vehicle = Connection::connect(server_->local_address(), milliseconds(5000));
+  const wire::Envelope challenge = peer_hello("vehicle", session_, *vehicle);
+  ASSERT_TRUE(challenge.has_challenge()) << body_name(challenge);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+  vehicle->send(auth);
+  ASSERT_TRUE(vehicle->receive(milliseconds(5000)).has_hello_reply());
+  const auto t0 = Clock::now();
+  wire::Envelope reply;
+  do reply = master_->receive(milliseconds(5000));
+  while (reply.has_reports());
+  const std::string why = refusal(reply, wire::Error::PEER_FAILED);
+  EXPECT_NE(why.find("the vehicle participant sent nothing within 1500 ms"), std::string::npos)
+      << why;
+  EXPECT_GT(Clock::now() - t0, milliseconds(1300));
+}
+
 // A vehicle node without the secret that the track node requires: the run
 // fails with the vehicle's word that it needs the track node's --token-file.
 TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearError) {
