@@ -89,6 +89,7 @@ void DirectExchange::grant(long n) {
   w.set_end_step(end);
   w.set_divergence_bound(bound_);
   w.set_report_steps(options_.report_steps);
+  last_useful_ = std::chrono::steady_clock::now();
   for (Node& node : nodes_) {
     node.p->grant(w);
     node.in_window = true;
@@ -112,6 +113,12 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     if (node.last_frame != std::chrono::steady_clock::time_point{})
       slowest_gap_ = std::max(slowest_gap_, (now - node.last_frame) / e.reports().reports_size());
     node.last_frame = now;
+    node.idle_frames = 0;
+    last_useful_ = now;
+  } else if (e.has_reports()) {
+    ++node.idle_frames;
+  } else {
+    last_useful_ = now;
   }
   if (e.has_reports()) {
     node.waiting_for = e.reports().waiting_for();
@@ -148,11 +155,20 @@ bool DirectExchange::read(milliseconds timeout) {
       who.push_back(&node);
     }
   if (fds.empty()) return true;
-  int ready = -1;
-  do {
-    ready = ::poll(fds.data(), fds.size(), static_cast<int>(timeout.count()));
-  } while (ready < 0 && errno == EINTR);
-  if (ready == 0) return false;
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    if (const int sig = interrupt_signal()) {
+      std::ostringstream s;
+      s << "interrupted by signal " << sig << " at macro step " << step_
+        << " (t = " << static_cast<double>(step_) * nodes_.front().p->macro_step() << " s)";
+      throw std::runtime_error(s.str());
+    }
+    const auto left = std::chrono::ceil<milliseconds>(until - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    if (::poll(fds.data(), fds.size(), static_cast<int>(std::min(left, kInterruptPoll).count())) >
+        0)
+      break;
+  }
   for (std::size_t k = 0; k < fds.size(); ++k) {
     if (fds[k].revents == 0) continue;
     Node& node = *who[k];
@@ -205,12 +221,19 @@ void DirectExchange::silence(long n, milliseconds waited) {
   std::ostringstream s;
   s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
     << slow->reported;
+  // A node that keeps its stream busy without reporting a step.
+  if (slow->idle_frames > 0)
+    s << "; since then it sent " << slow->idle_frames << " report frame(s) without a step report";
+  if (const std::size_t part = slow->p->connection().partial_bytes(); part > 0)
+    s << "; it has sent " << part << " byte(s) of a frame it has not finished";
   if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
   s << ")";
   slow->p->fail_at(n, s.str());
 }
 
 std::vector<StepResult> DirectExchange::advance(long n) {
+  step_ = n;
+  const auto waiting_since = std::chrono::steady_clock::now();
   while (true) {
     bool ready = true;
     for (const Node& node : nodes_) ready = ready && !node.reports.empty();
@@ -242,8 +265,12 @@ std::vector<StepResult> DirectExchange::advance(long n) {
       grant(n);
       continue;
     }
+    // One deadline for the next step report, however the node's bytes come.
     const milliseconds limit = progress();
-    if (!read(limit)) silence(n, limit);
+    const auto now = std::chrono::steady_clock::now();
+    const auto deadline = std::max(last_useful_, waiting_since) + limit;
+    if (now >= deadline) silence(n, limit);
+    read(std::chrono::ceil<milliseconds>(deadline - now));
   }
 }
 

@@ -61,13 +61,16 @@ class DirectExchange {
     bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
     std::string waiting_for;   // the peer it said it waits for
     std::chrono::steady_clock::time_point last_frame{};
+    long idle_frames = 0;  // report frames without a step report since its last one
     long fail_step = 0;
     std::string fail_text;
   };
   DirectExchange(std::vector<RemoteParticipant*> nodes, double bound, long total,
                  DirectOptions options);
   void grant(long n);
-  // Waits for frames from the nodes in a window; false on silence.
+  // Waits up to `timeout` for frames from the nodes in a window and takes
+  // them; false when none came. Throws std::runtime_error once the stop
+  // flag (interrupt_signal()) is set: it looks every kInterruptPoll.
   bool read(std::chrono::milliseconds timeout);
   void take(Node& node, const wire::Envelope& e);
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
@@ -89,6 +92,11 @@ class DirectExchange {
   // relayed step); step_max before any is measured.
   std::chrono::milliseconds progress() const;
   std::chrono::steady_clock::duration slowest_gap_{0};
+  // The last frame that moved the run on (a step report or a window's
+  // reply): the deadline counts from it, so bytes that trickle in or empty
+  // report frames do not extend it.
+  std::chrono::steady_clock::time_point last_useful_{};
+  long step_ = 0;  // the macro step being waited for, for messages
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 
