@@ -143,6 +143,16 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     node.fail_step = e.has_error() && e.error().step() >= 0 ? e.error().step() : node.reported;
     node.fail_text = f.what();
     node.peer_failed = e.has_error() && e.error().code() == wire::Error::PEER_FAILED;
+    // "the soil participant sent ...": data (or frames) it refused from that peer.
+    if (node.peer_failed)
+      for (std::size_t k = 0; k < nodes_.size(); ++k) {
+        const std::string said = e.error().message();
+        const std::string from = "the " + nodes_[k].p->role() + " participant sent ";
+        const auto at = said.find(from);
+        if (&nodes_[k] != &node && at != std::string::npos &&
+            said.compare(at + from.size(), 7, "nothing") != 0)
+          node.sender = static_cast<int>(k);
+      }
   }
 }
 
@@ -274,20 +284,43 @@ std::vector<StepResult> DirectExchange::advance(long n) {
   }
 }
 
+namespace {
+
+// Lower is nearer the root cause.
+int rank(bool step_failure, int sender, bool closed, bool peer_failed) {
+  if (step_failure || sender >= 0) return 0;
+  if (closed) return 1;
+  return peer_failed ? 3 : 2;
+}
+
+}  // namespace
+
 const DirectExchange::Node* DirectExchange::culprit(long n, bool any_step) const {
-  const Node* first = nullptr;
+  bool due = false;
   for (const Node& node : nodes_)
-    if (node.failed && (any_step || node.fail_step <= n) && !first) first = &node;
-  if (!first) return nullptr;
-  for (const Node& node : nodes_)
-    if (node.failed && node.step_failure && node.fail_step <= n) return &node;
-  for (const Node& node : nodes_)
-    if (node.closed) return &node;
-  return first;
+    due = due || (node.failed && (any_step || node.fail_step <= n || node.reports.empty()));
+  if (!due) return nullptr;
+  const Node* best = nullptr;
+  int best_rank = 4;
+  for (const Node& node : nodes_) {
+    if (!node.failed) continue;
+    const int r = rank(node.step_failure, node.sender, node.closed, node.peer_failed);
+    if (r < best_rank) {
+      best = &node;
+      best_rank = r;
+    }
+  }
+  return best;
 }
 
 void DirectExchange::fail_with(const Node& node) {
   if (node.step_failure) throw StepFailure(node.fail_text);
+  if (node.sender >= 0) {
+    const Node& from = nodes_[static_cast<std::size_t>(node.sender)];
+    throw NodeFailure(from.p->failure_text(
+        node.fail_step,
+        "the " + node.p->role() + " participant refused its data (" + node.fail_text + ")"));
+  }
   if (!node.peer_failed) throw NodeFailure(node.fail_text);
   const auto now = std::chrono::steady_clock::now();
   if (first_peer_failure_ == std::chrono::steady_clock::time_point{}) first_peer_failure_ = now;

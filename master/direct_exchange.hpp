@@ -59,6 +59,7 @@ class DirectExchange {
     bool failed = false;
     bool step_failure = false;
     bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
+    int sender = -1;           // the node whose data it rejected, if any
     std::string waiting_for;   // the peer it said it waits for
     std::chrono::steady_clock::time_point last_frame{};
     long idle_frames = 0;  // report frames without a step report since its last one
@@ -74,9 +75,11 @@ class DirectExchange {
   bool read(std::chrono::milliseconds timeout);
   void take(Node& node, const wire::Envelope& e);
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
-  // The failure that ends macro step n (or, with any_step, any failure): a
-  // failed step first, in load order, then a node that closed its
-  // connection, then the others. nullptr if none.
+  // The failure that ends macro step n (or, with any_step, any failure),
+  // ranked by root cause: a failed step or data rejected (blamed on its
+  // sender), then a node that closed its connection, then the others, then
+  // nodes that only lost a peer; in load order within a rank. nullptr if
+  // none is due yet (a failed node's reports not all taken).
   const Node* culprit(long n, bool any_step) const;
   // Throws the culprit's failure. A node that only lost a peer is given a
   // moment for the peer's own failure to arrive, which names the cause.

@@ -1,5 +1,6 @@
 #include "window_runner.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "work_budget.hpp"
@@ -98,6 +99,25 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
   return true;
 }
 
+void WindowRunner::set_inputs(long n, bool fresh) {
+  try {
+    sub_.set_inputs(n, inputs(fresh));
+  } catch (const BadInputError& e) {
+    // The data came from a peer: name it (the one with a value that is not
+    // finite, else the only one), so that the master blames the sender.
+    const Link* from = links_.size() == 1 ? &links_.front() : nullptr;
+    for (const Link& l : links_)
+      for (const InterfaceData& d : fresh&& l.plan.refreshes ? l.fresh : l.data)
+        for (const auto* v : {&d.displacement, &d.velocity, &d.force})
+          for (double x : *v)
+            if (!std::isfinite(x)) from = &l;
+    throw LinkError(LinkError::Kind::kProtocol,
+                    (from ? from->channel->what() : std::string("a peer")) +
+                        " sent data for macro step " + std::to_string(n) +
+                        " that this participant rejects: " + e.what());
+  }
+}
+
 CouplingData WindowRunner::inputs(bool fresh) const {
   CouplingData in(outputs_.size());
   for (const Link& l : links_) {
@@ -143,7 +163,7 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
       bool go = true;
       for (Link& l : links_) go = go && await(l, n + (l.plan.ahead ? 1 : 0), false);
       if (!go || n >= end_) break;
-      sub_.set_inputs(n, inputs(false));
+      set_inputs(n, false);
       if (refresh_) send_outputs(sub_.outputs(), false, true);
       bool again = false;
       for (Link& l : links_)
@@ -152,7 +172,7 @@ wire::WindowDone WindowRunner::run(const wire::Window& w, std::uint64_t id,
           again = true;
         }
       if (!go) break;
-      if (again) sub_.set_inputs(n, inputs(true));
+      if (again) set_inputs(n, true);
       if (budget.limit.count() > 0) budget.deadline = Clock::now() + budget.limit;
       StepResult r;
       try {

@@ -63,6 +63,9 @@ class WindowRunner {
   // peer stops before that point.
   bool await(Link& l, long need, bool fresh);
   CouplingData inputs(bool fresh) const;
+  // Sets the inputs of macro step n from the peers' data; data the
+  // participant rejects is a LinkError naming the peer that sent it.
+  void set_inputs(long n, bool fresh);
   void flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
              const std::string& waiting_for = "");
 
