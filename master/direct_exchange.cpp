@@ -87,6 +87,7 @@ void DirectExchange::grant(long n) {
   wire::Window w;
   w.set_first_step(n);
   w.set_end_step(end);
+  window_end_ = end;
   w.set_divergence_bound(bound_);
   w.set_report_steps(options_.report_steps);
   last_useful_ = std::chrono::steady_clock::now();
@@ -268,10 +269,7 @@ std::vector<StepResult> DirectExchange::advance(long n) {
         fail_with(*f);
         continue;
       }
-      for (Node& node : nodes_)
-        if (node.reports.empty() && !node.done_reason.empty())
-          node.p->fail_at(n, "stopped at macro step " + std::to_string(node.done_step) + ": " +
-                                 node.done_reason);
+      check_window_end(n);
       grant(n);
       continue;
     }
@@ -330,6 +328,25 @@ void DirectExchange::fail_with(const Node& node) {
   for (const Node& x : nodes_) open = open || (x.in_window && !x.closed);
   if (left.count() <= 0 || !open) throw NodeFailure(node.fail_text);
   read(left);  // the culprit's own failure, if it comes, is preferred next time
+}
+
+void DirectExchange::check_window_end(long n) {
+  if (window_end_ < 0) return;
+  // A node whose reports stop short of where it says its window ended.
+  for (Node& node : nodes_)
+    if (node.reports.empty() && node.reported < node.done_step)
+      node.p->fail_at(n, "its window ended at macro step " + std::to_string(node.done_step) +
+                             ", but its step reports stop at macro step " +
+                             std::to_string(node.reported));
+  for (Node& node : nodes_)
+    if (node.reports.empty() && !node.done_reason.empty())
+      node.p->fail_at(
+          n, "stopped at macro step " + std::to_string(node.done_step) + ": " + node.done_reason);
+  for (Node& node : nodes_)
+    if (node.reports.empty() && (node.done_step != window_end_ || n != window_end_))
+      node.p->fail_at(n, "ended its window at macro step " + std::to_string(node.done_step) +
+                             ", before the window's end at macro step " +
+                             std::to_string(window_end_) + ", without saying why");
 }
 
 void DirectExchange::drain() {

@@ -99,7 +99,12 @@ class DirectExchange {
   // reply): the deadline counts from it, so bytes that trickle in or empty
   // report frames do not extend it.
   std::chrono::steady_clock::time_point last_useful_{};
-  long step_ = 0;  // the macro step being waited for, for messages
+  long step_ = 0;         // the macro step being waited for, for messages
+  long window_end_ = -1;  // of the window granted last (-1: none yet)
+  // After every node has ended its window: names the node that cannot give
+  // macro step n (its reports stop short, or it stopped early) unless all
+  // ended where the window ends.
+  void check_window_end(long n);
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 

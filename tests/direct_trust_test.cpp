@@ -114,6 +114,42 @@ TEST(DirectTrust, ANodeSendingEmptyReportFramesIsNamedAfterTheStepDeadline) {
   EXPECT_LT(seconds, 4.0) << m;
 }
 
+// A vehicle node whose report stream stops after macro step 20 while it runs
+// its window to the end: the master names it, not the track node (it once
+// granted a new window and blamed OUT_OF_ORDER on whichever node came first).
+TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
+  test::FakeNode vehicle("vehicle", nullptr, {},
+                         [](int fd, const std::string& frame, const std::atomic<bool>&) {
+                           wire::Envelope e;
+                           e.ParseFromArray(frame.data() + 4, static_cast<int>(frame.size() - 4));
+                           for (const auto& r : e.reports().reports())
+                             if (r.step() > 20) return;
+                           send_bytes(fd, frame.data(), frame.size());
+                         });
+  LaunchedNode track("track_node", milliseconds(10000));
+  Scene scene = test::paper_scene();
+  scene.end_time = 200 * scene.macro_step;
+  const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
+    return std::make_unique<RemoteParticipant>(at, scene, c);
+  };
+  RunOptions o;
+  o.macro_step = scene.macro_step;
+  o.tolerance = scene.tolerance;
+  try {
+    run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+    ADD_FAILURE() << "the run went through";
+  } catch (const NodeFailure& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("vehicle node at " + vehicle.address().str() +
+                     ": its window ended at macro step 200, but its step reports stop at "
+                     "macro step "),
+              std::string::npos)
+        << m;
+    EXPECT_EQ(m.find("OUT_OF_ORDER"), std::string::npos) << m;
+  }
+}
+
 // The master program: on its own it fails within the documented step
 // deadline (50 times the slowest step, within [2 s, 30 s]; here about 3 s)
 // naming the node, and writes
