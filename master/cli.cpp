@@ -216,7 +216,11 @@ int do_run(const RunArgs& a) {
   o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
   o.on_channels = [&writer](const std::vector<std::string>& extra) { writer.channels(extra); };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
-  o.on_progress = [progress](long done, long total) { (*progress)(done, total); };
+  long steps_done = 0;  // for the summary of a run that fails
+  o.on_progress = [progress, &steps_done](long done, long total) {
+    steps_done = done;
+    (*progress)(done, total);
+  };
   RunRecord record;
   try {
     if (spec.monolithic) {
@@ -232,7 +236,8 @@ int do_run(const RunArgs& a) {
       if (scene.soil_model != "external") judge(record, reference, scene);
     }
   } catch (const std::exception& e) {
-    const RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
+    RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
+    failed.macro_steps = steps_done;
     writer.finish(failed);
     progress->end();
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",

@@ -89,8 +89,10 @@ void DirectExchange::grant(long n) {
   wire::Window w;
   w.set_first_step(n);
   w.set_end_step(end);
+  window_end_ = end;
   w.set_divergence_bound(bound_);
   w.set_report_steps(options_.report_steps);
+  last_useful_ = std::chrono::steady_clock::now();
   for (Node& node : nodes_) {
     node.p->grant(w);
     node.in_window = true;
@@ -114,6 +116,12 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     if (node.last_frame != std::chrono::steady_clock::time_point{})
       slowest_gap_ = std::max(slowest_gap_, (now - node.last_frame) / e.reports().reports_size());
     node.last_frame = now;
+    node.idle_frames = 0;
+    last_useful_ = now;
+  } else if (e.has_reports()) {
+    ++node.idle_frames;
+  } else {
+    last_useful_ = now;
   }
   if (e.has_reports()) {
     node.waiting_for = e.reports().waiting_for();
@@ -138,10 +146,15 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     node.fail_step = e.has_error() && e.error().step() >= 0 ? e.error().step() : node.reported;
     node.fail_text = f.what();
     node.peer_failed = e.has_error() && e.error().code() == wire::Error::PEER_FAILED;
+    // The peer whose data (or frames) it refused: the root cause.
+    if (node.peer_failed)
+      for (std::size_t k = 0; k < nodes_.size(); ++k)
+        if (&nodes_[k] != &node && nodes_[k].p->role() == e.error().sender())
+          node.sender = static_cast<int>(k);
   }
 }
 
-bool DirectExchange::read(milliseconds timeout, long n) {
+bool DirectExchange::read(milliseconds timeout) {
   std::vector<pollfd> fds;
   std::vector<Node*> who;
   for (Node& node : nodes_)
@@ -150,26 +163,19 @@ bool DirectExchange::read(milliseconds timeout, long n) {
       who.push_back(&node);
     }
   if (fds.empty()) return true;
-  // In slices of one interrupt poll, so that a stop request acts within it
-  // whatever the nodes send or do not send.
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  int ready = -1;
+  const auto until = std::chrono::steady_clock::now() + timeout;
   while (true) {
-    if (const int sig = interrupt_signal())
-      throw std::runtime_error(
-          "interrupted by signal " + std::to_string(sig) +
-          (n < 0 ? std::string()
-                 : " at macro step " + std::to_string(n) + " (t = " +
-                       std::to_string(static_cast<double>(n) * nodes_.front().p->macro_step()) +
-                       " s)") +
-          ", waiting for the nodes' step reports");
-    const auto left =
-        std::chrono::duration_cast<milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (const int sig = interrupt_signal()) {
+      std::ostringstream s;
+      s << "interrupted by signal " << sig << " at macro step " << step_
+        << " (t = " << static_cast<double>(step_) * nodes_.front().p->macro_step() << " s)";
+      throw std::runtime_error(s.str());
+    }
+    const auto left = std::chrono::ceil<milliseconds>(until - std::chrono::steady_clock::now());
     if (left.count() <= 0) return false;
-    ready =
-        ::poll(fds.data(), fds.size(), static_cast<int>(std::min(left, kInterruptPoll).count()));
-    if (ready > 0) break;
-    if (ready < 0 && errno != EINTR) break;
+    if (::poll(fds.data(), fds.size(), static_cast<int>(std::min(left, kInterruptPoll).count())) >
+        0)
+      break;
   }
   for (std::size_t k = 0; k < fds.size(); ++k) {
     if (fds[k].revents == 0) continue;
@@ -221,24 +227,21 @@ void DirectExchange::silence(long n, milliseconds waited) {
     if (other.waiting_for == slow->p->role())
       waiters += (waiters.empty() ? "" : ", ") + other.p->role();
   std::ostringstream s;
-  s << "no reply within " << waited.count()
-    << " ms (no new step report; its last step report was for macro step " << slow->reported;
+  s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
+    << slow->reported;
+  // A node that keeps its stream busy without reporting a step.
+  if (slow->idle_frames > 0)
+    s << "; since then it sent " << slow->idle_frames << " report frame(s) without a step report";
+  if (const std::size_t part = slow->p->connection().partial_bytes(); part > 0)
+    s << "; it has sent " << part << " byte(s) of a frame it has not finished";
   if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
   s << ")";
   slow->p->fail_at(n, s.str());
 }
 
 std::vector<StepResult> DirectExchange::advance(long n) {
-  // The deadline is for step reports, not bytes: a node that trickles bytes
-  // or sends empty report frames does not extend it. It starts again when
-  // any node reports a step it had not reported.
-  auto reported = [&] {
-    long sum = 0;
-    for (const Node& node : nodes_) sum += node.reported;
-    return sum;
-  };
-  long seen = reported();
-  auto since = std::chrono::steady_clock::now();
+  step_ = n;
+  const auto waiting_since = std::chrono::steady_clock::now();
   while (true) {
     bool ready = true;
     for (const Node& node : nodes_) ready = ready && !node.reports.empty();
@@ -263,41 +266,56 @@ std::vector<StepResult> DirectExchange::advance(long n) {
         fail_with(*f);
         continue;
       }
-      for (Node& node : nodes_)
-        if (node.reports.empty() && !node.done_reason.empty())
-          node.p->fail_at(n, "stopped at macro step " + std::to_string(node.done_step) + ": " +
-                                 node.done_reason);
+      check_window_end(n);
       grant(n);
       continue;
     }
+    // One deadline for the next step report, however the node's bytes come.
     const milliseconds limit = progress();
     const auto now = std::chrono::steady_clock::now();
-    if (reported() != seen) {
-      seen = reported();
-      since = now;
-    }
-    const auto left = limit - std::chrono::duration_cast<milliseconds>(now - since);
-    if (left.count() <= 0 || !read(left, n)) silence(n, limit);
+    const auto deadline = std::max(last_useful_, waiting_since) + limit;
+    if (now >= deadline) silence(n, limit);
+    read(std::chrono::ceil<milliseconds>(deadline - now));
   }
 }
 
+namespace {
+
+// Lower is nearer the root cause.
+int rank(bool step_failure, int sender, bool closed, bool peer_failed) {
+  if (step_failure || sender >= 0) return 0;
+  if (closed) return 1;
+  return peer_failed ? 3 : 2;
+}
+
+}  // namespace
+
 const DirectExchange::Node* DirectExchange::culprit(long n, bool any_step) const {
-  // By root cause: a node whose own step failed, then a node that closed
-  // its connection, then one that failed for a reason of its own (bad data
-  // from a peer, named in its message), and only then one that merely lost
-  // a peer link; within each, the first in load order.
-  auto due = [&](const Node& node) { return node.failed && (any_step || node.fail_step <= n); };
-  const std::function<bool(const Node&)> ranks[] = {
-      [](const Node& x) { return x.step_failure; }, [](const Node& x) { return x.closed; },
-      [](const Node& x) { return !x.peer_failed; }, [](const Node&) { return true; }};
-  for (const auto& rank : ranks)
-    for (const Node& node : nodes_)
-      if (due(node) && rank(node)) return &node;
-  return nullptr;
+  bool due = false;
+  for (const Node& node : nodes_)
+    due = due || (node.failed && (any_step || node.fail_step <= n || node.reports.empty()));
+  if (!due) return nullptr;
+  const Node* best = nullptr;
+  int best_rank = 4;
+  for (const Node& node : nodes_) {
+    if (!node.failed) continue;
+    const int r = rank(node.step_failure, node.sender, node.closed, node.peer_failed);
+    if (r < best_rank) {
+      best = &node;
+      best_rank = r;
+    }
+  }
+  return best;
 }
 
 void DirectExchange::fail_with(const Node& node) {
   if (node.step_failure) throw StepFailure(node.fail_text);
+  if (node.sender >= 0) {
+    const Node& from = nodes_[static_cast<std::size_t>(node.sender)];
+    throw NodeFailure(from.p->failure_text(
+        node.fail_step,
+        "the " + node.p->role() + " participant refused its data (" + node.fail_text + ")"));
+  }
   if (!node.peer_failed) throw NodeFailure(node.fail_text);
   const auto now = std::chrono::steady_clock::now();
   if (first_peer_failure_ == std::chrono::steady_clock::time_point{}) first_peer_failure_ = now;
@@ -306,7 +324,26 @@ void DirectExchange::fail_with(const Node& node) {
   bool open = false;
   for (const Node& x : nodes_) open = open || (x.in_window && !x.closed);
   if (left.count() <= 0 || !open) throw NodeFailure(node.fail_text);
-  read(left, node.fail_step);  // the culprit's own failure, if it comes, is preferred next time
+  read(left);  // the culprit's own failure, if it comes, is preferred next time
+}
+
+void DirectExchange::check_window_end(long n) {
+  if (window_end_ < 0) return;
+  // A node whose reports stop short of where it says its window ended.
+  for (Node& node : nodes_)
+    if (node.reports.empty() && node.reported < node.done_step)
+      node.p->fail_at(n, "its window ended at macro step " + std::to_string(node.done_step) +
+                             ", but its step reports stop at macro step " +
+                             std::to_string(node.reported));
+  for (Node& node : nodes_)
+    if (node.reports.empty() && !node.done_reason.empty())
+      node.p->fail_at(
+          n, "stopped at macro step " + std::to_string(node.done_step) + ": " + node.done_reason);
+  for (Node& node : nodes_)
+    if (node.reports.empty() && (node.done_step != window_end_ || n != window_end_))
+      node.p->fail_at(n, "ended its window at macro step " + std::to_string(node.done_step) +
+                             ", before the window's end at macro step " +
+                             std::to_string(window_end_) + ", without saying why");
 }
 
 void DirectExchange::drain() {
@@ -315,7 +352,7 @@ void DirectExchange::drain() {
     bool any = false;
     for (const Node& node : nodes_) any = any || (node.in_window && !node.closed);
     if (!any) return;
-    if (!read(milliseconds(200), -1)) continue;
+    if (!read(milliseconds(200))) continue;
     for (Node& node : nodes_) node.reports.clear();
   }
 }

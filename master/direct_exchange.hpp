@@ -59,23 +59,27 @@ class DirectExchange {
     bool failed = false;
     bool step_failure = false;
     bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
+    int sender = -1;           // the node whose data it rejected, if any
     std::string waiting_for;   // the peer it said it waits for
     std::chrono::steady_clock::time_point last_frame{};
+    long idle_frames = 0;  // report frames without a step report since its last one
     long fail_step = 0;
     std::string fail_text;
   };
   DirectExchange(std::vector<RemoteParticipant*> nodes, double bound, long total,
                  DirectOptions options);
   void grant(long n);
-  // Waits for frames from the nodes in a window; false on silence.
-  // Stops (std::runtime_error) when a stop signal is set, within one
-  // interrupt poll, naming macro step n (n < 0: none).
-  bool read(std::chrono::milliseconds timeout, long n);
+  // Waits up to `timeout` for frames from the nodes in a window and takes
+  // them; false when none came. Throws std::runtime_error once the stop
+  // flag (interrupt_signal()) is set: it looks every kInterruptPoll.
+  bool read(std::chrono::milliseconds timeout);
   void take(Node& node, const wire::Envelope& e);
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
-  // The failure that ends macro step n (or, with any_step, any failure): a
-  // failed step first, in load order, then a node that closed its
-  // connection, then the others. nullptr if none.
+  // The failure that ends macro step n (or, with any_step, any failure),
+  // ranked by root cause: a failed step or data rejected (blamed on its
+  // sender), then a node that closed its connection, then the others, then
+  // nodes that only lost a peer; in load order within a rank. nullptr if
+  // none is due yet (a failed node's reports not all taken).
   const Node* culprit(long n, bool any_step) const;
   // Throws the culprit's failure. A node that only lost a peer is given a
   // moment for the peer's own failure to arrive, which names the cause.
@@ -91,6 +95,16 @@ class DirectExchange {
   // relayed step); step_max before any is measured.
   std::chrono::milliseconds progress() const;
   std::chrono::steady_clock::duration slowest_gap_{0};
+  // The last frame that moved the run on (a step report or a window's
+  // reply): the deadline counts from it, so bytes that trickle in or empty
+  // report frames do not extend it.
+  std::chrono::steady_clock::time_point last_useful_{};
+  long step_ = 0;         // the macro step being waited for, for messages
+  long window_end_ = -1;  // of the window granted last (-1: none yet)
+  // After every node has ended its window: names the node that cannot give
+  // macro step n (its reports stop short, or it stopped early) unless all
+  // ended where the window ends.
+  void check_window_end(long n);
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 

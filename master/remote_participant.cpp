@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <thread>
 
 #include "auth.hpp"
 #include "wire.hpp"
@@ -18,19 +19,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
                                      const SubsystemConfig& config, RemoteTimeouts timeouts,
                                      std::optional<std::string> token)
     : address_(address), config_(config), timeouts_(timeouts), shape_(reply_shape(scene, config)) {
-  try {
-    conn_ = Connection::connect(address, timeouts.connect);
-  } catch (const NetError& e) {
-    throw NodeFailure(node_label(config) + ": " + e.what());
-  }
-  send(hello_envelope(config.participant.role, scene_fingerprint(scene)), false);
-  wire::Envelope reply;
-  try {
-    reply = conn_->receive(timeouts_.reply);
-  } catch (const NetError& e) {
-    fail(std::string("hello: ") + e.what());
-  }
-  in_flight_.clear();
+  const wire::Envelope reply = open_session(scene);
   if (reply.has_challenge()) {
     if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
     wire::Envelope auth;
@@ -53,6 +42,41 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
   channels_.history.assign(declared.history().begin(), declared.history().end());
   channels_.results.assign(declared.results().begin(), declared.results().end());
   check(declare_channels(shape_, channels_));
+}
+
+wire::Envelope RemoteParticipant::open_session(const Scene& scene) {
+  using Clock = std::chrono::steady_clock;
+  const auto give_up = Clock::now() + timeouts_.busy;
+  auto pause = std::chrono::milliseconds(50);
+  while (true) {
+    try {
+      conn_ = Connection::connect(address_, timeouts_.connect);
+    } catch (const NetError& e) {
+      throw NodeFailure(node_label(config_) + ": " + e.what());
+    }
+    send(hello_envelope(config_.participant.role, scene_fingerprint(scene)), false);
+    wire::Envelope reply;
+    try {
+      reply = conn_->receive(timeouts_.reply);
+    } catch (const NetError& e) {
+      fail(std::string("hello: ") + e.what());
+    }
+    in_flight_.clear();
+    if (!reply.has_error() || reply.error().code() != wire::Error::BUSY) return reply;
+    conn_->close();
+    const auto now = Clock::now();
+    if (now >= give_up)
+      fail("hello failed: BUSY: " + reply.error().message() + " (asked again for " +
+           std::to_string(timeouts_.busy.count()) + " ms)");
+    // Sleep in slices, so that a stop signal is seen within one.
+    const auto nap = std::min(pause, std::chrono::ceil<std::chrono::milliseconds>(give_up - now));
+    for (auto slept = std::chrono::milliseconds(0); slept < nap; slept += kInterruptPoll) {
+      if (const int sig = interrupt_signal())
+        fail("interrupted by signal " + std::to_string(sig) + " while the node was busy");
+      std::this_thread::sleep_for(std::min(kInterruptPoll, nap - slept));
+    }
+    pause = std::min(pause * 2, std::chrono::milliseconds(500));
+  }
 }
 
 RemoteParticipant::~RemoteParticipant() {

@@ -21,7 +21,11 @@ namespace railcosim {
 // [step_min, step_max]; before the first step is timed, step_max applies.
 struct RemoteTimeouts {
   std::chrono::milliseconds connect{10000};  // with retries: a node may still be starting
-  std::chrono::milliseconds reply{10000};    // hello, configure and every other request
+  // A node that answers the hello with BUSY (another client holds it: a
+  // session, or a connection that has not said hello yet, which a node
+  // keeps for at most 10 s) is asked again for this long.
+  std::chrono::milliseconds busy{20000};
+  std::chrono::milliseconds reply{10000};  // hello, configure and every other request
   std::chrono::milliseconds step_min{2000};
   std::chrono::milliseconds step_max{30000};
   double step_factor = 50.0;
@@ -96,6 +100,10 @@ class RemoteParticipant final : public Participant {
   wire::Envelope request(wire::Envelope e, wire::Envelope::BodyCase expected);
   // Sends inputs held back by set_inputs() as a message of their own.
   void flush_inputs();
+
+  // Connects and says hello, again while the node answers BUSY; returns its
+  // reply to the hello. Throws NodeFailure.
+  wire::Envelope open_session(const Scene& scene);
 
   Address address_;
   SubsystemConfig config_;

@@ -169,6 +169,8 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
           plan.out / std::filesystem::path(run.folder).parent_path();
       // The writer outlives a failure, so that a failed run keeps its history.
       std::optional<RunWriter> writer;
+      long steps_done = 0;  // for the summary of a run that fails
+      o.on_progress = [&steps_done](long d, long) { steps_done = d; };
       try {
         writer.emplace(prefix, run.case_name);
         o.stop = opt.stop;
@@ -199,7 +201,8 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
       } catch (const std::exception& e) {
         log->error("{} failed: {}", run.folder, e.what());
         try {
-          const RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
+          RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
+          failed.macro_steps = steps_done;
           if (writer)
             writer->finish(failed);
           else

@@ -99,6 +99,7 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
   wire::Error::Code code = wire::Error::INTERNAL;
   std::string message;
+  std::string sender;
   try {
     return dispatch(request, close);
   } catch (const ProtocolError& e) {
@@ -114,18 +115,20 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
     code = wire::Error::BAD_REQUEST;
     message = e.what();
   } catch (const LinkError& e) {
-    // Everything that goes wrong on a peer link is PEER_FAILED; the message
-    // says which (a peer that sent data this node refuses is named as its
-    // sender: "the R participant at HOST:PORT sent ...").
+    // Everything that goes wrong on a peer link is PEER_FAILED; a peer whose
+    // data or frames this node refuses is named in `sender`, the root cause.
     code = wire::Error::PEER_FAILED;
     message = e.what();
+    sender = e.sender();
   } catch (const std::exception& e) {
     message = std::string("internal error: ") + e.what();
   }
   // Any error ends the session.
   close = true;
-  return error_envelope(request.id(), code, message, step_,
-                        step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  wire::Envelope reply = error_envelope(request.id(), code, message, step_,
+                                        step_ < 0 ? 0.0 : static_cast<double>(step_) * macro_step_);
+  reply.mutable_error()->set_sender(sender);
+  return reply;
 }
 
 wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {

@@ -63,9 +63,15 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
     // can name the one that hangs; the wait goes on to the link's deadline.
     wire::Envelope e;
     const auto patience = std::chrono::milliseconds(50);
-    for (auto waited = std::chrono::milliseconds(0);; waited += patience) {
+    const auto started = Clock::now();
+    for (bool first = true;; first = false) {
+      const auto waited =
+          std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
+      if (waited >= timeout_)
+        throw LinkError(LinkError::Kind::kTimeout, l.channel->what() + " sent nothing within " +
+                                                       std::to_string(timeout_.count()) + " ms");
       try {
-        e = l.channel->receive(std::min(patience, timeout_));
+        e = l.channel->receive(std::min(patience, timeout_ - waited));
         break;
       } catch (const LinkError& x) {
         if (x.kind() != LinkError::Kind::kTimeout) throw;
@@ -75,7 +81,7 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
                               std::to_string((waited + patience).count()) + " ms (the link's " +
                               "deadline), while this participant waited for macro step " +
                               std::to_string(need));
-        if (waited.count() == 0 && report_) flush(id_, *report_, l.plan.peer);
+        if (first && report_) flush(id_, *report_, l.plan.peer);
         if (abandoned_ && *abandoned_ && (*abandoned_)())
           throw LinkError(LinkError::Kind::kClosed,
                           "the master closed the session while this participant waited for " +
@@ -84,7 +90,8 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
     }
     if (!e.has_peer_data())
       throw LinkError(LinkError::Kind::kProtocol,
-                      l.channel->what() + " sent " + body_name(e) + " on its peer link" + at());
+                      l.channel->what() + " sent " + body_name(e) + " on its peer link" + at(),
+                      l.plan.peer);
     take(l, e.peer_data());
   }
   return true;
@@ -97,7 +104,8 @@ std::string WindowRunner::at() const {
 
 void WindowRunner::take(Link& l, const wire::PeerData& d) {
   auto bad = [&](const std::string& what) {
-    return LinkError(LinkError::Kind::kProtocol, l.channel->what() + " sent " + what + at());
+    return LinkError(LinkError::Kind::kProtocol, l.channel->what() + " sent " + what + at(),
+                     l.plan.peer);
   };
   const long p = d.point();  // wide enough for any value on the wire
   const bool data = d.data().interfaces_size() > 0;
@@ -149,12 +157,19 @@ void WindowRunner::set_inputs(long n, bool fresh) {
   try {
     sub_.set_inputs(n, inputs(fresh));
   } catch (const BadInputError& e) {
-    // Inputs that do not fit come from the peers: name them.
-    std::string from;
-    for (const Link& l : links_) from += (from.empty() ? "" : ", ") + l.channel->what();
-    throw LinkError(LinkError::Kind::kProtocol, "the data of " + from + " for macro step " +
-                                                    std::to_string(n) +
-                                                    " was rejected: " + e.what());
+    // The data came from a peer: name it (the one with a value that is not
+    // finite, else the only one), so that the master blames the sender.
+    const Link* from = links_.size() == 1 ? &links_.front() : nullptr;
+    for (const Link& l : links_)
+      for (const InterfaceData& d : fresh&& l.plan.refreshes ? l.fresh : l.data)
+        for (const auto* v : {&d.displacement, &d.velocity, &d.force})
+          for (double x : *v)
+            if (!std::isfinite(x)) from = &l;
+    throw LinkError(LinkError::Kind::kProtocol,
+                    (from ? from->channel->what() : std::string("a peer")) +
+                        " sent data for macro step " + std::to_string(n) +
+                        " that this participant rejects: " + e.what(),
+                    from ? from->plan.peer : std::string());
   }
 }
 

@@ -71,8 +71,8 @@ class WindowRunner {
   // " at macro step N (t = ... s)", for errors.
   std::string at() const;
   CouplingData inputs(bool fresh) const;
-  // The participant's inputs for step n from the links; a rejection is a
-  // LinkError (kProtocol) naming the peers.
+  // Sets the inputs of macro step n from the peers' data; data the
+  // participant rejects is a LinkError naming the peer that sent it.
   void set_inputs(long n, bool fresh);
   void flush(std::uint64_t id, const std::function<void(const std::string&)>& report,
              const std::string& waiting_for = "");

@@ -78,6 +78,8 @@ class Connection {
   int fd() { return socket_.native_handle(); }
   // A frame already read and buffered, if any. Throws NetError(kProtocol).
   bool next_buffered(wire::Envelope& out);
+  // Bytes of a frame begun but not yet whole.
+  std::size_t partial_bytes() const { return decoder_.buffered(); }
   // One read of what the socket holds now, without waiting; false when the
   // peer has closed the connection. Throws NetError(kIo).
   bool read_now();

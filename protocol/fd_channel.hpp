@@ -7,6 +7,7 @@
 #include <chrono>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wire.hpp"
@@ -18,11 +19,15 @@ namespace railcosim {
 class LinkError : public std::runtime_error {
  public:
   enum class Kind { kClosed, kTimeout, kIo, kProtocol };
-  LinkError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  LinkError(Kind kind, const std::string& what, std::string sender = "")
+      : std::runtime_error(what), kind_(kind), sender_(std::move(sender)) {}
   Kind kind() const { return kind_; }
+  // The participant whose data or frames were refused ("" if none is to blame).
+  const std::string& sender() const { return sender_; }
 
  private:
   Kind kind_;
+  std::string sender_;
 };
 
 class FdChannel {

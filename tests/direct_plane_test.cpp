@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
 #include "auth.hpp"
@@ -234,6 +235,66 @@ TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefuse
   const std::string why = refusal(failed, wire::Error::TIMEOUT);
   EXPECT_NE(why.find("from vehicle did not open within 1500 ms"), std::string::npos) << why;
   EXPECT_NE(why.find("refused meanwhile"), std::string::npos) << why;
+}
+
+// A peer that opens its link and then stays silent: the window fails after
+// the link's deadline, and the message states that deadline (it once said
+// 50 ms, the length of one slice of the wait).
+TEST_F(PeerRefusal, ASilentPeerIsReportedWithTheRealWait) {
+  auto vehicle = Connection::connect(server_->local_address(), milliseconds(5000));
+  const wire::Envelope challenge = peer_hello("vehicle", session_, *vehicle);
+  ASSERT_TRUE(challenge.has_challenge()) << body_name(challenge);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+  vehicle->send(auth);
+  ASSERT_TRUE(vehicle->receive(milliseconds(5000)).has_hello_reply());
+  const auto t0 = Clock::now();
+  wire::Envelope reply;
+  do reply = master_->receive(milliseconds(5000));
+  while (reply.has_reports());
+  const std::string why = refusal(reply, wire::Error::PEER_FAILED);
+  EXPECT_NE(why.find("the vehicle participant sent nothing within 1500 ms"), std::string::npos)
+      << why;
+  EXPECT_GT(Clock::now() - t0, milliseconds(1300));
+}
+
+// A peer whose data at point 1 holds a NaN: the node refuses it naming the
+// sender, and the step report it had computed still reaches the master
+// before the error (the reports not yet sent were once lost).
+TEST_F(PeerRefusal, BadDataFromAPeerIsBlamedOnItAndTheReportsAreKept) {
+  auto vehicle = Connection::connect(server_->local_address(), milliseconds(5000));
+  const wire::Envelope challenge = peer_hello("vehicle", session_, *vehicle);
+  ASSERT_TRUE(challenge.has_challenge()) << body_name(challenge);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+  vehicle->send(auth);
+  ASSERT_TRUE(vehicle->receive(milliseconds(5000)).has_hello_reply());
+  // Data of the right shape: the vehicle's own outputs at rest.
+  const SubsystemConfig cfg = test::config_of(scene_, "rs-xx-jacobi", "vehicle");
+  Subsystem sub(scene_, cfg);
+  InterfaceData data = sub.initialize(zero_inputs(scene_, cfg.participant)).outputs[0];
+  for (long point = 0; point < 2; ++point) {
+    if (point == 1)
+      for (auto* v : {&data.displacement, &data.velocity, &data.force})
+        if (!v->empty()) v->front() = std::numeric_limits<double>::quiet_NaN();
+    wire::Envelope e;
+    e.mutable_peer_data()->set_point(point);
+    to_wire(data, e.mutable_peer_data()->mutable_data()->add_interfaces());
+    vehicle->send(e);
+  }
+  long reported = 0;
+  wire::Envelope reply;
+  do {
+    reply = master_->receive(milliseconds(5000));
+    for (const auto& r : reply.reports().reports()) reported = static_cast<long>(r.step());
+  } while (reply.has_reports());
+  EXPECT_EQ(reported, 1) << "the report of the step done before the bad data was lost";
+  const std::string why = refusal(reply, wire::Error::PEER_FAILED);
+  EXPECT_NE(why.find("the vehicle participant sent data for macro step 1 that this participant "
+                     "rejects: "),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("inputs rejected: non-finite"), std::string::npos) << why;
 }
 
 // A vehicle node without the secret that the track node requires: the run

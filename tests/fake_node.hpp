@@ -5,6 +5,7 @@
 
 #include <utility>  // before Asio: its headers use std::exchange
 
+#include <poll.h>
 #include <sys/socket.h>
 
 #include <atomic>
@@ -25,8 +26,15 @@ class FakeNode {
   // drip interval) instead of sending it whole.
   using Edit = std::function<bool(const wire::Envelope& request, wire::Envelope& reply)>;
 
-  FakeNode(std::string role, Edit edit, std::chrono::milliseconds drip = {})
-      : edit_(std::move(edit)), drip_(drip), acceptor_(io_) {
+  // The direct data plane: a window's report frames go through this, which
+  // sends them on the socket `fd` as it likes (whole, dripped, or not at
+  // all) and should return soon once `stop` is set. Unset: the node does not
+  // offer the direct data plane.
+  using Reports =
+      std::function<void(int fd, const std::string& frame, const std::atomic<bool>& stop)>;
+
+  FakeNode(std::string role, Edit edit, std::chrono::milliseconds drip = {}, Reports reports = {})
+      : edit_(std::move(edit)), drip_(drip), reports_(std::move(reports)), acceptor_(io_) {
     options_.role = std::move(role);
     options_.name = "fake_node";
     using boost::asio::ip::tcp;
@@ -62,6 +70,14 @@ class FakeNode {
 
   void serve_session(boost::asio::ip::tcp::socket& s) {
     NodeSession session(options_);
+    if (reports_) {
+      const int fd = s.native_handle();
+      session.set_report_sink([this, fd](const std::string& frame) { reports_(fd, frame, stop_); });
+      session.set_master_gone([this, fd] {
+        pollfd p{fd, POLLRDHUP, 0};
+        return stop_ || (::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP)) != 0);
+      });
+    }
     FrameDecoder decoder;
     std::array<char, 65536> buf{};
     boost::system::error_code ec;
@@ -92,6 +108,7 @@ class FakeNode {
   NodeOptions options_;
   Edit edit_;
   std::chrono::milliseconds drip_;
+  Reports reports_;
   boost::asio::io_context io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   Address address_;

@@ -42,6 +42,13 @@ std::thread start_master_until(const std::string& args, const fs::path& history,
   return t;
 }
 
+// The integer value of a top-level key of summary.json (-1 if absent).
+long json_long(const std::string& json, const std::string& key) {
+  const std::string k = "\"" + key + "\": ";
+  const auto at = json.find(k);
+  return at == std::string::npos ? -1 : std::stol(json.substr(at + k.size()));
+}
+
 TEST(MasterCli, MonolithicRunWritesTheThreeFiles) {
   const fs::path out = temp_dir("cli_mono");
   const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
@@ -170,6 +177,11 @@ TEST(MasterCli, ANodeKilledMidRunStopsTheMasterWithItsNameAddressAndStep) {
   const std::string summary = read_file(run.out / "rs-xx-jacobi" / "summary.json");
   EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("track node"), std::string::npos) << summary;
+  // The macro steps done, one per history row after t = 0 (a failed run
+  // once said 0).
+  const long rows = json_long(summary, "history_rows");
+  EXPECT_GT(rows, 200) << summary;
+  EXPECT_EQ(json_long(summary, "macro_steps"), rows - 1) << summary;
 }
 
 TEST(MasterCli, AHungNodeIsReportedWithinSeconds) {

@@ -306,5 +306,52 @@ TEST(TcpNodes, AnUnreachableNodeIsNamedWithItsAddress) {
   }
 }
 
+// A connection that says nothing holds a node (BUSY to everyone else) until
+// its hello deadline. The master asks again while the node is busy: the run
+// goes on once the blocker leaves (it once failed at the first BUSY) ...
+TEST(TcpNodes, TheMasterAsksABusyNodeAgainUntilTheBlockerLeaves) {
+  const Scene scene = test::paper_scene();
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  auto blocker = Connection::connect(track.address(), std::chrono::milliseconds(5000));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the node takes it as a session
+  std::thread leave([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));
+    blocker->close();
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    RemoteParticipant p(track.address(), scene, config_of(scene, "wr-xx-jacobi", "track"));
+    EXPECT_EQ(p.channels().results.size(), 1u);
+  } catch (const NodeFailure& e) {
+    ADD_FAILURE() << e.what();
+  }
+  leave.join();
+  EXPECT_GT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(400));
+}
+
+// ... and gives up after the stated time, naming the node and its address.
+TEST(TcpNodes, ANodeBusyForLongerThanTheRetryTimeIsNamed) {
+  const Scene scene = test::paper_scene();
+  LaunchedNode track("track_node", std::chrono::seconds(10));
+  auto blocker = Connection::connect(track.address(), std::chrono::milliseconds(5000));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  RemoteTimeouts t;
+  t.busy = std::chrono::milliseconds(500);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    RemoteParticipant p(track.address(), scene, config_of(scene, "wr-xx-jacobi", "track"), t);
+    ADD_FAILURE() << "a busy node took the session";
+  } catch (const NodeFailure& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("track node at " + track.address().str() + ": hello failed: BUSY"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("asked again for 500 ms"), std::string::npos) << msg;
+  }
+  const auto took = std::chrono::steady_clock::now() - t0;
+  EXPECT_GT(took, std::chrono::milliseconds(400));
+  EXPECT_LT(took, std::chrono::milliseconds(2000));
+}
+
 }  // namespace
 }  // namespace railcosim
