@@ -3,9 +3,11 @@
 it is and, on every other connection (the peer links other nodes open to
 it), rewrites one PeerData frame the node sends: the AT-th that carries
 data gets a non-finite value (MODE nan) or a point far in the future
-(MODE jump). The node behind it is the sender of the bad data.
+(MODE jump). The node behind it is the sender of the bad data; with
+DIRECTION "to", the frame rewritten is one its peer sends it instead, and
+the node behind the proxy is the receiver.
 
-  corrupt_proxy.py UPSTREAM_HOST:PORT PROTO_FILE MODE AT
+  corrupt_proxy.py UPSTREAM_HOST:PORT PROTO_FILE MODE AT [from|to]
 
 Prints "listening on 127.0.0.1:PORT", then serves until killed."""
 import importlib
@@ -19,6 +21,7 @@ import threading
 
 host, port = sys.argv[1].rsplit(":", 1)
 proto, mode, at = sys.argv[2], sys.argv[3], int(sys.argv[4])
+inbound = len(sys.argv) > 5 and sys.argv[5] == "to"
 out = tempfile.mkdtemp(prefix="corrupt_proxy_")
 folder, name = os.path.split(os.path.abspath(proto))
 subprocess.run(["protoc", "-I", folder, "--python_out", out, name], check=True)
@@ -96,7 +99,9 @@ while True:
     upstream = socket.create_connection((host, int(port)))
     for s in (client, upstream):
         s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-    threading.Thread(target=plain, args=(client, upstream), daemon=True).start()
-    threading.Thread(target=plain if first else rewriting, args=(upstream, client),
+    rewrite_in, rewrite_out = (not first and inbound), (not first and not inbound)
+    threading.Thread(target=rewriting if rewrite_in else plain, args=(client, upstream),
+                     daemon=True).start()
+    threading.Thread(target=rewriting if rewrite_out else plain, args=(upstream, client),
                      daemon=True).start()
     first = False

@@ -4,6 +4,7 @@
 # value, then a point far in the future. Each run fails (exit 1) naming the
 # soil participant as the sender, and history.csv keeps every step all
 # participants completed before it.
+# The same with the Python SDK's soil as the receiver of bad data.
 # Usage: peer_data_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 bin=$1
@@ -15,6 +16,9 @@ cleanup() {
   rm -rf "$work"
 }
 trap cleanup EXIT
+export RAILCOSIM_SDK_CACHE=$work/cache
+# The Python soil integrates with fixed micro steps: the soil scene with 10.
+sed -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$src/scenes/soil.toml" >"$work/soil10.toml"
 
 start() {  # NAME COMMAND...: sets $address from its "listening on" line
   local name=$1
@@ -29,20 +33,35 @@ start() {  # NAME COMMAND...: sets $address from its "listening on" line
   [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
 }
 
-check() {  # MODE EXPECTED_MESSAGE
-  start "soil-$1" "$bin/soil_node" --listen 127.0.0.1:0
+check() {  # NAME EXPECTED_MESSAGE SOIL DIRECTION BLAMED
+  if [[ ${3:-built-in} == python ]]; then
+    start "soil-$1" /usr/bin/python3 "$src/examples/python_soil/soil_participant.py" \
+      --config "$work/soil10.toml"
+  else
+    start "soil-$1" "$bin/soil_node" --listen 127.0.0.1:0
+  fi
   start "proxy-$1" /usr/bin/python3 "$src/tests/corrupt_proxy.py" "$address" \
-    "$src/protocol/railcosim.proto" "$1" 20
+    "$src/protocol/railcosim.proto" "${1%-sdk}" 20 "${4:-from}"
   local rc=0
-  "$bin/master" run --scene "$src/scenes/soil.toml" --case ss-xx-jacobi --node "soil=$address" \
+  local scene=$src/scenes/soil.toml
+  [[ $3 == python ]] && scene=$work/soil10.toml
+  "$bin/master" run --scene "$scene" --case ss-xx-jacobi --node "soil=$address" \
     --out "$work/$1" >"$work/$1.log" 2>&1 || rc=$?
   [[ $rc == 1 ]] || { echo "$1: exit $rc, expected 1"; cat "$work/$1.log"; exit 1; }
   grep -q "$2" "$work/$1.log" || { echo "$1: the sender is not named"; cat "$work/$1.log"; exit 1; }
   # Points 0..18 reached the peer whole: t = 0 and 19 macro steps, plus the header.
   local rows
   rows=$(wc -l <"$work/$1/ss-xx-jacobi/history.csv")
+  # The sender is blamed by the master (the error's sender field), not the receiver.
+  grep -q "^master: ss-xx-jacobi failed: $5 node" "$work/$1.log" ||
+    { echo "$1: the master does not blame the $5 node"; cat "$work/$1.log"; exit 1; }
   [[ $rows == 21 ]] || { echo "$1: history.csv has $rows lines, expected 21"; exit 1; }
 }
-check nan "the soil participant at [0-9.:]* sent a non-finite value for point 19"
-check jump "the soil participant at [0-9.:]* sent data for point 1000000019 where point 19 was due"
+check nan "the soil participant at [0-9.:]* sent a non-finite value for point 19" built-in from soil
+check jump "the soil participant at [0-9.:]* sent data for point 1000000019 where point 19 was due" \
+  built-in from soil
+# The Python SDK checks what it receives the same way.
+check nan-sdk "the vehicle participant.* sent a non-finite value for point 19" python to vehicle
+check jump-sdk "the vehicle participant.* sent data for point 1000000019 where point 19 was due" \
+  python to vehicle
 echo "bad peer data: refused, the sender named, the history kept"

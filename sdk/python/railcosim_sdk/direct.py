@@ -7,6 +7,8 @@ import select
 import socket
 import time
 
+import numpy as np
+
 from . import packed
 from .session import auth_answer
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
@@ -252,22 +254,55 @@ class Plane:
                     raise ProtocolError(E.PEER_FAILED, "the peer link to %s: %s" % (
                         l.chan.what, x))
             if not e.HasField("peer_data"):
-                raise ProtocolError(E.PEER_FAILED, "%s sent %s on its peer link" % (
-                    l.chan.what, e.WhichOneof("body")))
+                raise self.refused(l, "%s on its peer link" % e.WhichOneof("body"))
             d = e.peer_data
+            self.check(l, d)
             if d.last and d.point < self.end:
                 self.end = d.point
                 self.why = "%s stops at macro step %d" % (l.chan.what, d.point)
             if not len(d.data.interfaces):
                 continue
-            if len(d.data.interfaces) != len(l.interfaces):
-                raise ProtocolError(E.PEER_FAILED, "%s sent %d interfaces on a link of %d" % (
-                    l.chan.what, len(d.data.interfaces), len(l.interfaces)))
             if d.refresh:
                 l.fresh, l.fresh_have = d.data.interfaces, d.point
             else:
                 l.data, l.have = d.data.interfaces, d.point
         return True
+
+    def refused(self, l, what):
+        return ProtocolError(E.PEER_FAILED, "%s sent %s at macro step %d (t = %g s)" % (
+            l.chan.what, what, self.point, self.point * self.s.H), sender=l.peer)
+
+    def check(self, l, d):
+        """Every number from a peer is checked before it is used: points go up
+        by one (the second sending after the first), a stop marker comes at
+        the last point sent or the next, the link's interfaces, finite values
+        (but in a diverging peer's last data)."""
+        p, data = d.point, len(d.data.interfaces) > 0
+        if not data and d.last:
+            if p < l.have or p > l.have + 1:
+                raise self.refused(l, "a stop marker for point %d, its data being at point %d"
+                                   % (p, l.have))
+        elif not data:
+            raise self.refused(l, "peer data for point %d with no values and no stop" % p)
+        elif d.refresh:
+            if not l.refreshes:
+                raise self.refused(l, "a second sending (refresh) on a link whose peer sends "
+                                   "once per step")
+            if p != l.fresh_have + 1 or p > l.have:
+                raise self.refused(l, "a second sending for point %d where point %d was due"
+                                   % (p, l.fresh_have + 1))
+        elif p != l.have + 1:
+            raise self.refused(l, "data for point %d where point %d was due" % (p, l.have + 1))
+        if not data:
+            return
+        if len(d.data.interfaces) != len(l.interfaces):
+            raise self.refused(l, "%d interfaces on a link of %d" % (
+                len(d.data.interfaces), len(l.interfaces)))
+        if not d.last:
+            for i in d.data.interfaces:
+                for a in packed.decode(i).values():
+                    if not np.isfinite(a).all():
+                        raise self.refused(l, "a non-finite value for point %d" % p)
 
     def gathered(self, fresh):
         data = [None] * len(self.s.interfaces)
@@ -284,6 +319,8 @@ class Plane:
         if not self.opened:
             self.open()
             self.point = s.step
+            for l in self.links:  # every link's data starts at the current point
+                l.have = l.fresh_have = s.step - 1
         if w.first_step != s.step:
             raise ProtocolError(E.OUT_OF_ORDER, "window from macro step %d, but this "
                                 "participant is at %d" % (w.first_step, s.step))

@@ -129,7 +129,7 @@ class Server:
                 master.send_error(0, E.BAD_FRAME, "the connection closed inside a frame",
                                   s.step, max(s.step, 0) * s.H)
         except ProtocolError as e:
-            master.send_error(req_id, e.code, str(e), s.step, max(s.step, 0) * s.H)
+            master.send_error(req_id, e.code, str(e), s.step, max(s.step, 0) * s.H, e.sender)
             print("session from %s: %s: %s" % (self.active, E.Code.Name(e.code), e),
                   file=sys.stderr, flush=True)
         except OSError as e:

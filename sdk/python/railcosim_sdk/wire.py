@@ -83,9 +83,10 @@ E = pb.Error  # codes: E.BAD_REQUEST, ...
 class ProtocolError(Exception):
     """Ends the session with Error{code, message}."""
 
-    def __init__(self, code, message):
+    def __init__(self, code, message, sender=""):
         super().__init__(message)
         self.code = code
+        self.sender = sender  # PEER_FAILED: the peer whose data were refused
 
 
 class LinkClosed(Exception):
@@ -154,10 +155,10 @@ class Channel:
         self.sock.settimeout(None)
         self.sock.sendall(struct.pack(">I", len(payload)) + payload)
 
-    def send_error(self, req_id, code, message, step=-1, t=0.0):
+    def send_error(self, req_id, code, message, step=-1, t=0.0, sender=""):
         try:
             self.send(pb.Envelope(id=req_id, error=pb.Error(code=code, message=message,
-                                                             step=step, t=t)))
+                                                             step=step, t=t, sender=sender)))
         except OSError:
             pass
 
