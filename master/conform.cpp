@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "auth.hpp"
+#include "conform_peer.hpp"
 #include "cosim_case.hpp"
 #include "model.hpp"
 #include "remote_participant.hpp"
@@ -288,6 +289,10 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
       for (auto* v : {&d.displacement, &d.velocity, &d.force})
         if (!v->empty()) v->pop_back();
     return refuses(s, bad);
+  });
+  item("§17", "peer links: a wrong session key and an unexpected peer are refused", [&] {
+    auto c = initialized(s);
+    return check_peer_refusals(*c, s.config, options);
   });
   item("§17", "a whole run on the direct data plane equals the relayed run bit for bit", [&] {
     const auto out = std::filesystem::temp_directory_path() /

@@ -147,8 +147,7 @@ void WindowRunner::take(Link& l, const wire::PeerData& d) {
     for (const InterfaceData& i : values)
       for (const auto* v : {&i.displacement, &i.velocity, &i.force})
         for (double x : *v)
-          if (!std::isfinite(x))
-            throw bad("a non-finite value for point " + std::to_string(p));
+          if (!std::isfinite(x)) throw bad("a non-finite value for point " + std::to_string(p));
   (d.refresh() ? l.fresh : l.data) = std::move(values);
   (d.refresh() ? l.fresh_have : l.have) = p;
 }

@@ -15,6 +15,7 @@ from .wire import E, Channel, LinkClosed, ProtocolError
 
 HELLO_SECONDS = 10.0
 IDLE_SECONDS = 60.0
+ENDING_SECONDS = 0.5  # how long a new connection waits for a session that is ending
 
 
 class Inbox:
@@ -66,6 +67,7 @@ class Server:
         self.active = None  # the master's address while a session runs
         self.inbox = None
         self.lock = threading.Lock()
+        self.ended = threading.Condition(self.lock)  # a session has ended
 
     def address(self):
         return "%s:%d" % self.sock.getsockname()[:2]
@@ -73,18 +75,24 @@ class Server:
     def acceptor(self):
         while True:
             conn, addr = self.sock.accept()
-            with self.lock:
-                if self.active is None:
-                    self.active = "%s:%d" % addr[:2]
-                    self.sessions.put(conn)
-                    continue
-                if self.inbox is not None and self.inbox.offer(conn):
-                    continue
-                active = self.active
-            ch = Channel(conn, "%s:%d" % addr[:2])
-            ch.send_error(0, E.BUSY, "this participant already serves a session (from %s)"
-                          % active)
-            ch.close()
+            threading.Thread(target=self.admit, args=(conn, addr), daemon=True).start()
+
+    def admit(self, conn, addr):
+        with self.lock:
+            if self.inbox is not None and self.inbox.offer(conn):
+                return
+            # A session that has sent its last reply is ending: a master that
+            # saw that reply and connects again at once is not turned away.
+            self.ended.wait_for(lambda: self.active is None, timeout=ENDING_SECONDS)
+            if self.active is None:
+                self.active = "%s:%d" % addr[:2]
+                self.sessions.put(conn)
+                return
+            active = self.active
+        ch = Channel(conn, "%s:%d" % addr[:2])
+        ch.send_error(0, E.BUSY, "this participant already serves a session (from %s)"
+                      % active)
+        ch.close()
 
     def run(self):
         threading.Thread(target=self.acceptor, daemon=True).start()
@@ -95,6 +103,7 @@ class Server:
             finally:
                 with self.lock:  # before the close: a master that saw it may come back
                     self.active, self.inbox = None, None
+                    self.ended.notify_all()
                 conn.close()
 
     def session(self, conn):
