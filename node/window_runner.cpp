@@ -78,7 +78,7 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
         if (waited + patience >= timeout_)  // the whole wait, not its last slice
           throw LinkError(LinkError::Kind::kTimeout,
                           l.channel->what() + " sent nothing within " +
-                              std::to_string((waited + patience).count()) + " ms (the link's " +
+                              std::to_string(timeout_.count()) + " ms (the link's " +
                               "deadline), while this participant waited for macro step " +
                               std::to_string(need));
         if (first && report_) flush(id_, *report_, l.plan.peer);

@@ -25,7 +25,7 @@ serve() {  # NAME PROGRAM [ARGS]: starts a node, sets $address
   shift
   "$@" --listen 127.0.0.1:0 >"$work/$name.out" 2>"$work/$name.err" &
   pids+=($!)
-  for _ in $(seq 100); do
+  for _ in $(seq 400); do
     grep -q '^listening on ' "$work/$name.out" && break
     sleep 0.05
   done

@@ -30,7 +30,7 @@ grep -q '^micro_steps = 10' "$work/soil.toml"
 
 "$work/soil-build/cpp_soil" --listen 127.0.0.1:0 >"$work/participant.out" 2>"$work/participant.err" &
 participant=$!
-for _ in $(seq 100); do
+for _ in $(seq 400); do
   grep -q '^listening on ' "$work/participant.out" && break
   sleep 0.1
 done

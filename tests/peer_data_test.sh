@@ -25,7 +25,7 @@ start() {  # NAME COMMAND...: sets $address from its "listening on" line
   shift
   "$@" >"$work/$name.out" 2>"$work/$name.err" &
   pids+=($!)
-  for _ in $(seq 200); do
+  for _ in $(seq 400); do
     grep -q '^listening on ' "$work/$name.out" && break
     sleep 0.05
   done

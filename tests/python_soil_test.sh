@@ -34,7 +34,7 @@ start() {  # NAME PROGRAM [options]: starts a participant; sets $address
     "$program" "$@" >"$work/$name.out" 2>"$work/$name.err" &
   fi
   pids+=($!)
-  for _ in $(seq 100); do
+  for _ in $(seq 400); do
     grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break
     sleep 0.1
   done
