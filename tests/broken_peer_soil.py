@@ -11,19 +11,18 @@ import sys
 
 src = sys.argv.pop(1)
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
-from railcosim_sdk import direct  # noqa: E402
-from railcosim_sdk.wire import Channel, pb, PROTOCOL_VERSION  # noqa: E402
+from railcosim_sdk import handshake  # noqa: E402
+from railcosim_sdk.wire import pb, PROTOCOL_VERSION  # noqa: E402
 
 
-def accept_anyone(self, sock, deadline):
-    ch = Channel(sock, "a connection")
-    e = ch.receive(1.0)
-    waiting = [l for l in self.links if not l.host and l.chan is None]
-    ch.send(pb.Envelope(id=e.id, hello_reply=pb.HelloReply(
-        protocol_version=PROTOCOL_VERSION, participant=self.s.p.name, name="broken")))
-    waiting[0].chan = ch
+def accept_anyone(self, c, e):
+    """Takes the first link still waiting for whoever says hello."""
+    c.ch.send(pb.Envelope(id=e.id, hello_reply=pb.HelloReply(
+        protocol_version=PROTOCOL_VERSION, participant=self.me, name="broken")))
+    self.waiting()[0].chan = c.ch
+    self.incoming.remove(c)
 
 
-direct.Plane.accept = accept_anyone
+handshake.Acceptor.advance = accept_anyone
 example = runpy.run_path(os.path.join(src, "examples", "python_soil", "soil_participant.py"))
 example["rc"].serve(example["LumpedSoil"]())

@@ -182,6 +182,41 @@ try:
         time.sleep(0.05)
     check("shutdown", m.send(shutdown=pb.Shutdown()).HasField("ack"))
     check("closed after shutdown", m.receive() is None)
+    # The accepting end under a flood: 100 connections that say nothing
+    # while the soil waits for its peer do not hold up the real peer, whose
+    # hello is answered (challenge, then HelloReply) within a second; a
+    # silent one is closed with TIMEOUT after its 2 s.
+    m, _ = configured()
+    m.send(initialize=pb.Initialize(inputs=data(4)))
+    links = pb.Links(session=b"f" * 16, timeout_ms=20000)
+    links.links.add(peer="track", interfaces=[0])
+    check("links for the flood", m.send(links=links).HasField("ack"))
+    m.id += 1
+    w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=1)).SerializeToString()
+    m.s.sendall(struct.pack(">I", len(w)) + w)
+    time.sleep(0.2)
+    silent = [socket.create_connection((host, int(port)), timeout=5) for _ in range(100)]
+    t0 = time.monotonic()
+    peer = Master()
+    c = peer.send(hello=pb.Hello(protocol_version=2, role="peer", participant="soil",
+                                 peer_of="track", session=b"f" * 16))
+    check("the real peer is challenged under a flood", c is not None and
+          c.HasField("challenge"), str(c))
+    r = peer.send(auth=pb.Auth(mac=auth_answer("s3cret", "soil", c.challenge.nonce)))
+    check("the real peer is answered under a flood", r is not None and
+          r.HasField("hello_reply") and r.hello_reply.participant == "soil", str(r))
+    check("within a second of 100 silent connections", time.monotonic() - t0 < 1.0,
+          "%.2f s" % (time.monotonic() - t0))
+    quiet = Master.__new__(Master)
+    quiet.s, quiet.buf, quiet.id = silent[0], b"", 0
+    late = quiet.receive()
+    check("a silent connection is closed after its handshake time", late is not None and
+          late.HasField("error") and late.error.code in (E.TIMEOUT, E.BUSY), str(late))
+    for x in silent:
+        x.close()
+    peer.s.close()
+    m.s.close()
+    time.sleep(0.3)
     # The direct plane, the connecting end (here the soil connects to a
     # stand-in for the track): hello as a peer, the challenge answered with
     # the shared secret naming the track, PeerData at points 0 and 1, the

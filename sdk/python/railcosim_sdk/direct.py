@@ -1,8 +1,6 @@
 """The direct data plane (docs/protocol.md §17): Links, peer links, and the
 Window the participant runs on its own, streaming its reports."""
 
-import hmac
-import secrets
 import select
 import socket
 import time
@@ -10,6 +8,7 @@ import time
 import numpy as np
 
 from . import packed
+from .handshake import Acceptor
 from .session import auth_answer
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
 
@@ -77,34 +76,25 @@ class Plane:
 
     def open(self):
         deadline = time.monotonic() + self.timeout
+        acceptor = Acceptor(self.s.p.name, self.s.name, self.key, self.s.token, self.links,
+                            self.inbox)
         try:
             for l in self.links:
                 if l.host:
                     l.chan = self.connect(l, deadline)
-            refused = []
             while any(l.chan is None for l in self.links):
-                left = deadline - time.monotonic()
-                sock = self.inbox.take(min(left, 0.1)) if left > 0 else None
                 if self.master_gone():
-                    if sock is not None:
-                        late = Channel(sock, "a late connection")
-                        late.send_error(0, E.BUSY, "this participant is ending a session; "
-                                        "connect again")
-                        late.close()
+                    acceptor.close(E.BUSY, "this participant is ending a session; connect again")
                     raise ProtocolError(E.PEER_FAILED, "the master ended the session while the "
                                         "peer links were opening")
-                if sock is None and time.monotonic() < deadline:
-                    continue
-                if sock is None:
+                if time.monotonic() >= deadline:
+                    acceptor.close(E.TIMEOUT, "the links' time is up")
                     missing = ", ".join(l.peer for l in self.links if l.chan is None)
                     raise ProtocolError(E.TIMEOUT, "the peer link(s) from %s did not open within "
                                         "%d ms%s" % (missing, self.timeout * 1000, (
-                                            " (refused meanwhile: %s)" % "; ".join(refused))
-                                            if refused else ""))
-                try:
-                    self.accept(sock, deadline)
-                except (ProtocolError, OSError, LinkClosed) as e:
-                    refused.append(str(e))
+                                            " (refused meanwhile: %s)" % "; ".join(
+                                                acceptor.refused)) if acceptor.refused else ""))
+                acceptor.poll(min(0.05, max(deadline - time.monotonic(), 0.001)))
         finally:
             self.inbox.stop_waiting()
         for l in self.links:
@@ -149,44 +139,6 @@ class Plane:
             raise ProtocolError(E.WRONG_ROLE, "peer link to %s: the program there does not "
                                 "serve %s" % (who, l.peer))
         return ch
-
-    def accept(self, sock, deadline):
-        ch = Channel(sock, "a connection from %s:%d" % sock.getpeername()[:2])
-        e = ch.receive(max(deadline - time.monotonic(), 0.001))
-
-        def refuse(code, why):
-            ch.send_error(e.id, code, why)
-            ch.close()
-            raise ProtocolError(code, "%s: %s" % (ch.what, why))
-        me = self.s.p.name
-        if not e.HasField("hello") or e.hello.role != "peer":
-            refuse(E.BUSY, "this participant serves a session; it accepts nothing but its "
-                   "peer links")
-        h = e.hello
-        if h.participant != me:
-            refuse(E.WRONG_ROLE, "this program serves the %s participant, not the %s "
-                   "participant" % (me, h.participant))
-        expected = [l for l in self.links if not l.host and l.chan is None]
-        match = [l for l in expected if l.peer == h.peer_of]
-        if not match:
-            refuse(E.WRONG_ROLE, "this participant expects peer links from %s, not from the %s "
-                   "participant" % (", ".join(l.peer for l in expected) or "nobody",
-                                    h.peer_of))
-        if not hmac.compare_digest(h.session, self.key):
-            refuse(E.UNAUTHORIZED, "the session key of the %s participant is not this "
-                   "session's" % h.peer_of)
-        if self.s.token is not None:
-            nonce = secrets.token_bytes(32)
-            ch.send(pb.Envelope(challenge=pb.Challenge(nonce=nonce)))
-            a = ch.receive(max(deadline - time.monotonic(), 0.001))
-            if not a.HasField("auth") or not hmac.compare_digest(
-                    a.auth.mac, auth_answer(self.s.token, me, nonce)):
-                refuse(E.UNAUTHORIZED, "this participant requires the shared secret of its "
-                       "--token-file; the answer of the %s participant was missing or wrong"
-                       % h.peer_of)
-        ch.send(pb.Envelope(id=e.id, hello_reply=pb.HelloReply(
-            protocol_version=PROTOCOL_VERSION, participant=me, name=self.s.name)))
-        match[0].chan = ch
 
     def master_gone(self):
         """True when the master's connection has closed (it sends nothing
