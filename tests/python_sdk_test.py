@@ -184,7 +184,8 @@ try:
     check("closed after shutdown", m.receive() is None)
     # The accepting end under a flood: 100 connections that say nothing
     # while the soil waits for its peer do not hold up the real peer, whose
-    # hello is answered (challenge, then HelloReply) within a second; a
+    # hello is answered (challenge, then HelloReply) within 1.5 s (the old
+    # code: the whole link deadline); a
     # silent one is closed with TIMEOUT after its 2 s.
     m, _ = configured()
     m.send(initialize=pb.Initialize(inputs=data(4)))
@@ -205,7 +206,7 @@ try:
     r = peer.send(auth=pb.Auth(mac=auth_answer("s3cret", "soil", c.challenge.nonce)))
     check("the real peer is answered under a flood", r is not None and
           r.HasField("hello_reply") and r.hello_reply.participant == "soil", str(r))
-    check("within a second of 100 silent connections", time.monotonic() - t0 < 1.0,
+    check("within 1.5 s of 100 silent connections", time.monotonic() - t0 < 1.5,
           "%.2f s" % (time.monotonic() - t0))
     quiet = Master.__new__(Master)
     quiet.s, quiet.buf, quiet.id = silent[0], b"", 0
