@@ -53,8 +53,7 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
   SectionReader r(t, "irregularity", source);
   IrregularitySpec s;
   s.model = r.has("model") ? r.string("model") : "none";
-  r.set_unknown_hint("for model = \"" + s.model +
-                     "\" (see docs/vehicles.md)");
+  r.set_unknown_hint("for model = \"" + s.model + "\" (see docs/vehicles.md)");
   if (s.model == "random") {
     RandomProfileSpec& g = s.random;
     if (r.has("fra_class")) {
@@ -84,9 +83,13 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
     const std::string file = r.string("file");
     const std::filesystem::path base = std::filesystem::path(source).parent_path();
     s.csv_path = std::filesystem::path(file).is_absolute() ? file : (base / file).string();
-    const TableProfile table = TableProfile::load_csv(s.csv_path);
-    s.table_x = table.xs();
-    s.table_r = table.heights();
+    try {
+      const TableProfile table = TableProfile::load_csv(s.csv_path);
+      s.table_x = table.xs();
+      s.table_r = table.heights();
+    } catch (const SceneError& e) {
+      r.fail("file", e.what());
+    }
   } else if (s.model == "dipped_joint") {
     s.position = r.number("position");
     s.length = r.positive("length");

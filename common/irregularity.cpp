@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
+#include "scene_checks.hpp"
 #include "scene_error.hpp"
 
 namespace railcosim {
@@ -123,6 +125,19 @@ TableProfile::TableProfile(std::vector<double> x, std::vector<double> r, std::st
 }
 
 TableProfile TableProfile::load_csv(const std::string& path) {
+  // A profile is a regular file of bounded size: a device or a pipe (say
+  // /dev/zero) would be read without end.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status))
+    throw SceneError(path + ": cannot open the profile file (" +
+                     (ec ? ec.message() : std::string("no such file")) + ")");
+  if (!std::filesystem::is_regular_file(status))
+    throw SceneError(path + ": not a regular file (a profile is a CSV file of 'x_m,r_m' rows)");
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > static_cast<std::uintmax_t>(kMaxProfileFileBytes))
+    throw SceneError(path + ": " + std::to_string(bytes) + " bytes, more than the " +
+                     std::to_string(kMaxProfileFileBytes) + " a profile file may have");
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open the profile file");
   std::vector<double> xs, rs;

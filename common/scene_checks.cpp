@@ -53,6 +53,50 @@ void check_spread(const Scene& s, const std::vector<std::pair<const char*, doubl
   fail(s, worst->first, what);
 }
 
+// The rail profile's grid, its work and its depth, and the vehicle's path
+// over it: bounded before anything is laid out.
+void check_excitation(const Scene& s) {
+  const IrregularitySpec& irr = s.irregularity;
+  const auto [a, b] = s.wheel_path();
+  if (irr.model == "random") {
+    const RandomProfileSpec& g = irr.random;
+    // Without grid_step the parser sets wavelength_min / 20: blame the key
+    // the user wrote.
+    const bool given = g.grid_step > 0 && g.grid_step != g.wavelength_min / 20.0;
+    const double h = g.grid_step > 0 ? g.grid_step : g.wavelength_min / 20.0;
+    const char* key = given ? "irregularity.grid_step" : "irregularity.wavelength_min";
+    const double points = (b - a) / h + 1.0;
+    if (!(points <= kMaxProfilePoints))
+      fail(s, key,
+           "a grid step of " + text(h) + " m over the wheels' path of " + text(b - a) +
+               " m gives " + text(points) + " grid points, more than the " +
+               text(kMaxProfilePoints) + " a profile may hold (64 MiB)" +
+               (given ? "" : "; the grid step is wavelength_min / 20 unless grid_step is given"));
+    if (!(points * g.components <= kMaxProfileWork))
+      fail(s, given ? key : "irregularity.components",
+           text(points) + " grid points x " + std::to_string(g.components) +
+               " components = " + text(points * g.components) + ", more than the " +
+               text(kMaxProfileWork) + " a profile may cost to lay (about a second)");
+  } else if (irr.model == "dipped_joint") {
+    if (!(std::abs(irr.depth) <= kMaxProfileDepth))
+      fail(s, "irregularity.depth",
+           "a dip of " + text(irr.depth) + " m exceeds " + text(kMaxProfileDepth) +
+               " m in magnitude (a rail is 0.17 m high)");
+  } else if (irr.model == "sine") {
+    if (!(std::abs(irr.amplitude) <= kMaxProfileDepth))
+      fail(s, "irregularity.amplitude",
+           "an amplitude of " + text(irr.amplitude) + " m exceeds " + text(kMaxProfileDepth) +
+               " m in magnitude (a rail is 0.17 m high)");
+  } else if (irr.model == "csv") {
+    for (std::size_t i = 0; i < irr.table_r.size(); ++i)
+      if (!(std::abs(irr.table_r[i]) <= kMaxProfileDepth))
+        fail(s, "irregularity.file",
+             irr.csv_path + ": its value " + std::to_string(i + 1) + " is a height of " +
+                 text(irr.table_r[i]) + " m, more than " + text(kMaxProfileDepth) +
+                 " m in magnitude (a rail is 0.17 m high)");
+  }
+}
+
 }  // namespace
 
 std::string integer_range_error(std::int64_t value) {
@@ -131,6 +175,13 @@ void check_scene_derived(const Scene& s) {
     fail(s, "simulation.end_time",
          "end_time / macro_step = " + text(steps) + " macro steps, more than the " +
              std::to_string(kMaxMacroSteps) + " a run keeps in memory (some 50 bytes each)");
+  if (s.micro_steps > 0 && steps * s.micro_steps > kMaxFixedMicroSteps)
+    fail(s, "simulation.micro_steps",
+         text(steps) + " macro steps x " + std::to_string(s.micro_steps) +
+             " micro steps = " + text(steps * s.micro_steps) + " micro steps, more than the " +
+             text(kMaxFixedMicroSteps) +
+             " a run may take with fixed micro steps (lower it, or leave it out to adapt)");
+  check_excitation(s);
   // The static load, its Hertz compression and the deflection of the track
   // under it (Winkler beam: w0 = F beta / 2k): finite and positive, or the
   // static state, and everything after it, is not a number.
@@ -155,6 +206,11 @@ void check_scene_derived(const Scene& s) {
          "the static deflection of the track under the load (F beta / 2k, pads and ballast in "
          "series) is " +
              text(w0) + " m, not a finite positive number");
+  if (s.tolerance < kMinRelativeTolerance * w0)
+    fail(s, "simulation.tolerance",
+         text(s.tolerance) + " m is below " + text(kMinRelativeTolerance) +
+             " x the static deflection under the load (" + text(w0) +
+             " m): the error estimate of a micro step is round-off there and no step meets it");
   // The rail element's mass and bending stiffness, which the integrator
   // divides and multiplies by the square of its smallest step.
   const double le = s.element_length();

@@ -19,8 +19,27 @@ struct Scene;
 inline constexpr int kMaxSleepers = 20000;
 inline constexpr int kMaxElementsPerSpan = 16;
 // Macro steps of one run: the master keeps every history row in memory
-// (some 50 bytes each), so 10^7 steps are some 500 MB.
-inline constexpr long kMaxMacroSteps = 10'000'000;
+// (some 50 bytes each, more with many channels), so 10^6 steps are some 50 MB.
+inline constexpr long kMaxMacroSteps = 1'000'000;
+// Micro steps of a whole run when the scene fixes them (macro steps x
+// simulation.micro_steps): about 100 s of the paper's track on one core at
+// the measured 6 us per micro step. Adaptive runs are bounded per macro step
+// by the node's --max-micro-steps instead.
+inline constexpr double kMaxFixedMicroSteps = 16'777'216.0;
+// The smallest micro-step tolerance, relative to the static deflection under
+// the load: below it the error estimate is round-off (double precision,
+// 16 digits, on displacements of that size) and no step size meets it.
+inline constexpr double kMinRelativeTolerance = 1e-12;
+// A random rail profile is laid on a grid along the wheels' path: at most
+// this many grid points (two arrays of doubles: 64 MiB), and at most this many
+// grid points x spectral components (the work of laying it: about a second).
+inline constexpr double kMaxProfilePoints = 4'194'304.0;
+inline constexpr double kMaxProfileWork = 2e8;
+// A rail profile deeper or higher than this anywhere (m): a rail is 0.17 m
+// high, and a wheel lifted by more than its flange leaves the model's range.
+inline constexpr double kMaxProfileDepth = 0.1;
+// A CSV rail profile file is read whole: at most this many bytes.
+inline constexpr long kMaxProfileFileBytes = 64L * 1024 * 1024;
 // Every non-zero number of a scene lies within this magnitude window: the
 // model multiplies and divides a handful of them (mass over the square of a
 // micro step, stiffness over the cube of an element length, ...), and values

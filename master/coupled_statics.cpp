@@ -74,6 +74,8 @@ StaticsOutcome find_static_state(const std::vector<Participant*>& ps, const Rout
   const std::vector<int> kind = up.kinds(inputs);
   std::vector<double> x = up.flatten(inputs), r_prev;
   double omega = 1.0;  // the first sweep is taken whole
+  double best = INFINITY;
+  int best_iteration = 0;
   StaticsOutcome out;
   for (int it = 1; it <= o.max_iterations; ++it) {
     for (std::size_t p = 0; p < P; ++p) {
@@ -106,7 +108,12 @@ StaticsOutcome find_static_state(const std::vector<Participant*>& ps, const Rout
     }
     out.iterations = it;
     out.residual = worst;
-    if (worst <= o.tolerance) {
+    if (worst < 0.5 * best) {
+      best = worst;
+      best_iteration = it;
+    }
+    const bool stalled = it - best_iteration >= o.stall_iterations && worst <= o.floor_tolerance;
+    if (worst <= o.tolerance || stalled) {
       out.inputs = std::move(fresh);
       return out;
     }

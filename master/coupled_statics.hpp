@@ -17,6 +17,13 @@ struct StaticsOptions {
   // below which the iteration has converged; a few hundred ulps, so that the
   // static state matches a global solution to far better than 1e-9.
   double tolerance = 1e-13;
+  // A finer mesh solves each participant's statics less exactly (the rail
+  // elements' stiffness grows as the cube of their count per span), and the
+  // change stalls above `tolerance` at round-off: the iteration is then
+  // accepted once the change has not halved in `stall_iterations` and is
+  // below `floor_tolerance` (16 elements per span stall near 2e-12).
+  double floor_tolerance = 1e-9;
+  int stall_iterations = 20;
   int max_iterations = 1000;
 };
 
