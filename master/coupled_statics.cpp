@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "interface_values.hpp"
+#include "step_plan.hpp"
 #include "subsystem.hpp"
 
 namespace railcosim {
@@ -25,38 +27,27 @@ CouplingData zero_inputs(const Scene& scene, const ParticipantSpec& participant)
 
 namespace {
 
-// The upward values: every input a participant gets from a later one.
-struct Upward {
-  std::vector<std::pair<std::size_t, std::size_t>> slots;  // (participant, interface)
+// The values of the given links' receivers, from `data` (per participant).
+std::vector<InterfaceData> held(const StepPlan& plan, const std::vector<std::size_t>& links,
+                                const std::vector<CouplingData>& data) {
+  std::vector<InterfaceData> v;
+  for (std::size_t k : links) v.push_back(data[plan.links[k].p][plan.links[k].j]);
+  return v;
+}
 
-  std::vector<double> flatten(const std::vector<CouplingData>& data) const {
-    std::vector<double> x;
-    for (auto [p, j] : slots)
-      for (const auto* v : {&data[p][j].displacement, &data[p][j].velocity, &data[p][j].force})
-        x.insert(x.end(), v->begin(), v->end());
-    return x;
+// Which quantity each flattened entry is (0 displacement, 1 velocity, 2 force).
+std::vector<int> kinds(const std::vector<InterfaceData>& v) {
+  std::vector<int> q;
+  for (const InterfaceData& d : v) {
+    const auto a = arrays(d);
+    for (int k = 0; k < 3; ++k) q.insert(q.end(), a[static_cast<std::size_t>(k)]->size(), k);
   }
-  void scatter(const std::vector<double>& x, std::vector<CouplingData>& data) const {
-    std::size_t k = 0;
-    for (auto [p, j] : slots)
-      for (auto* v : {&data[p][j].displacement, &data[p][j].velocity, &data[p][j].force})
-        for (double& e : *v) e = x[k++];
-  }
-  // Which quantity each flattened entry is (0 displacement, 1 velocity, 2 force).
-  std::vector<int> kinds(const std::vector<CouplingData>& data) const {
-    std::vector<int> q;
-    for (auto [p, j] : slots) {
-      q.insert(q.end(), data[p][j].displacement.size(), 0);
-      q.insert(q.end(), data[p][j].velocity.size(), 1);
-      q.insert(q.end(), data[p][j].force.size(), 2);
-    }
-    return q;
-  }
-};
+  return q;
+}
 
-double dot(const std::vector<double>& a, const std::vector<double>& b) {
+double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   double s = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
   return s;
 }
 
@@ -65,42 +56,46 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 StaticsOutcome find_static_state(const std::vector<Participant*>& ps, const Routing& routing,
                                  std::vector<CouplingData> inputs, const StaticsOptions& o) {
   const std::size_t P = ps.size();
-  Upward up;
-  for (std::size_t p = 0; p < P; ++p)
-    for (std::size_t j = 0; j < routing[p].size(); ++j)
-      if (static_cast<std::size_t>(routing[p][j].participant) > p) up.slots.emplace_back(p, j);
+  // The sweep of a serial plan: in load order, each participant takes the
+  // fresh outputs of those before it; the values from those after it (up
+  // the load path) are the iterated unknowns.
+  const StepPlan plan = plan_steps(routing, {Scheme::kGaussSeidel, Feedthrough::kLagged, true},
+                                   std::vector<bool>(P, false));
+  std::vector<std::size_t> up;
+  for (std::size_t k = 0; k < plan.links.size(); ++k)
+    if (plan.links[k].iterated) up.push_back(k);
 
   std::vector<CouplingData> outputs(P);
-  const std::vector<int> kind = up.kinds(inputs);
-  std::vector<double> x = up.flatten(inputs), r_prev;
+  std::vector<InterfaceData> unknowns = held(plan, up, inputs);
+  const std::vector<int> kind = kinds(unknowns);
+  Eigen::VectorXd x = flatten(unknowns), r_prev;
   double omega = 1.0;  // the first sweep is taken whole
   double best = INFINITY;
   int best_iteration = 0;
   StaticsOutcome out;
   for (int it = 1; it <= o.max_iterations; ++it) {
-    for (std::size_t p = 0; p < P; ++p) {
-      for (std::size_t j = 0; j < routing[p].size(); ++j) {
-        const Route& r = routing[p][j];
-        const auto q = static_cast<std::size_t>(r.participant);
-        if (q < p) inputs[p][j] = outputs[q][static_cast<std::size_t>(r.interface)];
+    for (const std::vector<std::size_t>& stage : plan.stages)
+      for (std::size_t p : stage) {
+        for (std::size_t k : plan.into[p]) {
+          const PlanLink& l = plan.links[k];
+          if (l.source == LinkSource::kStepped) inputs[p][l.j] = outputs[l.q][l.i];
+        }
+        outputs[p] = ps[p]->statics(inputs[p]);
       }
-      outputs[p] = ps[p]->statics(inputs[p]);
-    }
     std::vector<CouplingData> fresh = inputs;
-    for (auto [p, j] : up.slots) {
-      const Route& r = routing[p][j];
-      fresh[p][j] =
-          outputs[static_cast<std::size_t>(r.participant)][static_cast<std::size_t>(r.interface)];
+    for (std::size_t k : up) {
+      const PlanLink& l = plan.links[k];
+      fresh[l.p][l.j] = outputs[l.q][l.i];
     }
-    const std::vector<double> x_tilde = up.flatten(fresh);
-    std::vector<double> res(x.size());
-    for (std::size_t k = 0; k < x.size(); ++k) res[k] = x_tilde[k] - x[k];
+    const Eigen::VectorXd x_tilde = flatten(held(plan, up, fresh));
+    Eigen::VectorXd res(x.size());
+    for (Eigen::Index k = 0; k < x.size(); ++k) res[k] = x_tilde[k] - x[k];
     // The relative change per quantity.
     double worst = 0;
     for (int q = 0; q < 3; ++q) {
       double rr = 0, xx = 0;
-      for (std::size_t k = 0; k < x.size(); ++k)
-        if (kind[k] == q) {
+      for (Eigen::Index k = 0; k < x.size(); ++k)
+        if (kind[static_cast<std::size_t>(k)] == q) {
           rr += res[k] * res[k];
           xx += x_tilde[k] * x_tilde[k];
         }
@@ -117,15 +112,19 @@ StaticsOutcome find_static_state(const std::vector<Participant*>& ps, const Rout
       out.inputs = std::move(fresh);
       return out;
     }
-    if (!r_prev.empty()) {
-      std::vector<double> d(res.size());
-      for (std::size_t k = 0; k < d.size(); ++k) d[k] = res[k] - r_prev[k];
+    // Aitken's dynamic factor (as accelerator.cpp's, with its sums taken in
+    // index order: see docs/architecture.md).
+    if (r_prev.size() > 0) {
+      Eigen::VectorXd d(res.size());
+      for (Eigen::Index k = 0; k < d.size(); ++k) d[k] = res[k] - r_prev[k];
       const double dd = dot(d, d);
       if (dd > 0) omega = -omega * dot(r_prev, d) / dd;
     }
-    for (std::size_t k = 0; k < x.size(); ++k) x[k] += omega * res[k];
+    for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += omega * res[k];
     r_prev = std::move(res);
-    up.scatter(x, inputs);
+    unflatten(x, unknowns);
+    for (std::size_t m = 0; m < up.size(); ++m)
+      inputs[plan.links[up[m]].p][plan.links[up[m]].j] = unknowns[m];
   }
   std::ostringstream s;
   s << "the coupled static state was not found: the interface values still changed by "

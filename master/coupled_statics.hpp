@@ -36,9 +36,10 @@ struct StaticsOutcome {
 // Zero-valued inputs of the right shape for a participant.
 CouplingData zero_inputs(const Scene& scene, const ParticipantSpec& participant);
 
-// Block Gauss–Seidel over the participants in load order, the values that
-// flow up the load path (from a later participant to an earlier one) relaxed
-// with Aitken's dynamic factor. Throws std::runtime_error if it does not
+// Block Gauss–Seidel over the participants: the sweep of a Gauss–Seidel step
+// plan (step_plan.hpp), whose iterated links (the values that flow up the
+// load path, from a later participant to an earlier one) are relaxed with
+// Aitken's dynamic factor. Throws std::runtime_error if it does not
 // converge, naming the residual and the iteration count.
 StaticsOutcome find_static_state(const std::vector<Participant*>& participants,
                                  const Routing& routing, std::vector<CouplingData> inputs,

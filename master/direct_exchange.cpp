@@ -14,10 +14,7 @@ namespace railcosim {
 using std::chrono::milliseconds;
 
 std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
-                                                     const Routing& routing, Scheme scheme,
-                                                     Feedthrough feedthrough,
-                                                     const std::vector<StepResult>& initial,
-                                                     double bound, long total,
+                                                     const StepPlan& plan, double bound, long total,
                                                      DirectOptions options) {
   std::vector<RemoteParticipant*> nodes;
   for (Participant* p : ps) {
@@ -26,10 +23,6 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
     nodes.push_back(r);
   }
   const std::size_t P = nodes.size();
-  const bool resolved = scheme == Scheme::kJacobi && feedthrough == Feedthrough::kResolved;
-  std::vector<bool> refresh(P, false);
-  for (std::size_t p = 0; p < P; ++p) refresh[p] = resolved && sends_force(initial[p].outputs);
-
   const std::string session = random_nonce();
   const auto& t = nodes.front()->timeouts();
   // A node waits for a peer longer than the master waits for any node, so
@@ -38,33 +31,34 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
   std::vector<wire::Links> links(P);
   for (std::size_t p = 0; p < P; ++p) {
     links[p].set_session(session);
-    links[p].set_refresh(refresh[p]);
+    links[p].set_refresh(plan.refreshed[p]);
     links[p].set_timeout_ms(static_cast<std::uint32_t>(link_timeout.count()));
   }
   // One link per pair of participants that share a cut; the one loaded first
-  // connects. Both ends list their interfaces in the same order.
+  // connects. Both ends list their interfaces in the same order. What each
+  // end waits for is the plan's: the peer's data at n + 1 where the peer
+  // steps in an earlier stage (ahead), its second sending where the peer is
+  // refreshed.
   for (std::size_t p = 0; p < P; ++p)
     for (std::size_t q = p + 1; q < P; ++q) {
-      wire::PeerLink* mine = nullptr;
-      wire::PeerLink* theirs = nullptr;
-      for (std::size_t j = 0; j < routing[p].size(); ++j) {
-        const Route& r = routing[p][j];
-        if (static_cast<std::size_t>(r.participant) != q) continue;
-        if (!mine) {
-          mine = links[p].add_links();
-          mine->set_peer(nodes[q]->role());
-          mine->set_host(nodes[q]->address().host);
-          mine->set_port(nodes[q]->address().port);
-          mine->set_ahead(scheme == Scheme::kGaussSeidel && q < p);
-          mine->set_refreshes(refresh[q]);
-          theirs = links[q].add_links();
-          theirs->set_peer(nodes[p]->role());
-          theirs->set_ahead(scheme == Scheme::kGaussSeidel && p < q);
-          theirs->set_refreshes(refresh[p]);
+      const PlanLink* from_q = plan.between(p, q);
+      const PlanLink* from_p = plan.between(q, p);
+      if (!from_q || !from_p) continue;
+      wire::PeerLink* mine = links[p].add_links();
+      mine->set_peer(nodes[q]->role());
+      mine->set_host(nodes[q]->address().host);
+      mine->set_port(nodes[q]->address().port);
+      mine->set_ahead(from_q->source == LinkSource::kStepped);
+      mine->set_refreshes(from_q->source == LinkSource::kRefreshed);
+      wire::PeerLink* theirs = links[q].add_links();
+      theirs->set_peer(nodes[p]->role());
+      theirs->set_ahead(from_p->source == LinkSource::kStepped);
+      theirs->set_refreshes(from_p->source == LinkSource::kRefreshed);
+      for (std::size_t k : plan.into[p])
+        if (plan.links[k].q == q) {
+          mine->add_interfaces(static_cast<int>(plan.links[k].j));
+          theirs->add_interfaces(static_cast<int>(plan.links[k].i));
         }
-        mine->add_interfaces(static_cast<int>(j));
-        theirs->add_interfaces(r.interface);
-      }
     }
   for (std::size_t p = 0; p < P; ++p) nodes[p]->set_links(links[p]);
   return std::unique_ptr<DirectExchange>(new DirectExchange(nodes, bound, total, options));

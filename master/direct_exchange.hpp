@@ -20,25 +20,26 @@
 #include "model.hpp"
 #include "participant.hpp"
 #include "remote_participant.hpp"
-#include "schedule.hpp"
+#include "step_executor.hpp"
+#include "step_plan.hpp"
 
 namespace railcosim {
 
-class DirectExchange {
+class DirectExchange final : public MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers
-  // the direct data plane. Otherwise sends the links to every node.
-  // `initial`: what initialize() returned; `bound`: the divergence bound (m).
+  // the direct data plane. Otherwise sends every node its links, which say
+  // what the step plan says (the schedule's plan, compiled at initialize()):
+  // which peer's data it waits for at n + 1, which peer sends twice.
+  // `bound`: the divergence bound (m).
   static std::unique_ptr<DirectExchange> make(const std::vector<Participant*>& participants,
-                                              const Routing& routing, Scheme scheme,
-                                              Feedthrough feedthrough,
-                                              const std::vector<StepResult>& initial, double bound,
-                                              long total_steps, DirectOptions options = {});
+                                              const StepPlan& plan, double bound, long total_steps,
+                                              DirectOptions options = {});
 
   // The results of macro step n, from the nodes' reports (granting the next
   // window when the last one has ended). Throws StepFailure for a node whose
   // step failed and NodeFailure for one that closed, broke or fell silent.
-  std::vector<StepResult> advance(long n);
+  std::vector<StepResult> advance(long n) override;
   // Closes the connections of nodes still in a window: their sessions cannot
   // take requests any more (they end their windows when they notice).
   ~DirectExchange();

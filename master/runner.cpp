@@ -249,9 +249,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
     const bool windows =
         o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
-    if (windows)
-      direct = DirectExchange::make(ps, routing, spec.scheme, o.feedthrough, initial, bound, N,
-                                    o.direct);
+    if (windows) direct = DirectExchange::make(ps, schedule->plan(), bound, N, o.direct);
     // A node without the direct plane is worth a word; implicit and ramped
     // couplings are relayed by design (summary.json says so either way).
     if (!direct)
@@ -261,12 +259,16 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
                        : "this coupling decides every macro step at the master");
   }
   if (transport == "tcp") r.data_plane = to_string(direct ? DataPlane::kDirect : DataPlane::kRelay);
+  // The same plan either way: run by the master (in process or relayed), or
+  // by the nodes over their peer links.
+  MacroSteps* steps = schedule.get();
+  if (direct) steps = direct.get();
   long n = 0;
   for (; n < N; ++n) {
     check_stop(o, n);
     std::vector<StepResult> m;
     try {
-      m = direct ? direct->advance(n) : schedule->advance(n);
+      m = steps->advance(n);
     } catch (const StepFailure& e) {
       // A subsystem whose micro steps run away: the co-simulation diverges.
       std::ostringstream s;
@@ -304,9 +306,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   }
   r.macro_steps = n;
   if (direct) direct->drain();
-  if (const auto* w = dynamic_cast<const WindowSchedule*>(schedule.get());
-      w && o.coupling.method == CouplingMethod::kImplicit)
-    record_convergence(r, w->log(), o);
+  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
   for (std::size_t p = 0; p < ps.size(); ++p) {
     ParticipantResults res;
     try {

@@ -1,7 +1,9 @@
 // Co-simulation schedules: the order in which the participants exchange
-// values and step over one macro step [nH, (n+1)H]. Jacobi and Gauss–Seidel
-// are siblings behind one interface; the master's loop knows neither, and
-// neither knows how many participants there are or what they hold.
+// values and step over one macro step [nH, (n+1)H]. The order itself is the
+// step plan's (step_plan.hpp: plan_steps()); every schedule is the one
+// executor of that plan (step_executor.hpp), named here by its scheme. The
+// master's loop knows none of them, and none knows how many participants
+// there are or what they hold.
 #pragma once
 
 #include <memory>
@@ -10,47 +12,13 @@
 #include "cosim_case.hpp"
 #include "model.hpp"
 #include "participant.hpp"
+#include "step_executor.hpp"
+#include "step_plan.hpp"
 
 namespace railcosim {
 
-// Where one input comes from: participant and interface index of the sender.
-struct Route {
-  int participant = -1;
-  int interface = -1;
-};
-// For participant p and its interface j, routing[p][j] names the sender.
-using Routing = std::vector<std::vector<Route>>;
-
-// The routing of a partition: each interface receives what its peer's
-// interface on the same cut sends.
-Routing make_routing(const std::vector<ParticipantSpec>& participants);
-
-// Whether these outputs carry a force on any interface (such a sender is
-// read again under Jacobi with resolved feedthrough).
-bool sends_force(const CouplingData& outputs);
-
-class Schedule {
- public:
-  // The participants in load order; they must outlive the schedule.
-  Schedule(std::vector<Participant*> participants, Routing routing)
-      : ps_(std::move(participants)), routing_(std::move(routing)) {}
-  virtual ~Schedule() = default;
-
-  // Initialises every participant with its inputs at t = 0 (the coupled
-  // static state) and keeps their outputs.
-  std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs);
-  // Exchanges and steps from nH to (n+1)H.
-  virtual std::vector<StepResult> advance(long n) = 0;
-
- protected:
-  // Participant p's inputs, from the latest outputs of its senders.
-  CouplingData inputs_for(std::size_t p) const;
-  void keep_outputs(const std::vector<StepResult>& r);
-
-  std::vector<Participant*> ps_;
-  Routing routing_;
-  std::vector<CouplingData> out_;  // the latest outputs of each participant
-};
+// A schedule: the executor of a step plan.
+using Schedule = StepExecutor;
 
 // Parallel: every participant takes its inputs from the others' outputs at
 // t_n and they step at the same time (every step is started before any is
@@ -61,19 +29,17 @@ class Schedule {
 class JacobiSchedule final : public Schedule {
  public:
   JacobiSchedule(std::vector<Participant*> participants, Routing routing, Feedthrough feedthrough)
-      : Schedule(std::move(participants), std::move(routing)), feedthrough_(feedthrough) {}
-  std::vector<StepResult> advance(long n) override;
-
- private:
-  Feedthrough feedthrough_;
+      : Schedule(std::move(participants), std::move(routing),
+                 PlanOptions{Scheme::kJacobi, feedthrough, false}) {}
 };
 
 // Sequential, in load order: each participant steps with the freshest
 // outputs of those before it (at t_n + H) and of those after it (at t_n).
 class GaussSeidelSchedule final : public Schedule {
  public:
-  using Schedule::Schedule;
-  std::vector<StepResult> advance(long n) override;
+  GaussSeidelSchedule(std::vector<Participant*> participants, Routing routing)
+      : Schedule(std::move(participants), std::move(routing),
+                 PlanOptions{Scheme::kGaussSeidel, Feedthrough::kLagged, false}) {}
 };
 
 // Throws std::invalid_argument for a combination that does not exist
