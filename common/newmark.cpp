@@ -84,6 +84,7 @@ void Newmark::set_state(const Vector& u, const Vector& v, double t) {
 }
 
 void Newmark::update_acceleration(double t) {
+  if (input_hook_) input_hook_(t);
   Vector r;
   sys_.load_at(t, r);
   sys_.K.multiply_add(-1.0, state_.u, r);
@@ -101,6 +102,7 @@ void Newmark::update_acceleration(double t) {
 }
 
 void Newmark::step(double t_end, double h, int level, Trial& out) {
+  if (input_hook_) input_hook_(t_end);
   const double c0 = 1.0 / (kBeta * h * h), c1 = kGamma / (kBeta * h);
   const NewmarkState& s = state_;
   // The step is solved for the displacement from origin_ (the state set

@@ -86,6 +86,11 @@ class Newmark {
     observer_ = std::move(observer);
   }
 
+  // Called with t before the loads of time t are used (every micro step's
+  // end time, and the time of update_acceleration): time-dependent inputs
+  // set the system's load and held contact values there. Empty by default.
+  void set_input_hook(std::function<void(double t)> hook) { input_hook_ = std::move(hook); }
+
   // The force of contact k for displacement u at time t.
   double contact_force(const Vector& u, double t, std::size_t k) const;
   // Their sum (0 without a contact).
@@ -135,6 +140,7 @@ class Newmark {
   std::vector<Vector> ys_;  // y per contact, with several contacts
   Vector error_weight_;
   std::function<void(double, int)> observer_;
+  std::function<void(double)> input_hook_;
 };
 
 }  // namespace railcosim

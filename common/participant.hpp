@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "waveform.hpp"
+
 namespace railcosim {
 
 // The values of one interface at a communication point, one entry per
@@ -27,6 +29,40 @@ struct InterfaceData {
 // What a participant receives or sends: one entry per interface, in the
 // order of its ParticipantSpec (the cut above it first).
 using CouplingData = std::vector<InterfaceData>;
+
+// A participant's outputs at one time inside a macro step: at its start and
+// after each of its micro steps (substep samples).
+struct OutputSample {
+  double t = 0;
+  CouplingData outputs;
+};
+using OutputSamples = std::vector<OutputSample>;
+
+// Inputs over a macro step as waveforms, one per interface (in the order of
+// CouplingData); each sample holds the interface's values packed by
+// pack_values().
+using InputWaveforms = std::vector<Waveform>;
+
+// An interface's values as one array: displacements, velocities, forces.
+inline std::vector<double> pack_values(const InterfaceData& d) {
+  std::vector<double> v = d.displacement;
+  v.insert(v.end(), d.velocity.begin(), d.velocity.end());
+  v.insert(v.end(), d.force.begin(), d.force.end());
+  return v;
+}
+// The inverse of pack_values() for values shaped like `shape` (only the
+// sizes of its arrays count). `v` must have as many values as `shape`.
+inline InterfaceData unpack_values(const std::vector<double>& v, const InterfaceData& shape) {
+  InterfaceData d;
+  auto at = v.begin();
+  for (auto [out, n] :
+       {std::pair{&d.displacement, shape.displacement.size()},
+        std::pair{&d.velocity, shape.velocity.size()}, std::pair{&d.force, shape.force.size()}}) {
+    out->assign(at, at + static_cast<std::ptrdiff_t>(n));
+    at += static_cast<std::ptrdiff_t>(n);
+  }
+  return d;
+}
 
 // One row of a run's history: the wheel's channels, which every scene has,
 // and the values of any further declared channels (RunRecord names them).
@@ -84,7 +120,8 @@ class BadInputError : public std::invalid_argument {
 //                                      returns the outputs at t = 0
 //   then for each macro step n = 0, 1, 2, ... in turn:
 //     set_inputs(n, data)              at least once: the inputs held over [nH, (n+1)H]
-//                                      (or set_inputs(n, start, end): inputs that ramp)
+//                                      (or set_inputs(n, start, end): inputs that ramp;
+//                                      or set_input_waveforms(n, waveforms))
 //     outputs()                        any number of times: outputs now, with the held inputs
 //     start_step(n), finish_step()     advance to (n+1)H; nothing else in between
 //   results(), save(), restore()       any time after initialize() (not inside a step)
@@ -106,6 +143,25 @@ class Participant {
     (void)end;
     throw CallOrderError(name() + ": set_inputs(" + std::to_string(n) +
                          ") rejected: this participant takes held inputs only");
+  }
+  // Substep waveforms: each input evaluated over [nH, (n+1)H] from its
+  // Waveform, at every micro step (same call order as set_inputs).
+  virtual void set_input_waveforms(long n, const InputWaveforms& inputs) {
+    (void)inputs;
+    throw CallOrderError(name() + ": set_input_waveforms(" + std::to_string(n) +
+                         ") rejected: this participant takes no substep waveforms");
+  }
+  // From now on, record the outputs at the start of every macro step and
+  // after each of its micro steps (off by default).
+  virtual void record_samples(bool on) {
+    if (on)
+      throw CallOrderError(name() +
+                           ": record_samples() rejected: this participant records no samples");
+  }
+  // The samples of the last step taken while recording (times increasing,
+  // from nH to (n+1)H); empty before one.
+  virtual OutputSamples step_samples() const {
+    throw CallOrderError(name() + ": step_samples() rejected: this participant records no samples");
   }
   virtual CouplingData outputs() = 0;
   virtual void start_step(long n) = 0;

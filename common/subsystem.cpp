@@ -127,6 +127,7 @@ Subsystem::Loads Subsystem::loads_of(const CouplingData& in) const {
 }
 
 void Subsystem::apply_inputs(const CouplingData& in, const CouplingData* end, double t0) {
+  drop_waveforms();
   check_inputs(in);
   if (end) check_inputs(*end);
   Loads start = loads_of(in);
@@ -233,6 +234,11 @@ void Subsystem::start_step(long n) {
   require(n == next_step_, "start_step(" + std::to_string(n) + ")",
           "the subsystem is at macro step " + std::to_string(next_step_));
   phase_ = Phase::kStepping;
+  step_start_ = time(n);
+  if (record_) {
+    samples_.clear();
+    take_sample(step_start_);
+  }
   try {
     newmark_->advance(time(n), time(n + 1));
   } catch (const StepFailure&) {

@@ -8,7 +8,9 @@
 //                sends its own displacements (X-X) or that force (X-T)
 //   lower side   receives displacements (X-X) or the force (X-T); sends its
 //                own displacements (and velocities through a damped layer)
-// A received value is held constant over the macro step.
+// A received value is held constant over the macro step, ramps linearly over
+// it, or follows a Waveform of the sender's substep samples (evaluated at
+// every micro step, subsystem_waveform.cpp).
 #pragma once
 
 #include <memory>
@@ -56,6 +58,9 @@ class Subsystem final : public Participant {
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& start, const CouplingData& end) override;
+  void set_input_waveforms(long n, const InputWaveforms& inputs) override;
+  void record_samples(bool on) override;
+  OutputSamples step_samples() const override { return samples_; }
   CouplingData outputs() override;
   void start_step(long n) override;
   StepResult finish_step() override;
@@ -87,6 +92,15 @@ class Subsystem final : public Participant {
   void check_inputs(const CouplingData& in) const;
   double time(long n) const { return static_cast<double>(n) * config_.macro_step; }
   StepResult report() const;
+  // Substep waveforms (subsystem_waveform.cpp): the shape of interface j's
+  // inputs (zeros, sized as it receives), the inputs at time t of the step
+  // started at t0, the load and contact values they make at t, and the
+  // sample taken at t.
+  InterfaceData input_shape(std::size_t j) const;
+  CouplingData inputs_at(double t, double t0) const;
+  void hold_loads(const CouplingData& in, double t);
+  void take_sample(double t);
+  void drop_waveforms();
   CouplingData compute_outputs(const Vector& u, const Vector& v, double t,
                                const CouplingData& held) const;
 
@@ -104,6 +118,10 @@ class Subsystem final : public Participant {
   CouplingData held_;      // the inputs at the start of the macro step
   CouplingData held_end_;  // and at its end (the same for a zero-order hold)
   bool ramp_ = false;
+  InputWaveforms waves_;   // substep waveforms over the step, or empty
+  bool record_ = false;    // record the outputs at every micro step
+  double step_start_ = 0;  // the time the step being taken started
+  OutputSamples samples_;  // those of the last step
 };
 
 }  // namespace railcosim
