@@ -199,6 +199,7 @@ int do_run(const RunArgs& a) {
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   check_case_for_scene(spec, scene);
+  if (!spec.monolithic) check_transport(o.coupling, a.transport);
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)
@@ -367,8 +368,12 @@ int master_main(int argc, char** argv) {
   run->add_option("--inputs", ra.inputs,
                   "Inputs over a macro step: hold (zero-order hold), linear (ramp to the value "
                   "at the step's end where it is known), extrapolate1 or extrapolate2 (ramp to "
-                  "a value extrapolated from past communication points; explicit only)")
-      ->check(CLI::IsMember({"hold", "linear", "extrapolate1", "extrapolate2"}))
+                  "a value extrapolated from past communication points; explicit only), "
+                  "waveform0 to waveform3 (the sender's outputs at each of its micro steps, "
+                  "interpolated with degree 0 to 3, where they are known: implicit iterations, "
+                  "Gauss-Seidel's later participants; --transport inproc only)")
+      ->check(CLI::IsMember({"hold", "linear", "extrapolate1", "extrapolate2", "waveform0",
+                             "waveform1", "waveform2", "waveform3"}))
       ->capture_default_str();
   run->add_option("--accelerator", ra.accelerator,
                   "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")

@@ -14,8 +14,28 @@ std::string to_string(InputMode m) {
       return "extrapolate1";
     case InputMode::kExtrapolate2:
       return "extrapolate2";
+    case InputMode::kWaveform0:
+    case InputMode::kWaveform1:
+    case InputMode::kWaveform2:
+    case InputMode::kWaveform3:
+      return "waveform" + std::to_string(waveform_degree(m));
   }
   return "?";
+}
+
+int waveform_degree(InputMode m) {
+  switch (m) {
+    case InputMode::kWaveform0:
+      return 0;
+    case InputMode::kWaveform1:
+      return 1;
+    case InputMode::kWaveform2:
+      return 2;
+    case InputMode::kWaveform3:
+      return 3;
+    default:
+      return -1;
+  }
 }
 
 std::string to_string(CouplingMethod m) {
@@ -38,9 +58,12 @@ namespace {
 
 InputMode parse_input_mode(const std::string& s, const std::string& what) {
   for (InputMode m :
-       {InputMode::kHold, InputMode::kLinear, InputMode::kExtrapolate1, InputMode::kExtrapolate2})
+       {InputMode::kHold, InputMode::kLinear, InputMode::kExtrapolate1, InputMode::kExtrapolate2,
+        InputMode::kWaveform0, InputMode::kWaveform1, InputMode::kWaveform2, InputMode::kWaveform3})
     if (to_string(m) == s) return m;
-  unknown(what, s, "hold, linear, extrapolate1 or extrapolate2");
+  unknown(what, s,
+          "hold, linear, extrapolate1, extrapolate2, waveform0, waveform1, waveform2 or "
+          "waveform3");
 }
 
 CouplingMethod parse_coupling_method(const std::string& s, const std::string& what) {
@@ -66,7 +89,7 @@ void check(const CouplingOptions& o) {
     throw std::invalid_argument(
         "--inputs " + to_string(o.inputs) +
         " applies to explicit coupling; implicit coupling knows the values at the end of the "
-        "step from its iterations (use --inputs hold or linear)");
+        "step from its iterations (use --inputs hold, linear or waveform0 to waveform3)");
   if (!(o.convergence > 0 && o.convergence < 1))
     throw std::invalid_argument("--convergence must be in (0, 1)");
   if (o.max_iterations < 1 || o.max_iterations > 10000)
@@ -75,6 +98,18 @@ void check(const CouplingOptions& o) {
     throw std::invalid_argument("--relaxation must be in (0, 1]");
   if (o.accelerator.windows_reused < 0 || o.accelerator.windows_reused > 100)
     throw std::invalid_argument("--reused-windows must be in [0, 100]");
+}
+
+}  // namespace railcosim
+
+namespace railcosim {
+
+void check_transport(const CouplingOptions& o, const std::string& transport) {
+  if (waveform_degree(o.inputs) >= 0 && transport != "inproc")
+    throw std::invalid_argument(
+        "--inputs " + to_string(o.inputs) +
+        ": substep waveforms are exchanged in process only; the " + transport +
+        " transport does not carry a sender's micro-step samples yet (use --transport inproc)");
 }
 
 }  // namespace railcosim

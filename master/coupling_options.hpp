@@ -16,13 +16,29 @@ namespace railcosim {
 //                 implicit iteration), held otherwise;
 //   extrapolate1  a ramp to the value at t_n + H extrapolated from the last
 //   extrapolate2  two (three) communication points where it is not known;
-//                 explicit coupling only; fewer past points: a lower order.
-enum class InputMode { kHold, kLinear, kExtrapolate1, kExtrapolate2 };
+//                 explicit coupling only; fewer past points: a lower order;
+//   waveform0..3  the sender's outputs at each of its micro steps of this
+//                 step (common/waveform.hpp), interpolated with degree 0 to 3,
+//                 where they are known (Gauss–Seidel's later participants;
+//                 every implicit iteration after the first), held otherwise;
+//                 in process only (--transport inproc).
+enum class InputMode {
+  kHold,
+  kLinear,
+  kExtrapolate1,
+  kExtrapolate2,
+  kWaveform0,
+  kWaveform1,
+  kWaveform2,
+  kWaveform3
+};
 // explicit: one pass per macro step (the paper); implicit: each macro step is
 // repeated from a checkpoint until the exchanged values converge.
 enum class CouplingMethod { kExplicit, kImplicit };
 
 std::string to_string(InputMode m);
+// The interpolation degree of a waveform mode, or -1 for the others.
+int waveform_degree(InputMode m);
 std::string to_string(CouplingMethod m);
 // Throw std::invalid_argument naming `what` (an option or a key) and the valid values.
 InputMode parse_input_mode(const std::string& s, const std::string& what);
@@ -52,5 +68,8 @@ struct CouplingOptions {
 
 // Throws std::invalid_argument for values out of range, naming the option.
 void check(const CouplingOptions& o);
+// Throws std::invalid_argument for a coupling the transport (\"inproc\" or
+// \"tcp\") does not carry: substep waveforms travel in process only.
+void check_transport(const CouplingOptions& o, const std::string& transport);
 
 }  // namespace railcosim

@@ -201,6 +201,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
                     const ParticipantFactory& make, const std::string& transport) {
   const auto t0 = Clock::now();
   auto log = logger("master");
+  check_transport(o.coupling, transport);  // before any node is started
   RunRecord r = failed_record(scene, spec, o, transport, "");
   r.status = "ok";
   r.restart = scene.restart;

@@ -57,6 +57,12 @@ std::vector<StepResult> StepExecutor::initialize(const std::vector<CouplingData>
     force[p] = sends_force(out_[p]);
   }
   plan_ = plan_steps(routing_, plan_options_, force);
+  degree_ = waveform_degree(o_.inputs);
+  if (degree_ >= 0)
+    for (Participant* p : ps_) p->record_samples(true);
+  fresh_.assign(ps_.size(), {});
+  last_.assign(ps_.size(), {});
+  last_step_ = -1;
   position_.assign(plan_.links.size(), -1);
   iterated_.clear();
   for (std::size_t k = 0; k < plan_.links.size(); ++k)
@@ -80,6 +86,10 @@ std::vector<StepResult> StepExecutor::advance(long n) {
 
 void StepExecutor::set_inputs(std::size_t p, long n, const std::vector<CouplingData>* refreshed,
                               const std::vector<const InterfaceData*>& end) {
+  if (degree_ >= 0) {
+    set_waveforms(p, n, refreshed, end);
+    return;
+  }
   CouplingData start;
   start.reserve(plan_.into[p].size());
   for (std::size_t k : plan_.into[p]) {
@@ -154,8 +164,61 @@ std::vector<StepResult> StepExecutor::pass(long n, const std::vector<InterfaceDa
           }
     for (std::size_t p : stage) ps_[p]->start_step(n);
     for (std::size_t p : stage) r[p] = ps_[p]->finish_step();
+    if (degree_ >= 0)
+      for (std::size_t p : stage) fresh_[p] = ps_[p]->step_samples();
+  }
+  if (degree_ >= 0) {
+    last_ = fresh_;
+    last_step_ = n;
   }
   return r;
+}
+
+void StepExecutor::set_waveforms(std::size_t p, long n, const std::vector<CouplingData>* refreshed,
+                                 const std::vector<const InterfaceData*>& end) {
+  InputWaveforms w;
+  w.reserve(plan_.into[p].size());
+  for (std::size_t k : plan_.into[p]) {
+    const PlanLink& l = plan_.links[k];
+    const bool fresh = refreshed && l.source == LinkSource::kRefreshed;
+    const InterfaceData& start = (fresh ? (*refreshed)[l.q] : out_[l.q])[l.i];
+    w.push_back(link_waveform(k, n, start, end[l.j]));
+  }
+  ps_[p]->set_input_waveforms(n, w);
+}
+
+Waveform StepExecutor::link_waveform(std::size_t k, long n, const InterfaceData& start,
+                                     const InterfaceData* end) const {
+  const PlanLink& l = plan_.links[k];
+  const std::vector<double> a = pack_values(start);
+  Waveform w(degree_, a.size());
+  const double t0 = static_cast<double>(n) * macro_step_;
+  const OutputSamples* samples = nullptr;
+  if (l.source == LinkSource::kStepped)
+    samples = &fresh_[l.q];
+  else if (end && last_step_ == n)
+    samples = &last_[l.q];
+  if (!samples) {
+    // Held, or (first iteration) a ramp to the value at t_n + H.
+    w.add(t0, a);
+    if (end) w.add(static_cast<double>(n + 1) * macro_step_, pack_values(*end));
+    return w;
+  }
+  // The sender's samples; an iterated link's are shifted by a linear
+  // correction that makes them end at `end`.
+  const double first = samples->front().t, last = samples->back().t;
+  std::vector<double> shift(a.size(), 0.0);
+  if (end && l.source != LinkSource::kStepped) {
+    const std::vector<double> e = pack_values(*end), g = pack_values(samples->back().outputs[l.i]);
+    for (std::size_t m = 0; m < e.size(); ++m) shift[m] = e[m] - g[m];
+  }
+  for (const OutputSample& s : *samples) {
+    std::vector<double> v = pack_values(s.outputs[l.i]);
+    const double f = (s.t - first) / (last - first);
+    for (std::size_t m = 0; m < v.size(); ++m) v[m] += f * shift[m];
+    w.add(s.t, v);
+  }
+  return w;
 }
 
 void StepExecutor::make_blocks() {

@@ -15,6 +15,15 @@
 //     and G(x) until every exchanged quantity has converged.
 // Inputs ramp (`linear`) from the value at t_n to the one at t_n + H where
 // that is known; otherwise they are held at the last known value.
+// Substep waveforms (`waveform0..3`): every participant records its outputs
+// at its micro steps, and a receiver takes each input as a Waveform of the
+// sender's samples where they are known: those of this pass for a sender of
+// an earlier stage; for an iterated link, those of the last iteration,
+// corrected linearly so that they end at the accelerator's value at
+// t_n + H (the accelerator works on the values at t_n + H alone: the
+// samples of an adaptive sender vary in number from one iteration to the
+// next, and at convergence the correction vanishes); in an implicit step's
+// first iteration, a ramp to that value. Elsewhere the input is held.
 #pragma once
 
 #include <memory>
@@ -79,6 +88,13 @@ class StepExecutor : public MacroSteps {
   // first: x's (implicit) or an extrapolation (explicit), else null.
   const InterfaceData* end_value(std::size_t k, const std::vector<InterfaceData>* x,
                                  std::vector<InterfaceData>& extrapolated) const;
+  // Substep waveforms: participant p's inputs of step n as waveforms.
+  void set_waveforms(std::size_t p, long n, const std::vector<CouplingData>* refreshed,
+                     const std::vector<const InterfaceData*>& end);
+  // The waveform of link k for step n (see set_waveforms), `start` its value
+  // at t_n and `end` its value at t_n + H where known.
+  Waveform link_waveform(std::size_t k, long n, const InterfaceData& start,
+                         const InterfaceData* end) const;
   std::vector<StepResult> implicit_step(long n);
   // Implicit coupling: the blocks of x (one per iterated link and quantity
   // it carries), their names and the accelerator, from the first step.
@@ -104,6 +120,10 @@ class StepExecutor : public MacroSteps {
   std::unique_ptr<Accelerator> accel_;
   std::vector<double> largest_;  // per quantity: the largest norm it has had in the run
   ConvergenceLog log_;
+  int degree_ = -1;                   // substep waveforms: their degree, else -1
+  std::vector<OutputSamples> fresh_;  // per participant: the samples of this pass
+  std::vector<OutputSamples> last_;   // and of the last pass
+  long last_step_ = -1;               // the macro step of last_
 };
 
 }  // namespace railcosim
