@@ -29,6 +29,36 @@ InterfaceData combine(double a, const InterfaceData& x, double b, const Interfac
   return r;
 }
 
+// Substep waveforms, implicit: the accelerator works on each iterated link's
+// values at this many equally spaced times of the window (the last t_n + H).
+constexpr std::size_t kWaveNodes = 4;
+
+// The values at several times stacked array by array: every time's
+// displacements, then every time's velocities, then forces.
+InterfaceData stack(const std::vector<InterfaceData>& at) {
+  InterfaceData s;
+  for (const InterfaceData& d : at) {
+    s.displacement.insert(s.displacement.end(), d.displacement.begin(), d.displacement.end());
+    s.velocity.insert(s.velocity.end(), d.velocity.begin(), d.velocity.end());
+    s.force.insert(s.force.end(), d.force.begin(), d.force.end());
+  }
+  return s;
+}
+
+// The k-th of m stacked values.
+InterfaceData unstack(const InterfaceData& s, std::size_t k, std::size_t m) {
+  InterfaceData d;
+  auto part = [&](const std::vector<double>& a, std::vector<double>& out) {
+    const auto n = static_cast<std::ptrdiff_t>(a.size() / m);
+    out.assign(a.begin() + static_cast<std::ptrdiff_t>(k) * n,
+               a.begin() + static_cast<std::ptrdiff_t>(k + 1) * n);
+  };
+  part(s.displacement, d.displacement);
+  part(s.velocity, d.velocity);
+  part(s.force, d.force);
+  return d;
+}
+
 }  // namespace
 
 StepExecutor::StepExecutor(std::vector<Participant*> participants, Routing routing,
@@ -58,6 +88,7 @@ std::vector<StepResult> StepExecutor::initialize(const std::vector<CouplingData>
   }
   plan_ = plan_steps(routing_, plan_options_, force);
   degree_ = waveform_degree(o_.inputs);
+  nodes_ = degree_ >= 0 && plan_options_.implicit ? kWaveNodes : 1;
   if (degree_ >= 0)
     for (Participant* p : ps_) p->record_samples(true);
   fresh_.assign(ps_.size(), {});
@@ -187,35 +218,66 @@ void StepExecutor::set_waveforms(std::size_t p, long n, const std::vector<Coupli
   ps_[p]->set_input_waveforms(n, w);
 }
 
+double StepExecutor::node_time(long n, std::size_t k) const {
+  return k + 1 == nodes_
+             ? static_cast<double>(n + 1) * macro_step_
+             : (static_cast<double>(n) + static_cast<double>(k + 1) / static_cast<double>(nodes_)) *
+                   macro_step_;
+}
+
+InterfaceData StepExecutor::at_nodes(const OutputSamples& samples, std::size_t i, long n) const {
+  if (nodes_ == 1) return samples.back().outputs[i];
+  Waveform w(degree_, pack_values(samples.front().outputs[i]).size());
+  for (const OutputSample& s : samples) w.add(s.t, pack_values(s.outputs[i]));
+  std::vector<InterfaceData> at;
+  for (std::size_t k = 0; k < nodes_; ++k)
+    at.push_back(unpack_values(w.at(node_time(n, k)), samples.front().outputs[i]));
+  return stack(at);
+}
+
 Waveform StepExecutor::link_waveform(std::size_t k, long n, const InterfaceData& start,
                                      const InterfaceData* end) const {
   const PlanLink& l = plan_.links[k];
   const std::vector<double> a = pack_values(start);
   Waveform w(degree_, a.size());
   const double t0 = static_cast<double>(n) * macro_step_;
+  const bool iterated = position_[k] >= 0 && end && l.source != LinkSource::kStepped;
+  // An iterated link's `end` holds its values at the nodes of the window.
+  const std::size_t m = iterated ? nodes_ : 1;
   const OutputSamples* samples = nullptr;
   if (l.source == LinkSource::kStepped)
     samples = &fresh_[l.q];
-  else if (end && last_step_ == n)
+  else if (iterated && last_step_ == n)
     samples = &last_[l.q];
   if (!samples) {
-    // Held, or (first iteration) a ramp to the value at t_n + H.
+    // Held, or (first iteration) through the values at the nodes.
     w.add(t0, a);
-    if (end) w.add(static_cast<double>(n + 1) * macro_step_, pack_values(*end));
+    if (end)
+      for (std::size_t j = 0; j < m; ++j)
+        w.add(m == 1 ? static_cast<double>(n + 1) * macro_step_ : node_time(n, j),
+              pack_values(unstack(*end, j, m)));
     return w;
   }
-  // The sender's samples; an iterated link's are shifted by a linear
-  // correction that makes them end at `end`.
-  const double first = samples->front().t, last = samples->back().t;
-  std::vector<double> shift(a.size(), 0.0);
-  if (end && l.source != LinkSource::kStepped) {
-    const std::vector<double> e = pack_values(*end), g = pack_values(samples->back().outputs[l.i]);
-    for (std::size_t m = 0; m < e.size(); ++m) shift[m] = e[m] - g[m];
+  // The sender's samples; an iterated link's are corrected by a waveform
+  // through 0 at t_n and, at each node, the accelerator's value less the
+  // samples' own there.
+  Waveform correction(std::max(1, degree_), a.size());
+  correction.add(t0, std::vector<double>(a.size(), 0.0));
+  if (iterated) {
+    const InterfaceData own = m == 1 ? samples->back().outputs[l.i] : at_nodes(*samples, l.i, n);
+    for (std::size_t j = 0; j < m; ++j) {
+      std::vector<double> e = pack_values(unstack(*end, j, m));
+      const std::vector<double> g = pack_values(unstack(own, j, m));
+      for (std::size_t c = 0; c < e.size(); ++c) e[c] -= g[c];
+      correction.add(m == 1 ? static_cast<double>(n + 1) * macro_step_ : node_time(n, j), e);
+    }
   }
   for (const OutputSample& s : *samples) {
     std::vector<double> v = pack_values(s.outputs[l.i]);
-    const double f = (s.t - first) / (last - first);
-    for (std::size_t m = 0; m < v.size(); ++m) v[m] += f * shift[m];
+    if (iterated) {
+      const std::vector<double> c = correction.at(s.t);
+      for (std::size_t q = 0; q < v.size(); ++q) v[q] += c[q];
+    }
     w.add(s.t, v);
   }
   return w;
@@ -230,7 +292,7 @@ void StepExecutor::make_blocks() {
     const auto a = arrays(out_[l.q][l.i]);
     for (std::size_t q = 0; q < a.size(); ++q)
       if (!a[q]->empty()) {
-        blocks_.push_back(static_cast<int>(a[q]->size()));
+        blocks_.push_back(static_cast<int>(a[q]->size() * nodes_));
         displacement_of_.push_back(q == 1 && !a[0]->empty() ? static_cast<int>(blocks_.size()) - 2
                                                             : -1);
         std::string name = roles_[l.q];
@@ -279,14 +341,18 @@ std::vector<StepResult> StepExecutor::implicit_step(long n) {
   checkpoint.reserve(P);
   for (Participant* p : ps_) checkpoint.push_back(p->save());
   std::vector<InterfaceData> x;
-  for (std::size_t k : iterated_) x.push_back(out_[plan_.links[k].q][plan_.links[k].i]);
+  for (std::size_t k : iterated_)
+    x.push_back(
+        stack(std::vector<InterfaceData>(nodes_, out_[plan_.links[k].q][plan_.links[k].i])));
   if (!accel_) make_blocks();
   for (int k = 1;; ++k) {
     if (k > 1)
       for (std::size_t p = 0; p < P; ++p) ps_[p]->restore(checkpoint[p]);
     std::vector<StepResult> r = pass(n, &x);
     std::vector<InterfaceData> g;
-    for (std::size_t m : iterated_) g.push_back(r[plan_.links[m].q].outputs[plan_.links[m].i]);
+    for (std::size_t m : iterated_)
+      g.push_back(degree_ >= 0 ? at_nodes(fresh_[plan_.links[m].q], plan_.links[m].i, n)
+                               : r[plan_.links[m].q].outputs[plan_.links[m].i]);
     const VectorXd X = flatten(x), G = flatten(g);
     std::vector<double> scale;
     const bool converged = measure(n, k, X, G, scale), finite = G.allFinite();

@@ -18,12 +18,12 @@
 // Substep waveforms (`waveform0..3`): every participant records its outputs
 // at its micro steps, and a receiver takes each input as a Waveform of the
 // sender's samples where they are known: those of this pass for a sender of
-// an earlier stage; for an iterated link, those of the last iteration,
-// corrected linearly so that they end at the accelerator's value at
-// t_n + H (the accelerator works on the values at t_n + H alone: the
-// samples of an adaptive sender vary in number from one iteration to the
-// next, and at convergence the correction vanishes); in an implicit step's
-// first iteration, a ramp to that value. Elsewhere the input is held.
+// an earlier stage; for an iterated link, those of the last iteration plus a
+// correction that makes them pass through the accelerator's values at
+// kWaveNodes times of the window (the accelerator works on those values: an
+// adaptive sender's samples vary in number from one iteration to the next;
+// at convergence the correction vanishes); in an implicit step's first
+// iteration, the waveform through those values. Elsewhere the input is held.
 #pragma once
 
 #include <memory>
@@ -95,6 +95,11 @@ class StepExecutor : public MacroSteps {
   // at t_n and `end` its value at t_n + H where known.
   Waveform link_waveform(std::size_t k, long n, const InterfaceData& start,
                          const InterfaceData* end) const;
+  // The k-th of the nodes_ times of step n's window (the last: t_n + H).
+  double node_time(long n, std::size_t k) const;
+  // Interface i of a sender's samples at the nodes, stacked (one node: the
+  // last sample).
+  InterfaceData at_nodes(const OutputSamples& samples, std::size_t i, long n) const;
   std::vector<StepResult> implicit_step(long n);
   // Implicit coupling: the blocks of x (one per iterated link and quantity
   // it carries), their names and the accelerator, from the first step.
@@ -120,7 +125,8 @@ class StepExecutor : public MacroSteps {
   std::unique_ptr<Accelerator> accel_;
   std::vector<double> largest_;  // per quantity: the largest norm it has had in the run
   ConvergenceLog log_;
-  int degree_ = -1;                   // substep waveforms: their degree, else -1
+  int degree_ = -1;        // substep waveforms: their degree, else -1
+  std::size_t nodes_ = 1;  // values per iterated link in x (waveforms, implicit: kWaveNodes)
   std::vector<OutputSamples> fresh_;  // per participant: the samples of this pass
   std::vector<OutputSamples> last_;   // and of the last pass
   long last_step_ = -1;               // the macro step of last_

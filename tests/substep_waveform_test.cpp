@@ -100,7 +100,8 @@ TEST(SubstepWaveform, WithTheSameMicroStepsImplicitCouplingIsTheMonolithicRun) {
   // evaluate the waveforms at the senders' sample times: converged, the
   // coupling is the monolithic run, whatever the degree.
   const Scene scene = paper(0.02, 4);
-  for (const char* name : {"rs-xx-gauss-seidel", "wr-xx-gauss-seidel"}) {
+  for (const char* name : {"rs-xx-gauss-seidel", "wr-xx-gauss-seidel", "wr-xt-gauss-seidel",
+                           "rs-xx-jacobi", "wr-xt-jacobi"}) {
     const RunRecord r =
         judged(scene, name, 1e-3, coupling(CouplingMethod::kImplicit, InputMode::kWaveform1));
     ASSERT_EQ(r.status, "ok") << name << ": " << r.message;
