@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import ufl
 from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.geometry

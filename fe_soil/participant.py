@@ -78,9 +78,6 @@ class Core:
     def restore(self, key):
         self.soil.restore(self.saves[key])
 
-    def stop(self):
-        raise SystemExit(0)
-
     def release(self):
         """Rank 0: ends the other ranks' loops."""
         for r in range(1, self.comm.size):
@@ -98,7 +95,13 @@ def follow(core):
             time.sleep(pause)
             pause = min(2e-3, pause + 5e-5)
         op, args = comm.recv(source=0, tag=OPS)
-        getattr(core, op)(*args)
+        if op == "stop":
+            return
+        try:
+            getattr(core, op)(*args)
+        except Exception as e:  # rank 0 meets the same error and reports it
+            print("fe_soil rank %d: %s: %s: %s" % (comm.rank, op, type(e).__name__, e),
+                  file=sys.stderr, flush=True)
 
 
 class FESoilParticipant(rc.Participant):
@@ -198,6 +201,9 @@ class FESoilParticipant(rc.Participant):
         return t, v, dt, [measures.receiver_summary(v[:, k, :], dt) for k in range(v.shape[1])]
 
     def results(self):
+        if not self.soil.history:  # asked after a run that ended before its first step
+            zeros = np.zeros(len(self.distances))
+            return (self.last, np.array(self.distances), zeros, zeros)
         t, v, dt, s = self.summaries()
         if self.output_dir and len(t):
             self.write_output(t, v, s)

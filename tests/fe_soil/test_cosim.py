@@ -162,6 +162,35 @@ class CoSimulation(unittest.TestCase):
         _, w_lysmer = runs["lysmer"]
         self.assertGreater(np.abs(w_fe - w_lysmer).max() / np.abs(w_fe).max(), 0.15)
 
+    def test_two_step(self):
+        """fe_soil.two_step on the CI scene writes its report; and its one-way
+        run, driven by the forces the FE soil received in the two-way run
+        (held over each step, as the Jacobi schedule held them), gives the
+        two-way run's receivers back (to 1e-7 of their peak: the static
+        state is solved again, to 1e-12)."""
+        from fe_soil import two_step
+
+        out = os.path.join(self.work, "two-step")
+        two_step.main(["--scene", CI_SCENE, "--master", os.path.join(BIN, "master"),
+                       "--out", out])
+        with open(os.path.join(out, "two_step.md")) as f:
+            report = f.read()
+        self.assertIn("| 2 m |", report)
+        self.assertIn("| 4 m |", report)
+        _, rows = table_text(os.path.join(out, "two_step.csv"))
+        self.assertTrue(all(math.isfinite(float(r[3])) for r in rows))
+        folder = os.path.join(out, "two-way", CASE)
+        _, forces = table(os.path.join(folder, "soil_forces.csv"))
+        _, rec = table(os.path.join(folder, "receivers.csv"))
+        _, soil_x = table(os.path.join(folder, "soil.csv"))
+        with open(CI_SCENE, "rb") as f:
+            scene = tomllib.load(f)
+        soil, _ = two_step.block(scene, soil_x[:, 0])
+        _, v = two_step.one_way(soil, forces[:, 1:], forces[:, 0], forces[1, 0] - forces[0, 0],
+                                hold=True)
+        two_way = rec[:, 1:].reshape(v.shape)
+        self.assertLess(np.abs(v - two_way).max() / np.abs(two_way).max(), 1e-7)
+
     def comparison_scenes(self):
         with open(os.path.join(SRC, "scenes", "soil.toml")) as f:
             text = f.read()
@@ -204,32 +233,15 @@ def table_text(path):
 
 
 def fit_lumped(scene):
-    """(k_f, k_c) of a lumped soil with the FE block's static stiffness under
-    all footprints loaded equally and under the middle one alone."""
-    from railcosim_sdk import Footprint
-    from fe_soil import config
-    from fe_soil.model import FESoil
+    """(k_f, k_c) of a lumped soil with the FE block's static stiffness
+    (fe_soil.two_step.fit_lumped) under the scene's sleepers."""
+    from fe_soil import two_step
 
     with open(scene, "rb") as f:
         sc = tomllib.load(f)
     n, s = sc["sleepers"]["count"], sc["sleepers"]["spacing"]
-    fps = [Footprint((i + 0.5) * s, 0.65, 0.0, s, 1.3) for i in range(n)]
-    params, _ = config.block_params(config.parse(sc["soil"]), fps)
-    soil = FESoil(params)
-    kf = 1e5 / soil.statics(np.full(n, 1e5))[n // 2]
-    one = np.zeros(n)
-    one[n // 2] = 1e5
-    kp = 1e5 / soil.statics(one)[n // 2]
-
-    def point(kc):
-        b = 2.0 + kf / kc
-        return kf + 2.0 * kc * (1.0 - (b - math.sqrt(b * b - 4.0)) / 2.0)
-
-    lo, hi = 1e-3 * kf, 1e6 * kf
-    for _ in range(200):
-        mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if point(mid) < kp else (lo, mid)
-    return kf, mid
+    soil, _ = two_step.block(sc, [(i + 0.5) * s for i in range(n)])
+    return two_step.fit_lumped(soil, n)
 
 
 if __name__ == "__main__":

@@ -161,10 +161,7 @@ if __name__ == "__main__":
     if "--write" in sys.argv:
         core = Core(MPI.COMM_WORLD)
         if MPI.COMM_WORLD.rank != 0:
-            try:
-                follow(core)
-            except SystemExit:
-                pass
+            follow(core)
         else:
             result = drive(core)[2]
             core.release()
