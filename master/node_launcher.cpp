@@ -41,7 +41,7 @@ std::string own_directory() {
 
 LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
                            const std::string& listen, const std::string& role,
-                           const std::string& token_file)
+                           const std::string& token_file, const std::vector<std::string>& extra)
     : program_(program) {
   const std::string path = own_directory() + "/" + program;
   if (::access(path.c_str(), X_OK) != 0)
@@ -51,6 +51,7 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
   LaunchCommand c{program, {path, "--listen", listen, "--log-level", "warn"}, {}};
   if (!role.empty()) c.argv.insert(c.argv.end(), {"--role", role});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
+  c.argv.insert(c.argv.end(), extra.begin(), extra.end());
   start(c, timeout);
 }
 

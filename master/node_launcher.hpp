@@ -30,9 +30,10 @@ class LaunchedNode {
   // std::runtime_error if it does not print its address within `timeout`.
   // With a `token_file`, the node requires that shared secret too (so that
   // nodes the user started with it accept its peer links).
+  // `extra`: further options for the node program.
   LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
                const std::string& listen = "127.0.0.1:0", const std::string& role = "",
-               const std::string& token_file = "");
+               const std::string& token_file = "", const std::vector<std::string>& extra = {});
   ~LaunchedNode();  // SIGTERM, then SIGKILL if it does not exit within 2 s
   LaunchedNode(const LaunchedNode&) = delete;
   LaunchedNode& operator=(const LaunchedNode&) = delete;

@@ -49,8 +49,11 @@ const Address& NodePool::address(const std::string& role) {
   }
   if (it == nodes_.end()) {
     const std::string program = node_program(role);
-    auto node = std::make_unique<LaunchedNode>(program, std::chrono::seconds(10), "127.0.0.1:0",
-                                               program == role + "_node" ? "" : role, token_file_);
+    std::vector<std::string> extra;
+    if (fe_) extra = {"--idle-timeout", std::to_string(kIdleBesideFeSoil.count())};
+    auto node =
+        std::make_unique<LaunchedNode>(program, std::chrono::seconds(10), "127.0.0.1:0",
+                                       program == role + "_node" ? "" : role, token_file_, extra);
     logger("master")->info("started {} for the {} participant on {}", program, role,
                            node->address().str());
     it = nodes_.emplace(role, std::move(node)).first;

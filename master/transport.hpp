@@ -34,6 +34,10 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
 // Configure and Statics (a mesh is built, the static solver set up).
 inline constexpr std::chrono::seconds kFeSoilStart{120};
 inline constexpr std::chrono::seconds kFeSoilReply{300};
+// Meanwhile the other nodes hear nothing from the master: those it starts
+// beside the FE soil wait this long before they close a silent session
+// (--idle-timeout; 60 s by default).
+inline constexpr std::chrono::seconds kIdleBesideFeSoil{360};
 
 // Nodes started on loopback on demand, one per role, kept for the runs that
 // follow (each node serves its sessions one after another).
