@@ -135,9 +135,9 @@ std::vector<std::string> paper_case_names() {
 
 std::vector<std::string> case_names(const Scene& scene) {
   std::vector<std::string> names;
-  if (scene.soil_model != "external") names.push_back("monolithic");
+  if (!scene.outside_soil()) names.push_back("monolithic");
   std::vector<std::string> cuts;
-  if (scene.soil_model != "external") cuts = {"wr", "rs"};
+  if (!scene.outside_soil()) cuts = {"wr", "rs"};
   if (scene.has_soil()) cuts.push_back("ss");
   const char* types[] = {"xx", "xt"};
   const char* schemes[] = {"jacobi", "gauss-seidel"};
@@ -154,10 +154,11 @@ std::vector<std::string> case_names(const Scene& scene) {
 
 void check_case_for_scene(const CaseSpec& spec, const Scene& scene) {
   if (spec.monolithic) {
-    if (scene.soil_model == "external")
-      throw std::invalid_argument(
-          "the scene's soil is external (soil.model = \"external\"): there is no monolithic "
-          "reference, only cases that cut through the ballast (ss)");
+    if (scene.outside_soil())
+      throw std::invalid_argument("the scene's soil is a participant of its own (soil.model = \"" +
+                                  scene.soil_model +
+                                  "\"): there is no monolithic reference, only cases that cut "
+                                  "through the ballast (ss)");
     return;
   }
   partition(scene, spec);  // throws if a cut needs a component the scene lacks

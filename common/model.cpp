@@ -105,14 +105,14 @@ std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec)
       if (!scene.has_soil())
         throw std::invalid_argument(
             "case " + spec.name() + ": the " + kind.title + " cut (" + kind.name +
-            ") needs a soil, and the scene's soil is fixed (set [soil] model = \"lumped\" or "
-            "\"external\")");
+            ") needs a soil, and the scene's soil is fixed (set [soil] model = \"lumped\", "
+            "\"external\" or \"fe\")");
     }
   }
-  if (scene.soil_model == "external" && !cuts_soil)
-    throw std::invalid_argument("case " + spec.name() +
-                                ": the scene's soil is external, so the case must cut through "
-                                "the ballast (ss) to reach it");
+  if (scene.outside_soil() && !cuts_soil)
+    throw std::invalid_argument("case " + spec.name() + ": the scene's soil is " +
+                                (scene.soil_model == "fe" ? "the FE soil" : "external") +
+                                ", so the case must cut through the ballast (ss) to reach it");
 
   std::vector<ParticipantSpec> out;
   Component first = Component::kVehicle;

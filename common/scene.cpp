@@ -193,8 +193,10 @@ void Scene::validate() const {
   if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
   positive("ballast.stiffness", ballast_stiffness);
   non_negative("ballast.damping", ballast_damping);
-  if (soil_model != "fixed" && soil_model != "lumped" && soil_model != "external")
-    fail("soil.model", "unknown soil model '" + soil_model + "' (known: fixed, lumped, external)");
+  if (soil_model != "fixed" && soil_model != "lumped" && soil_model != "external" &&
+      soil_model != "fe")
+    fail("soil.model",
+         "unknown soil model '" + soil_model + "' (known: fixed, lumped, external, fe)");
   if (soil_model == "lumped") {
     positive("soil.mass", soil_mass);
     positive("soil.stiffness", soil_stiffness);
@@ -313,14 +315,25 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.ballast_damping = r.number("ballast", "damping");
 
   sc.soil_model = r.string_or("soil", "model", "fixed");
-  if (sc.soil_model == "external") {
+  if (sc.soil_model == "external" || sc.soil_model == "fe") {
     // The soil is an outside participant's: its table is that participant's
     // own configuration, with any keys it knows, handed to it whole (as TOML
     // text) at configure time and covered by the scene's fingerprint. The
-    // product reads none of its keys but `model`.
+    // product reads none of its keys but `model` (and, for the FE soil it
+    // starts itself, `ranks`; the FE soil checks the others).
+    const toml::table* soil = r.whole_table("soil");
     std::ostringstream text;
-    text << *r.whole_table("soil");
+    text << *soil;
     sc.soil_config = text.str();
+    if (sc.soil_model == "fe") {
+      if (const toml::node* n = soil->get("ranks")) {
+        const auto v = n->value<int64_t>();
+        if (!n->is_integer() || !v || *v < 1 || *v > 256)
+          r.fail("soil.ranks",
+                 "must be a whole number from 1 to 256 (the MPI ranks of the FE soil)");
+        sc.soil_ranks = static_cast<int>(*v);
+      }
+    }
   } else if (sc.soil_model != "fixed") {
     const bool need = sc.soil_model == "lumped";
     auto soil_key = [&](const char* key) {

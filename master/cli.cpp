@@ -103,6 +103,11 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
             "the scene's soil is external (soil.model = \"external\"): start its program and "
             "give its address with --node " +
             p.role + "=HOST:PORT" + (a.transport == "inproc" ? " (and --transport tcp)" : ""));
+  // The FE soil is a program of its own too, which the master starts over TCP.
+  if (scene.soil_model == "fe" && !spec.monolithic && a.transport == "inproc")
+    throw std::invalid_argument(
+        "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
+        "master starts over TCP: use --transport tcp (the default), not --transport inproc");
   if (given.empty()) return given;
   if (spec.monolithic)
     throw std::invalid_argument(
@@ -206,7 +211,7 @@ int do_run(const RunArgs& a) {
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
 
   RunRecord reference;
-  if (!spec.monolithic && scene.soil_model != "external") {
+  if (!spec.monolithic && !scene.outside_soil()) {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
     reference = run_monolithic(scene, o);
@@ -227,14 +232,16 @@ int do_run(const RunArgs& a) {
     if (spec.monolithic) {
       record = run_monolithic(scene, o);
     } else {
-      NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
+      NodePool pool(a.token_file);   // nodes it starts share the secret of the given ones
+      if (scene.soil_model == "fe")  // writes its measures next to the run's files
+        pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(writer.dir()).string()});
       std::optional<std::string> token;
       if (!a.token_file.empty()) token = read_token_file(a.token_file);
       const Transport transport = a.transport == "inproc"
                                       ? inproc_transport(scene)
                                       : tcp_transport(scene, given, pool, token);
       record = run_cosim(scene, spec, o, transport.factory, transport.name);
-      if (scene.soil_model != "external") judge(record, reference, scene);
+      if (!scene.outside_soil()) judge(record, reference, scene);
     }
   } catch (const std::exception& e) {
     RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());

@@ -142,8 +142,8 @@ std::filesystem::path whole_run(const Subject& s, const std::string& plane,
 
 }  // namespace
 
-std::string conform_case(const std::string& role) {
-  if (role == "soil") return "ss-xx-jacobi";
+std::string conform_case(const std::string& role, const std::string& soil_model) {
+  if (role == "soil") return soil_model == "fe" ? "ss-xt-jacobi" : "ss-xx-jacobi";
   if (role == "rail") return "wr-xx+rs-xx-jacobi";
   return "wr-xx-jacobi";
 }
@@ -345,7 +345,8 @@ void add_conform_command(CLI::App& app, ConformArgs& a) {
                    "rail, soil)")
       ->required();
   a.command->add_option("--case", a.case_name,
-                        "Case it is checked in (default: ss-xx-jacobi for soil, "
+                        "Case it is checked in (default: ss-xx-jacobi for soil, ss-xt-jacobi for "
+                        "the FE soil, "
                         "wr-xx+rs-xx-jacobi for rail, wr-xx-jacobi otherwise)");
   a.command->add_option("--token-file", a.token_file, "Its shared secret, if it has one")
       ->check(CLI::ExistingFile);
@@ -368,7 +369,8 @@ int do_conform(const ConformArgs& a) {
     throw std::invalid_argument("--node " + a.node + ": expected ROLE=HOST:PORT");
   o.role = a.node.substr(0, eq);
   o.address = parse_address(a.node.substr(eq + 1), "--node " + o.role);
-  o.case_name = a.case_name.empty() ? conform_case(o.role) : a.case_name;
+  o.case_name =
+      a.case_name.empty() ? conform_case(o.role, load_scene(a.scene_path).soil_model) : a.case_name;
   if (!a.token_file.empty()) {
     o.token = read_token_file(a.token_file);
     o.token_file = a.token_file;

@@ -40,8 +40,9 @@ struct ConformItem {
 };
 
 // The case a role is checked in when none is given: a one-cut Jacobi X-X
-// case in which the role is a participant.
-std::string conform_case(const std::string& role);
+// case in which the role is a participant (X-T for the soil of a scene on
+// the FE soil, which serves ss-xt only).
+std::string conform_case(const std::string& role, const std::string& soil_model = "");
 
 // Runs every item, in order; a failed item does not stop the others.
 // Throws std::runtime_error only when the checks cannot start (scene, case).

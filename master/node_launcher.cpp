@@ -16,6 +16,22 @@
 
 namespace railcosim {
 
+namespace {
+
+// SIGTERM (mpirun passes it on to its ranks), then SIGKILL if the program
+// has not exited within 2 s.
+void stop(pid_t pid) {
+  ::kill(pid, SIGTERM);
+  for (int i = 0; i < 200; ++i) {
+    if (::waitpid(pid, nullptr, WNOHANG) == pid) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+}
+
+}  // namespace
+
 std::string own_directory() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -25,13 +41,49 @@ std::string own_directory() {
 
 LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
                            const std::string& listen, const std::string& role,
-                           const std::string& token_file)
+                           const std::string& token_file, const std::vector<std::string>& extra)
     : program_(program) {
   const std::string path = own_directory() + "/" + program;
   if (::access(path.c_str(), X_OK) != 0)
     throw std::runtime_error(
         "cannot start " + path + ": " + std::strerror(errno) +
         " (build it, or start the nodes yourself and pass --node ROLE=HOST:PORT)");
+  LaunchCommand c{program, {path, "--listen", listen, "--log-level", "warn"}, {}};
+  if (!role.empty()) c.argv.insert(c.argv.end(), {"--role", role});
+  if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
+  c.argv.insert(c.argv.end(), extra.begin(), extra.end());
+  start(c, timeout);
+}
+
+LaunchedNode::LaunchedNode(const LaunchCommand& command, std::chrono::milliseconds timeout)
+    : program_(command.name) {
+  if (command.argv.empty() || ::access(command.argv[0].c_str(), X_OK) != 0)
+    throw std::runtime_error("cannot start " + command.name + ": " +
+                             (command.argv.empty()
+                                  ? std::string("no program")
+                                  : command.argv[0] + ": " + std::strerror(errno)));
+  start(command, timeout);
+}
+
+void LaunchedNode::start(const LaunchCommand& command, std::chrono::milliseconds timeout) {
+  const std::string& program = command.name;
+  // The child's argv and environment, built before the fork (the child only
+  // calls async-signal-safe functions).
+  std::vector<const char*> argv;
+  for (const std::string& a : command.argv) argv.push_back(a.c_str());
+  argv.push_back(nullptr);
+  std::vector<std::string> env_text;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry = *e;
+    bool replaced = false;
+    for (const std::string& mine : command.env)
+      replaced = replaced || entry.compare(0, mine.find('=') + 1, mine, 0, mine.find('=') + 1) == 0;
+    if (!replaced) env_text.push_back(entry);
+  }
+  env_text.insert(env_text.end(), command.env.begin(), command.env.end());
+  std::vector<const char*> envp;
+  for (const std::string& e : env_text) envp.push_back(e.c_str());
+  envp.push_back(nullptr);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
@@ -43,12 +95,7 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(1);
     ::dup2(fds[1], STDOUT_FILENO);
-    std::vector<const char*> argv = {path.c_str(), "--listen", listen.c_str(), "--log-level",
-                                     "warn"};
-    if (!role.empty()) argv.insert(argv.end(), {"--role", role.c_str()});
-    if (!token_file.empty()) argv.insert(argv.end(), {"--token-file", token_file.c_str()});
-    argv.push_back(nullptr);
-    ::execv(path.c_str(), const_cast<char* const*>(argv.data()));
+    ::execve(argv[0], const_cast<char* const*>(argv.data()), const_cast<char* const*>(envp.data()));
     ::_exit(127);
   }
   ::close(fds[1]);
@@ -70,8 +117,7 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
   const std::string prefix = "listening on ";
   const auto nl = line.find('\n');
   if (nl == std::string::npos || line.rfind(prefix, 0) != 0) {
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
+    stop(pid_);
     pid_ = -1;
     throw std::runtime_error(program + " did not report its address within " +
                              std::to_string(timeout.count()) + " ms" +
@@ -81,14 +127,7 @@ LaunchedNode::LaunchedNode(const std::string& program, std::chrono::milliseconds
 }
 
 LaunchedNode::~LaunchedNode() {
-  if (pid_ <= 0) return;
-  ::kill(pid_, SIGTERM);
-  for (int i = 0; i < 200; ++i) {
-    if (::waitpid(pid_, nullptr, WNOHANG) == pid_) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ::kill(pid_, SIGKILL);
-  ::waitpid(pid_, nullptr, 0);
+  if (pid_ > 0) stop(pid_);
 }
 
 }  // namespace railcosim

@@ -6,21 +6,34 @@
 
 #include <chrono>
 #include <string>
+#include <vector>
 
 #include "connection.hpp"
 
 namespace railcosim {
 
+// A program to start that is not a node program next to the master (the FE
+// soil: a Python participant, perhaps under mpirun).
+struct LaunchCommand {
+  std::string name;               // in messages, e.g. "the FE soil"
+  std::vector<std::string> argv;  // argv[0]: the program's absolute path
+  std::vector<std::string> env;   // NAME=VALUE, set in the child (others inherited)
+};
+
 class LaunchedNode {
  public:
+  // Starts `command`, which must print "listening on HOST:PORT" as its first
+  // line within `timeout`. Throws std::runtime_error otherwise.
+  LaunchedNode(const LaunchCommand& command, std::chrono::milliseconds timeout);
   // Starts `program` (a node program, looked up next to the running master)
   // with --listen 127.0.0.1:0 (and --role ROLE when a role is given). Throws
   // std::runtime_error if it does not print its address within `timeout`.
   // With a `token_file`, the node requires that shared secret too (so that
   // nodes the user started with it accept its peer links).
+  // `extra`: further options for the node program.
   LaunchedNode(const std::string& program, std::chrono::milliseconds timeout,
                const std::string& listen = "127.0.0.1:0", const std::string& role = "",
-               const std::string& token_file = "");
+               const std::string& token_file = "", const std::vector<std::string>& extra = {});
   ~LaunchedNode();  // SIGTERM, then SIGKILL if it does not exit within 2 s
   LaunchedNode(const LaunchedNode&) = delete;
   LaunchedNode& operator=(const LaunchedNode&) = delete;
@@ -29,6 +42,7 @@ class LaunchedNode {
   pid_t pid() const { return pid_; }
 
  private:
+  void start(const LaunchCommand& command, std::chrono::milliseconds timeout);
   std::string program_;
   pid_t pid_ = -1;
   Address address_;

@@ -186,7 +186,7 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
                                   ? tcp_transport(scene, {}, pools[static_cast<std::size_t>(w)])
                                   : inproc_transport(scene);
           r = run_cosim(scene, spec, o, t.factory, t.name);
-          if (scene.soil_model != "external") {
+          if (!scene.outside_soil()) {
             Reference& ref = references.at({run.scene, run.macro_step, run.tolerance});
             std::call_once(ref.once, [&] {
               RunOptions m;
@@ -228,6 +228,11 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
 
 CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt) {
   // A study starts its own nodes: it cannot reach a soil that is a program of its own.
+  if (load_scene(scene_path).soil_model == "fe")
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene's soil is the FE soil (soil.model = \"fe\"): a study runs its cases by the "
+        "hundred, too many for a finite-element soil; run each case with master run");
   if (load_scene(scene_path).soil_model == "external")
     throw std::invalid_argument(
         scene_path +

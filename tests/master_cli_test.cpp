@@ -121,6 +121,33 @@ TEST(MasterCli, AnExternalSoilWithoutItsAddressNamesTheFlag) {
   fs::remove_all(out);
 }
 
+// The FE soil is started by the master over TCP: in process it cannot run,
+// and a study does not start it.
+TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
+  const fs::path out = temp_dir("cli_fe");
+  std::ofstream(out / "fe.toml") << read_file(test::source_path("scenes/ground_vibration_ci.toml"));
+  const Outcome o =
+      run_master("run --scene " + (out / "fe.toml").string() +
+                 " --case ss-xt-jacobi --transport inproc --out " + (out / "res").string());
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("the scene's soil is the FE soil (soil.model = \"fe\"), a program of "
+                          "its own that the master starts over TCP: use --transport tcp (the "
+                          "default), not --transport inproc"),
+            std::string::npos)
+      << o.output;
+  const Outcome s = run_master("study --scene " + (out / "fe.toml").string() + " --out " +
+                               (out / "study").string());
+  EXPECT_EQ(s.status, 2) << s.output;
+  EXPECT_NE(s.output.find("the scene's soil is the FE soil (soil.model = \"fe\"): a study"),
+            std::string::npos)
+      << s.output;
+  const Outcome m = run_master("run --scene " + (out / "fe.toml").string() +
+                               " --case monolithic --out " + (out / "res").string());
+  EXPECT_NE(m.status, 0) << m.output;
+  EXPECT_NE(m.output.find("there is no monolithic reference"), std::string::npos) << m.output;
+  fs::remove_all(out);
+}
+
 TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
   LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
   LaunchedNode track("track_node", std::chrono::seconds(10));

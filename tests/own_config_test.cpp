@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include "cosim_case.hpp"
 #include "model.hpp"
 #include "scene_error.hpp"
 #include "test_support.hpp"
@@ -75,6 +76,38 @@ TEST(OwnConfig, TheFingerprintCoversTheOwnTable) {
   const Scene b = parse_scene(external_soil_scene(other), "b.toml");
   EXPECT_NE(scene_fingerprint(a), scene_fingerprint(b));
   EXPECT_EQ(scene_fingerprint(from_wire(to_wire(a), "wire")), scene_fingerprint(a));
+}
+
+// The FE soil (model = "fe") is an outside participant the master starts:
+// its table travels as an external soil's does, and the master reads `ranks`.
+TEST(OwnConfig, TheFeSoilGetsItsTableAndItsRanksAreChecked) {
+  std::string table = kOwnTable;
+  table.replace(table.find("\"external\""), 10, "\"fe\"\nranks = 3");
+  const Scene scene = parse_scene(external_soil_scene(table), "fe.toml");
+  EXPECT_EQ(scene.soil_model, "fe");
+  EXPECT_EQ(scene.soil_ranks, 3);
+  EXPECT_TRUE(scene.outside_soil());
+  const wire::Envelope e = configure_envelope(scene, soil_config(scene, "ss-xt-jacobi"), true);
+  const toml::table own = toml::parse(e.configure().own_config());
+  EXPECT_EQ(own["model"].value_or(std::string()), "fe");
+  EXPECT_EQ(own["layers"][1]["shear_wave_speed"].value_or(0.0), 250.0);
+  EXPECT_EQ(case_names(scene).front(), "ss-xx-jacobi");  // no monolithic, no wr or rs cases
+  EXPECT_EQ(load_scene(test::source_path("scenes/ground_vibration.toml")).soil_ranks, 2);
+  EXPECT_EQ(load_scene(test::source_path("scenes/ground_vibration_ci.toml")).soil_model, "fe");
+  for (const char* bad : {"ranks = 0", "ranks = 2.5", "ranks = \"two\"", "ranks = 1000"}) {
+    std::string t = kOwnTable;
+    t.replace(t.find("\"external\""), 10, std::string("\"fe\"\n") + bad);
+    try {
+      parse_scene(external_soil_scene(t), "fe.toml");
+      FAIL() << bad << " was accepted";
+    } catch (const SceneError& err) {
+      EXPECT_NE(std::string(err.what())
+                    .find("fe.toml: key 'soil.ranks': must be a whole number "
+                          "from 1 to 256"),
+                std::string::npos)
+          << err.what();
+    }
+  }
 }
 
 TEST(OwnConfig, ScenesWithoutAnOutsideSoilKeepTheirFingerprint) {

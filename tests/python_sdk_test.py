@@ -45,6 +45,53 @@ check("ramped waveform", not ramp.held and list(ramp.at(0.25)) == [1.0, -2.0] an
       list(ramp.at(0.5)) == [2.0, 0.0] and list(ramp.at(0.75)) == [3.0, 2.0] and
       list(ramp.rate()) == [4.0, 8.0], str((ramp.at(0.5), ramp.rate())))
 
+# The interface geometry: footprints at the ss cut as the wire carries them,
+# and the scene's own table (Configure.own_config) as the configuration of a
+# participant served without --config.
+from railcosim_sdk import Participant  # noqa: E402
+from railcosim_sdk.session import Session  # noqa: E402
+
+
+class Recorder(Participant):
+    name = "soil"
+
+    def configure(self, config, interfaces):
+        self.config, self.interfaces = config, interfaces
+
+
+def configure_recorder(own_config, config=None):
+    p = Recorder()
+    s = Session(p, None, "test", config)
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=2, role="master",
+                                               participant="soil")))
+    c = pb.Configure(participant="soil", macro_step=1e-4, end_time=1e-3, micro_steps=1,
+                     own_config=own_config)
+    i = c.interfaces.add(cut="ss", peer="track", x=[0.3, 0.9])
+    for x in (0.3, 0.9):
+        i.footprints.add(x=x, y=0.65, z=0.0, length=0.6, width=1.3)
+    return p, s.handle(pb.Envelope(id=2, configure=c))
+
+
+rec, reply = configure_recorder('model = "fe"\nf_max = 20.0\n[[layers]]\nthickness = 2.0\n')
+fps = rec.interfaces[0].footprints
+check("footprints", len(fps) == 2 and [f.x for f in fps] == [0.3, 0.9] and
+      all(f.y == 0.65 and f.z == 0.0 and f.length == 0.6 and f.width == 1.3 and
+          f.area == 0.6 * 1.3 for f in fps), str(fps))
+check("own_config as the configuration", rec.config == {
+    "model": "fe", "f_max": 20.0, "layers": [{"thickness": 2.0}]}, str(rec.config))
+rec, _ = configure_recorder('model = "fe"\n', {"from": "--config"})
+check("--config wins over own_config", rec.config == {"from": "--config"}, str(rec.config))
+rec, reply = configure_recorder("")
+check("no own_config: an empty configuration", rec.config == {}, str(rec.config))
+from railcosim_sdk import Interface  # noqa: E402
+check("no footprints at other cuts", Interface(pb.Interface(cut="wr", x=[1.0])).footprints == ())
+try:
+    configure_recorder("model = = 1")
+    check("own_config that is not TOML is refused", False)
+except Exception as e:
+    check("own_config that is not TOML is refused",
+          getattr(e, "code", None) == E.BAD_REQUEST and "own_config is not TOML" in str(e), str(e))
+
 work = tempfile.mkdtemp()
 with open(os.path.join(work, "token"), "w") as f:
     f.write("  s3cret\n")

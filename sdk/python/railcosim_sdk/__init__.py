@@ -27,9 +27,9 @@ docs/participant-guide.md for a walk from nothing to a matching result.
 Needs Debian's python3-protobuf, python3-numpy and protobuf-compiler.
 """
 
-from .participant import (BadInterface, BadRequest, Inputs, Interface, Participant, Run,
-                          StepFailed, Waveform)
+from .participant import (BadInterface, BadRequest, Footprint, Inputs, Interface, Participant,
+                          Run, StepFailed, Waveform)
 from .server import serve
 
-__all__ = ["Participant", "Interface", "Inputs", "Waveform", "Run", "StepFailed",
+__all__ = ["Participant", "Interface", "Footprint", "Inputs", "Waveform", "Run", "StepFailed",
            "BadInterface", "BadRequest", "serve"]

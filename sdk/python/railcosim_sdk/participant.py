@@ -43,6 +43,30 @@ class BadRequest(Exception):
     adaptive micro steps from a solver with fixed ones)."""
 
 
+class Footprint:
+    """The area one coupling point stands for (read-only): a rectangle
+    centred on (x, y), `length` m along the track (x) and `width` m across
+    it (y), at depth z below the surface of the cut (0: on it). x is along
+    the track as Interface.x, y across from the track axis. At the ss cut:
+    one rail's share of a sleeper bay (x the sleeper, length the spacing,
+    width half the sleeper's length, y = width/2; the track is symmetric
+    about its axis, so the mirror image at -y carries the same force).
+    `area` is length * width."""
+
+    __slots__ = ("x", "y", "z", "length", "width")
+
+    def __init__(self, x, y, z, length, width):
+        self.x, self.y, self.z, self.length, self.width = x, y, z, length, width
+
+    @property
+    def area(self):
+        return self.length * self.width
+
+    def __repr__(self):
+        return "Footprint(x=%g, y=%g, z=%g, %g x %g m)" % (self.x, self.y, self.z, self.length,
+                                                         self.width)
+
+
 class Interface:
     """One side of one cut, as this participant sees it (read-only).
 
@@ -51,7 +75,9 @@ class Interface:
     positions at t = 0 (numpy array, m); n: the number of points; speed:
     m/s the points move at; receives, sends: tuples of quantity names
     ("displacement", "velocity", "force"); stiffness (N/m), damping (N s/m),
-    hertz_constant (N/m^1.5): the element at the cut, per point.
+    hertz_constant (N/m^1.5): the element at the cut, per point;
+    footprints: at the ss cut one `Footprint` per point (in the order of x),
+    the area of the soil's surface the point stands for; empty elsewhere.
     """
 
     def __init__(self, wire):
@@ -66,6 +92,8 @@ class Interface:
         self.stiffness = wire.stiffness
         self.damping = wire.damping
         self.hertz_constant = wire.hertz_constant
+        self.footprints = tuple(Footprint(f.x, f.y, f.z, f.length, f.width)
+                                for f in wire.footprints)
 
     def __repr__(self):
         return "Interface(%s %s side, %d points, receives %s, sends %s)" % (

@@ -164,7 +164,9 @@ def serve(participant, argv=None):
       --listen HOST:PORT   where to listen (default 127.0.0.1:0: any free port);
                            prints "listening on HOST:PORT" once it does
       --config FILE        a TOML file; its table [--table] is the config
-                           configure() receives (default: no config, {})
+                           configure() receives (default: the participant's
+                           table of the master's scene, Configure.own_config,
+                           which the master sends to an outside soil; else {})
       --table NAME         the table of --config (default: the participant's name)
       --token-file FILE    the shared secret (the master's --token-file)
       --relayed-only       do not offer the direct data plane
@@ -179,7 +181,7 @@ def serve(participant, argv=None):
     p.add_argument("--relayed-only", action="store_true")
     p.add_argument("--name", default="%s (railcosim_sdk)" % type(participant).__name__)
     a = p.parse_args(argv)
-    config = {}
+    config = None  # the scene's table, from Configure.own_config
     if a.config:
         try:
             with open(a.config, "rb") as f:

@@ -5,6 +5,7 @@ import hashlib
 import hmac
 import math
 import secrets
+import tomllib
 
 import numpy as np
 
@@ -27,7 +28,7 @@ class Session:
 
     def __init__(self, participant, token, name, config=None, links_hook=None):
         self.p = participant
-        self.config = {} if config is None else config
+        self.config = config  # None: the master's own_config (else {})
         self.token, self.name = token, name
         self.state = "hello"
         self.nonce = b""
@@ -227,8 +228,14 @@ class Session:
         self.interfaces = [api.Interface(i) for i in c.interfaces]
         self.H = c.macro_step
         self.p.run = api.Run(c)
+        config = self.config
+        if config is None:  # no --config: the scene's own table for this participant
+            try:
+                config = tomllib.loads(c.own_config) if c.own_config else {}
+            except tomllib.TOMLDecodeError as e:
+                raise ProtocolError(E.BAD_REQUEST, "configure: own_config is not TOML: %s" % e)
         try:
-            self.p.configure(self.config, self.interfaces)
+            self.p.configure(config, self.interfaces)
         except api.BadInterface as e:
             raise ProtocolError(E.BAD_INTERFACE, "participant %s: %s" % (self.p.name, e))
         except api.BadRequest as e:

@@ -1,0 +1,180 @@
+"""The FE soil participant's own configuration: the scene's [soil] table
+(model = "fe"), checked key by key, and the block it describes around the
+footprints the master sends. numpy and the standard library only, so that
+the checks run without dolfinx.
+
+    [soil]
+    model = "fe"
+    ranks = 1                    # MPI ranks the master starts it on
+    f_max = 20.0                 # Hz, highest frequency of interest (mesh-size rule)
+    elements_per_wavelength = 10.0
+    mesh_size = 0.5              # optional, m: overrides the rule
+    depth = 20.0                 # m
+    margin = 8.0                 # m beyond the track's ends and the farthest receiver
+    receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
+    receiver_x = 15.0            # optional, m along the rail (default: its middle)
+    damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
+    [[soil.layers]]              # top down; the last reaches the bottom
+    thickness = 2.0              # m
+    density = 1800.0             # kg/m^3
+    shear_wave_speed = 150.0     # m/s
+    poisson = 0.33
+    damping = 0.03               # material damping ratio
+"""
+from __future__ import annotations
+
+import math
+
+from .params import Footprint, Layer, SoilParams, rayleigh_speed, uniform_nodes
+
+
+class ConfigError(ValueError):
+    """A key of the [soil] table that cannot be used; the message names it."""
+
+
+TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
+            "receivers", "receiver_x", "damping_band", "layers"}
+LAYER_KEYS = {"thickness", "density", "shear_wave_speed", "poisson", "damping"}
+DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
+            "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0]}
+MAX_RANKS = 256
+
+
+def _number(table, key, where, lo=None, hi=None, lo_open=True, default=None):
+    value = table.get(key, default)
+    name = "[soil] %s%s" % (where, key)
+    if value is None:
+        raise ConfigError("%s is missing" % name)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ConfigError("%s must be a finite number (got %r)" % (name, value))
+    value = float(value)
+    if lo is not None and (value <= lo if lo_open else value < lo):
+        raise ConfigError("%s must be %s %g (got %g)" % (name, ">" if lo_open else ">=", lo, value))
+    if hi is not None and value >= hi:
+        raise ConfigError("%s must be < %g (got %g)" % (name, hi, value))
+    return value
+
+
+def _numbers(table, key, count=None):
+    value = table.get(key, DEFAULTS.get(key))
+    if not isinstance(value, list) or not value or (count is not None and len(value) != count):
+        raise ConfigError("[soil] %s must be a list of %s numbers (got %r)"
+                          % (key, count if count else "one or more", value))
+    return [_number({key: v}, key, "", lo=0.0, lo_open=False) for v in value]
+
+
+def ranks_of(table):
+    """The number of MPI ranks the table asks for (an int >= 1)."""
+    r = table.get("ranks", 1)
+    if isinstance(r, bool) or not isinstance(r, int) or not 1 <= r <= MAX_RANKS:
+        raise ConfigError("[soil] ranks must be a whole number from 1 to %d (got %r)"
+                          % (MAX_RANKS, r))
+    return r
+
+
+def parse(table):
+    """The checked settings of a [soil] table, as a dict of plain values."""
+    unknown = sorted(set(table) - TOP_KEYS)
+    if unknown:
+        raise ConfigError("[soil] %s is not a key of the FE soil (its keys: %s)"
+                          % (unknown[0], ", ".join(sorted(TOP_KEYS))))
+    if table.get("model", "fe") != "fe":
+        raise ConfigError("[soil] model is %r; this program is the FE soil (model = \"fe\")"
+                          % table.get("model"))
+    out = {"ranks": ranks_of(table)}
+    for key in ("f_max", "elements_per_wavelength", "depth", "margin"):
+        out[key] = _number(table, key, "", lo=0.0, default=DEFAULTS[key])
+    out["mesh_size"] = _number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
+    out["receivers"] = _numbers(table, "receivers")
+    out["receiver_x"] = _number(table, "receiver_x", "") if "receiver_x" in table else None
+    band = _numbers(table, "damping_band", 2)
+    if not 0.0 < band[0] < band[1]:
+        raise ConfigError("[soil] damping_band must be two frequencies 0 < f1 < f2 (got %r)" % band)
+    out["damping_band"] = tuple(band)
+    layers = table.get("layers")
+    if not isinstance(layers, list) or not layers or not all(isinstance(l, dict) for l in layers):
+        raise ConfigError("[soil] layers is missing: give one [[soil.layers]] table or more, top "
+                          "down, each with thickness, density, shear_wave_speed, poisson, damping")
+    out["layers"] = []
+    for k, layer in enumerate(layers):
+        where = "layers[%d]." % (k + 1)
+        unknown = sorted(set(layer) - LAYER_KEYS)
+        if unknown:
+            raise ConfigError("[soil] %s%s is not a key of a layer (its keys: %s)"
+                              % (where, unknown[0], ", ".join(sorted(LAYER_KEYS))))
+        last = k == len(layers) - 1
+        thickness = 1.0 if last and "thickness" not in layer else _number(layer, "thickness",
+                                                                          where, lo=0.0)
+        out["layers"].append(Layer(
+            thickness=thickness,
+            density=_number(layer, "density", where, lo=0.0),
+            shear_speed=_number(layer, "shear_wave_speed", where, lo=0.0),
+            poisson=_number(layer, "poisson", where, lo=0.0, hi=0.5, lo_open=False),
+            damping=_number(layer, "damping", where, lo=0.0, hi=1.0, lo_open=False, default=0.0)))
+    above = sum(l.thickness for l in out["layers"][:-1])
+    if above >= out["depth"]:
+        raise ConfigError("[soil] depth %g m must exceed the layers above the last one (%g m)"
+                          % (out["depth"], above))
+    return out
+
+
+def layered_nodes(layers, depth, h):
+    """z node planes from -depth to 0, at most h apart, with a plane on every
+    layer interface (the material is cell-wise)."""
+    tops = [0.0]
+    for layer in layers[:-1]:
+        tops.append(tops[-1] - layer.thickness)
+    tops.append(-depth)
+    z = []
+    for a, b in zip(tops[1:], tops[:-1]):  # bottom, top of each layer
+        z.extend(uniform_nodes(a, b, h)[:-1])
+    return sorted(z) + [0.0]
+
+
+def block_params(cfg, footprints):
+    """SoilParams for a half block (y >= 0, the track axis a symmetry plane)
+    under the footprints (rc.Footprint of the interface, in the rail's frame):
+    x shifted so that the rail's first footprint edge lies `margin` m from
+    the block's end; receivers at (receiver_x, distance)."""
+    if not footprints:
+        raise ConfigError("no footprints")
+    x0 = min(f.x - 0.5 * f.length for f in footprints)
+    x1 = max(f.x + 0.5 * f.length for f in footprints)
+    margin = cfg["margin"]
+    length = (x1 - x0) + 2.0 * margin
+    width_track = max(f.y + 0.5 * f.width for f in footprints)
+    half_width = max(max(cfg["receivers"]), width_track) + margin
+    rx = 0.5 * (x0 + x1) if cfg["receiver_x"] is None else cfg["receiver_x"]
+    if not x0 - margin < rx < x1 + margin:
+        raise ConfigError("[soil] receiver_x %g m lies outside the block (%g to %g m along the "
+                          "rail)" % (rx, x0 - margin, x1 + margin))
+    fps = [Footprint(f.x - x0 + margin, f.length, f.width, f.y) for f in footprints]
+    p = SoilParams(length=length, half_width=half_width, depth=cfg["depth"],
+                   layers=cfg["layers"], footprints=fps,
+                   receivers=[(rx - x0 + margin, d) for d in cfg["receivers"]],
+                   f_max=cfg["f_max"], elements_per_wavelength=cfg["elements_per_wavelength"],
+                   symmetric=True, damping_band=cfg["damping_band"])
+    if cfg["mesh_size"] is not None:
+        h = cfg["mesh_size"]
+    else:
+        c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
+        h = c_min / cfg["f_max"] / cfg["elements_per_wavelength"]
+    p.x_nodes = uniform_nodes(0.0, length, h)
+    p.y_nodes = uniform_nodes(0.0, half_width, h)
+    p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
+    return p, x0 - margin
+
+
+def channel_names(distances):
+    """History channel names of the receivers' vertical velocity: r8m_vz_mps,
+    r0p5m_vz_mps (a point for the decimal point); repeated distances get
+    _2, _3 ... (names are unique)."""
+    names = []
+    for d in distances:
+        base = "r%sm_vz_mps" % ("%g" % d).replace(".", "p").replace("-", "m").replace("+", "")
+        name, k = base, 1
+        while name in names:
+            k += 1
+            name = "%s_%d" % (base, k)
+        names.append(name)
+    return names
