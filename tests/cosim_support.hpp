@@ -8,8 +8,11 @@
 #include <vector>
 
 #include "coupled_statics.hpp"
+#include "evaluation.hpp"
+#include "runner.hpp"
 #include "schedule.hpp"
 #include "subsystem.hpp"
+#include "transport.hpp"
 
 namespace railcosim::test {
 
@@ -49,6 +52,23 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
   }
   c.statics = find_static_state(c.ps, make_routing(c.specs), zero);
   return c;
+}
+
+// Case `name` at macro step H with coupling `c`, judged against the
+// monolithic run at the same H and the scene's tolerance; in process unless
+// a transport is given.
+inline RunRecord judged(const Scene& scene, const std::string& name, double H,
+                        const CouplingOptions& c, const Transport* transport = nullptr) {
+  RunOptions o;
+  o.macro_step = H;
+  o.tolerance = scene.tolerance;
+  o.coupling = c;
+  const RunRecord reference = run_monolithic(scene, o);
+  const Transport inproc = inproc_transport(scene);
+  const Transport& t = transport ? *transport : inproc;
+  RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
+  judge(r, reference, scene);
+  return r;
 }
 
 }  // namespace railcosim::test

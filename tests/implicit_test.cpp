@@ -4,6 +4,7 @@
 // checkpoints over TCP.
 #include <gtest/gtest.h>
 
+#include "cosim_support.hpp"
 #include "evaluation.hpp"
 #include "runner.hpp"
 #include "test_support.hpp"
@@ -20,19 +21,7 @@ CouplingOptions implicit(InputMode inputs, AcceleratorKind kind = AcceleratorKin
   return c;
 }
 
-RunRecord judged(const Scene& scene, const std::string& name, double H, const CouplingOptions& c,
-                 const Transport* transport = nullptr) {
-  RunOptions o;
-  o.macro_step = H;
-  o.tolerance = scene.tolerance;
-  o.coupling = c;
-  const RunRecord reference = run_monolithic(scene, o);
-  const Transport inproc = inproc_transport(scene);
-  const Transport& t = transport ? *transport : inproc;
-  RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
-  judge(r, reference, scene);
-  return r;
-}
+using test::judged;
 
 Scene short_scene(const char* file, double end_time) {
   Scene s = load_scene(test::source_path(file));

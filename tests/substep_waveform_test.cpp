@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cosim_support.hpp"
 #include "coupled_statics.hpp"
 #include "evaluation.hpp"
 #include "runner.hpp"
@@ -27,17 +28,7 @@ CouplingOptions coupling(CouplingMethod method, InputMode inputs, double converg
   return c;
 }
 
-RunRecord judged(const Scene& scene, const std::string& name, double H, const CouplingOptions& c) {
-  RunOptions o;
-  o.macro_step = H;
-  o.tolerance = scene.tolerance;
-  o.coupling = c;
-  const RunRecord reference = run_monolithic(scene, o);
-  const Transport t = inproc_transport(scene);
-  RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
-  judge(r, reference, scene);
-  return r;
-}
+using test::judged;
 
 Scene paper(double end_time, int micro_steps = 0, double tolerance = 0) {
   Scene s = test::paper_scene();
