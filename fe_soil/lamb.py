@@ -84,8 +84,9 @@ def _k(c, alpha, T):
 
 
 def normalized_step(tau):
-    """w / (F / (pi mu r)) against tau = c_S t / r (positive down). Infinite
-    at tau = gamma exactly (an inverse square-root singularity from below)."""
+    """w / (F / (pi mu r)) against tau = c_S t / r (positive down). Unbounded
+    as tau -> gamma from below (an inverse square-root singularity); the
+    static value 3/8 from tau = gamma on."""
     T = np.asarray(tau, dtype=float) ** 2
     bracket = np.zeros_like(T)
     for x, c, e in zip(ROOTS, C, E):
