@@ -43,9 +43,16 @@ give the closed form (x = p^2 turns p dp into dx/2, T = tau^2):
     w = -F/(2 pi mu r) [sum_i c_i (1 - sqrt((x_i - a^2)/(x_i - T)))
                         + H(T - 1) sum_i e_i (1 - sqrt((x_i - 1)/(x_i - T)))],
 
-each bracket term equal to c_i (e_i) alone once T > x_i. The
-tests/fe_soil/test_lamb.py checks it against a direct quadrature of the
-integral above, its late-time limit against Boussinesq, and its arrivals.
+each bracket term equal to c_i (e_i) alone once T > x_i. Written out,
+with g = gamma^2 = (3 + sqrt 3)/4 (Pekeris' explicit form), w / (F/(pi mu r)) is
+  0                                                          (tau < 1/sqrt 3),
+  (1/32) [6 - sqrt 3 / sqrt(tau^2 - 1/4)
+          + sqrt(3 sqrt 3 - 5) / sqrt(tau^2 - (3 - sqrt 3)/4)
+          - sqrt(3 sqrt 3 + 5) / sqrt(g - tau^2)]             (1/sqrt 3 < tau < 1),
+  (1/16) [6 - sqrt(3 sqrt 3 + 5) / sqrt(g - tau^2)]           (1 < tau < gamma),
+  3/8                                                        (tau > gamma).
+tests/fe_soil/test_lamb.py checks the code against these, against a direct
+quadrature of the integral above, the Boussinesq limit and the arrivals.
 """
 from __future__ import annotations
 

@@ -45,6 +45,18 @@ class ClosedForm(unittest.TestCase):
         for tau, g in zip(taus, got):
             self.assertAlmostEqual(g, cagniard_quadrature(tau), delta=1e-6 * max(1.0, abs(g)), msg=f"tau = {tau}")
 
+    def test_pekeris_explicit_form(self):
+        # Pekeris' (1955) expressions for nu = 1/4 (module docstring).
+        s3, g = math.sqrt(3.0), lamb.GAMMA2
+        tau = np.linspace(1.0 / s3 + 1e-6, 1.0 - 1e-6, 200)
+        first = (6.0 - s3 / np.sqrt(tau**2 - 0.25) + math.sqrt(3.0 * s3 - 5.0) / np.sqrt(tau**2 - (3.0 - s3) / 4.0)
+                 - math.sqrt(3.0 * s3 + 5.0) / np.sqrt(g - tau**2)) / 32.0
+        np.testing.assert_allclose(lamb.normalized_step(tau), first, rtol=0.0, atol=1e-12)
+        self.assertTrue(np.all(first < 0.0))  # upward (against the load) before the S wave
+        tau = np.linspace(1.0 + 1e-6, math.sqrt(g) - 1e-6, 200)
+        second = (6.0 - math.sqrt(3.0 * s3 + 5.0) / np.sqrt(g - tau**2)) / 16.0
+        np.testing.assert_allclose(lamb.normalized_step(tau), second, rtol=1e-12, atol=1e-12)
+
     def test_arrivals_and_late_limit(self):
         a, gamma = math.sqrt(lamb.A2), math.sqrt(lamb.GAMMA2)
         # The Rayleigh root: the same c_R as the Rayleigh equation gives.
