@@ -49,10 +49,14 @@ inline constexpr double kMaxDeflectionError = 0.25;
 // divergence_factor times the largest static displacement.
 double divergence_bound(const Scene& scene, double largest_static_displacement);
 
-// Fills the errors and the status of a finished run: amplified when the
-// history error over every coupling quantity exceeds
-// cosim.amplification_threshold or the deflection error kMaxDeflectionError,
-// ok otherwise.
+// Fills the errors and the status of a finished run. Its size: the history
+// error over every coupling quantity against cosim.amplification_threshold,
+// the deflection error against kMaxDeflectionError. Its growth: the run's
+// stability probe (stability.hpp), when it ran. Status amplified when the
+// probe found the coupling unstable; inaccurate when it is stable (or was
+// not probed) and an error is over its bound; ok otherwise. A diverged,
+// failed or not_converged run keeps its status (the last with the rest
+// added to its message).
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 
 }  // namespace railcosim
