@@ -147,7 +147,14 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
     size << (size.str().empty() ? "" : "; ") << "rel. L2 deflection error " << e.rel_l2
          << " exceeds " << kMaxDeflectionError;
   std::ostringstream why;
-  if (run.stability == "unstable") {
+  if (*run.history_error > kGrossHistoryError && run.stability != "unstable") {
+    why << "unstable at finite amplitude: the history error " << *run.history_error << " is over "
+        << kGrossHistoryError << " (errors as large as the static quantities themselves)";
+    if (run.stability == "stable")
+      why << ", although a small perturbation of the static state grew only " << *run.error_growth
+          << " times in " << *run.probe_time << " s";
+    run.stability = "unstable";
+  } else if (run.stability == "unstable") {
     why << "unstable: a perturbation of the static state grew " << *run.error_growth << " times in "
         << *run.probe_time << " s under this coupling (rate " << *run.error_growth_rate << " 1/s)";
     if (!size.str().empty()) why << "; " << size.str();

@@ -7,7 +7,7 @@
 
 namespace railcosim {
 
-Stability classify_growth(const std::vector<double>& deviation, double dt) {
+Stability classify_growth(const std::vector<double>& deviation, double dt, double floor) {
   Stability s;
   const auto n = static_cast<long>(deviation.size());
   s.steps = n > 0 ? n - 1 : 0;
@@ -20,7 +20,7 @@ Stability classify_growth(const std::vector<double>& deviation, double dt) {
     const double d = deviation[static_cast<std::size_t>(i)];
     last = std::isfinite(d) ? std::max(last, d) : HUGE_VAL;
   }
-  s.growth = last / std::max(first, kProbeFloor);
+  s.growth = last / std::max(first, floor);
   s.rate_per_s = std::log(std::max(s.growth, 1e-300)) / (static_cast<double>(n - q) * dt);
   s.unstable = !(s.growth <= kUnstableGrowth);
   return s;
@@ -73,7 +73,10 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
   o.on_channels = nullptr;
   o.on_progress = nullptr;
   const RunRecord r = run_cosim(parked, spec, o, inproc_factory(parked), "inproc");
-  Stability s = classify_growth(deviation_from_rest(r), options.macro_step);
+  const double floor = options.coupling.method == CouplingMethod::kImplicit
+                           ? std::max(kProbeFloor, options.coupling.convergence)
+                           : kProbeFloor;
+  Stability s = classify_growth(deviation_from_rest(r), options.macro_step, floor);
   if (r.status == "diverged") s.unstable = true;
   return s;
 }

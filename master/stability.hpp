@@ -29,7 +29,9 @@ struct Stability {
 };
 
 // Deviations are relative to the static state; the first quarter's largest
-// is taken as at least this round-off floor.
+// is taken as at least this round-off floor (explicit coupling), or as at
+// least the convergence criterion of an implicit one, whose accepted
+// iterates stand that far from the exact coupled step.
 inline constexpr double kProbeFloor = 1e-13;
 // Unstable: the deviation grows by more than this over the probe. A stable
 // coupling stays within a factor of about 10 of round-off (measured on the
@@ -41,7 +43,8 @@ inline constexpr double kProbeTime = 0.05;
 inline constexpr long kProbeMinSteps = 100;
 
 // Growth of a series of relative deviations sampled every dt seconds.
-Stability classify_growth(const std::vector<double>& deviation, double dt);
+Stability classify_growth(const std::vector<double>& deviation, double dt,
+                          double floor = kProbeFloor);
 
 // The relative deviation from the first row of every channel of a run: the
 // wheel, the contact force, the extra history channels and the coupling
