@@ -28,6 +28,7 @@
 #include "run_output.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "stability.hpp"
 #include "study.hpp"
 #include "study_plan.hpp"
 #include "transport.hpp"
@@ -241,7 +242,7 @@ int do_run(const RunArgs& a) {
                                       ? inproc_transport(scene)
                                       : tcp_transport(scene, given, pool, token);
       record = run_cosim(scene, spec, o, transport.factory, transport.name);
-      if (!scene.outside_soil()) judge(record, reference, scene);
+      if (!scene.outside_soil()) assess(record, reference, scene, spec, o);
     }
   } catch (const std::exception& e) {
     RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());

@@ -139,16 +139,37 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
   run.max_abs_error_m = e.max_abs;
   run.rel_l2_error = e.rel_l2;
   run.history_error = coupling_history_error(run, reference);
-  std::ostringstream s;
+  std::ostringstream size;
   if (*run.history_error > scene.amplification_threshold)
-    s << "history error " << *run.history_error
-      << " exceeds cosim.amplification_threshold = " << scene.amplification_threshold;
+    size << "history error " << *run.history_error
+         << " exceeds cosim.amplification_threshold = " << scene.amplification_threshold;
   if (e.rel_l2 > kMaxDeflectionError)
-    s << (s.str().empty() ? "" : "; ") << "rel. L2 deflection error " << e.rel_l2 << " exceeds "
-      << kMaxDeflectionError;
-  if (!s.str().empty()) {
-    run.status = "amplified";
-    run.message = s.str();
+    size << (size.str().empty() ? "" : "; ") << "rel. L2 deflection error " << e.rel_l2
+         << " exceeds " << kMaxDeflectionError;
+  std::ostringstream why;
+  if (*run.history_error > kGrossHistoryError && run.stability != "unstable") {
+    why << "unstable at finite amplitude: the history error " << *run.history_error << " is over "
+        << kGrossHistoryError << " (errors as large as the static quantities themselves)";
+    if (run.stability == "stable")
+      why << ", although a small perturbation of the static state grew only " << *run.error_growth
+          << " times in " << *run.probe_time << " s";
+    run.stability = "unstable";
+  } else if (run.stability == "unstable") {
+    why << "unstable: a perturbation of the static state grew " << *run.error_growth << " times in "
+        << *run.probe_time << " s under this coupling (rate " << *run.error_growth_rate << " 1/s)";
+    if (!size.str().empty()) why << "; " << size.str();
+  } else if (!size.str().empty()) {
+    why << size.str();
+    if (run.stability == "stable")
+      why << " (stable: a perturbation of the static state grew " << *run.error_growth
+          << " times in " << *run.probe_time << " s)";
+  }
+  if (why.str().empty()) return;
+  if (run.status == "not_converged") {  // that stays the verdict; the rest is said
+    run.message += "; " + why.str();
+  } else {
+    run.status = run.stability == "unstable" ? "amplified" : "inaccurate";
+    run.message = why.str();
   }
 }
 

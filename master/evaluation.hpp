@@ -45,14 +45,29 @@ void record_coupling(RunRecord& run, const MonolithicModel& model);
 // consistent case of the paper scene at its macro step (4.3e-2, rs-xx-jacobi).
 inline constexpr double kMaxDeflectionError = 0.25;
 
+// A history error above this is an instability whatever the stability probe
+// says: an RMS error as large as the static quantities themselves (the wheel
+// leaves the rail and hits it again). On the paper scene's study a stable,
+// consistent coupling stays at or below 0.22 (rs-xx-jacobi, H = 1e-3 s);
+// the couplings the probe finds unstable reach 1.07 to 3.5; three whose
+// probe stays at round-off but whose wheel bounces (wr-xt at H = 1e-3 s)
+// reach 17 to 27.
+inline constexpr double kGrossHistoryError = 1.0;
+
 // The bound beyond which a displacement means divergence:
 // divergence_factor times the largest static displacement.
 double divergence_bound(const Scene& scene, double largest_static_displacement);
 
-// Fills the errors and the status of a finished run: amplified when the
-// history error over every coupling quantity exceeds
-// cosim.amplification_threshold or the deflection error kMaxDeflectionError,
-// ok otherwise.
+// Fills the errors and the status of a finished run. Its size: the history
+// error over every coupling quantity against cosim.amplification_threshold,
+// the deflection error against kMaxDeflectionError. Its growth: the run's
+// stability probe (stability.hpp), when it ran. Status amplified when the
+// probe found the coupling unstable or the history error is over
+// kGrossHistoryError (then the stability is set to unstable too);
+// inaccurate when it is stable (or was not probed) and an error is over its
+// bound; ok otherwise. A diverged,
+// failed or not_converged run keeps its status (the last with the rest
+// added to its message).
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 
 }  // namespace railcosim

@@ -250,7 +250,7 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
     const RunRecord& x = r.record;
     long micro = 0;
     for (const auto& [k, v] : x.micro_steps) micro += v;
-    const bool has = x.status == "ok" || x.status == "amplified";
+    const bool has = ran_to_end(x);
     md << "| " << r.folder << " | " << (swept ? r.variant + " | " : "") << x.case_name << " | "
        << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
        << sci(x.wall_s) << " | " << micro << " | " << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–")

@@ -113,6 +113,11 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
+  if (!r.stability.empty())
+    s << "  \"stability\": {\"verdict\": " << json_string(r.stability)
+      << ", \"growth\": " << json_opt(r.error_growth)
+      << ", \"rate_per_s\": " << json_opt(r.error_growth_rate)
+      << ", \"probe_s\": " << json_opt(r.probe_time) << "},\n";
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
   if (!r.data_plane.empty()) s << "  \"data_plane\": " << json_string(r.data_plane) << ",\n";
   s << "  \"restart\": " << json_string(r.restart) << ",\n";

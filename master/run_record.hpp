@@ -22,11 +22,19 @@ struct RunRecord {
   // failed run's may be fewer than `history`); else history.size().
   std::optional<long> history_rows;
   std::map<std::string, long>
-      micro_steps;            // per subsystem ("monolithic", or "s1", "s2", ... in load order)
-  std::string status = "ok";  // ok, amplified, diverged, not_converged, failed
-  std::string message;        // why, when not ok
+      micro_steps;  // per subsystem ("monolithic", or "s1", "s2", ... in load order)
+  // ok; inaccurate (stable, error over the scene's bounds); amplified (the
+  // coupling makes a perturbation grow: stability.hpp); diverged;
+  // not_converged; failed.
+  std::string status = "ok";
+  std::string message;                                  // why, when not ok
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
   std::optional<double> history_error;
+  // The stability probe (stability.hpp): "stable" or "unstable", empty when
+  // it did not run; the growth factor of a perturbation of the static state,
+  // its rate (1/s) and the probe's length (s).
+  std::string stability;
+  std::optional<double> error_growth, error_growth_rate, probe_time;
   std::string transport = "inproc";
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string restart = "consistent";  // at communication points: consistent or carry
@@ -56,5 +64,11 @@ struct RunRecord {
   std::vector<double> soil_x;               // their positions (under the sleepers)
   std::vector<double> sleeper_x;            // positions of the ballast_force_* channels, if any
 };
+
+// A run that ran to its end and was judged: its errors against the
+// monolithic run are comparable (ok, inaccurate or amplified).
+inline bool ran_to_end(const RunRecord& r) {
+  return r.status == "ok" || r.status == "inaccurate" || r.status == "amplified";
+}
 
 }  // namespace railcosim

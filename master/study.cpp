@@ -21,6 +21,7 @@
 #include "report_methods.hpp"
 #include "run_output.hpp"
 #include "runner.hpp"
+#include "stability.hpp"
 #include "study_plan.hpp"
 #include "transport.hpp"
 
@@ -95,7 +96,8 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
   f << "group,folder,method,case,split,coupling,scheme,feedthrough,macro_step_s,tolerance_m,"
        "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
        "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
-       "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart,variant\n";
+       "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart,variant,"
+       "stability,error_growth\n";
   auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
   auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
   auto steps = [](const RunRecord& r, const char* k) {
@@ -116,12 +118,11 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << steps(r, "monolithic") << "," << steps(r, "s1") << "," << steps(r, "s2") << "," << r.status
       << "," << optd(r.max_abs_error_m) << "," << optd(r.rel_l2_error) << ","
       << optd(r.history_error) << ","
-      << (r.status == "ok" || r.status == "amplified" ? format_double(s.rel_l2_error_converged)
-                                                      : std::string())
-      << "," << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
+      << (ran_to_end(r) ? format_double(s.rel_l2_error_converged) : std::string()) << ","
+      << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
       << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
       << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
-      << "," << s.variant << "\n";
+      << "," << s.variant << "," << r.stability << "," << optd(r.error_growth) << "\n";
   }
   write_file_atomically(file, f.str());
 }
@@ -194,7 +195,7 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
               m.tolerance = run.tolerance;
               ref.record = run_monolithic(scene, m);
             });
-            judge(r, ref.record, scene);
+            assess(r, ref.record, scene, spec, o);
           }
         }
         writer->finish(r);

@@ -142,6 +142,10 @@ RunRecord record_of(const fs::path& json) {
   r.max_abs_error_m = num("max_abs_error_m");
   r.rel_l2_error = num("rel_l2_error");
   r.history_error = num("history_error");
+  r.stability = str("stability.verdict").value_or("");
+  r.error_growth = num("stability.growth");
+  r.error_growth_rate = num("stability.rate_per_s");
+  r.probe_time = num("stability.probe_s");
   r.transport = str("transport").value_or("");
   r.restart = str("restart").value_or("consistent");
   r.method = str("method").value_or("explicit");
@@ -155,7 +159,7 @@ RunRecord record_of(const fs::path& json) {
 }
 
 bool has_deflection(const RunRecord& r) {
-  return r.status == "ok" || r.status == "amplified";
+  return ran_to_end(r);
 }
 
 // deflection.csv: x_m,w_m per rail node.

@@ -11,6 +11,7 @@
 #include "evaluation.hpp"
 #include "runner.hpp"
 #include "schedule.hpp"
+#include "stability.hpp"
 #include "subsystem.hpp"
 #include "transport.hpp"
 
@@ -67,7 +68,7 @@ inline RunRecord judged(const Scene& scene, const std::string& name, double H,
   const Transport inproc = inproc_transport(scene);
   const Transport& t = transport ? *transport : inproc;
   RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
-  judge(r, reference, scene);
+  assess(r, reference, scene, parse_case(name), o);
   return r;
 }
 

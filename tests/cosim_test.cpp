@@ -8,6 +8,7 @@
 
 #include "evaluation.hpp"
 #include "runner.hpp"
+#include "stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -21,7 +22,7 @@ RunRecord judged_run(const Scene& scene, const std::string& name, double H, doub
   o.feedthrough = ft;
   const RunRecord reference = run_monolithic(scene, o);
   RunRecord r = run_cosim(scene, parse_case(name), o, inproc_factory(scene), "inproc");
-  judge(r, reference, scene);
+  assess(r, reference, scene, parse_case(name), o);
   return r;
 }
 

@@ -6,6 +6,7 @@
 #include "evaluation.hpp"
 #include "report.hpp"
 #include "runner.hpp"
+#include "stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -21,18 +22,19 @@ RunOptions at(double H, const Scene& s) {
 RunRecord judged_run(const Scene& scene, const char* name, double H) {
   const RunRecord ref = run_monolithic(scene, at(H, scene));
   RunRecord r = run_cosim(scene, parse_case(name), at(H, scene), inproc_factory(scene), "inproc");
-  judge(r, ref, scene);
+  assess(r, ref, scene, parse_case(name), at(H, scene));
   return r;
 }
 
 // rs-xt-gauss-seidel at H = 5e-4 s: the wheel's history is close to the
-// monolithic one, the deflection 178 % off. It was reported ok.
+// monolithic one, the deflection 178 % off. It was reported ok; it is not
+// ok, inaccurate or amplified as its stability probe says.
 TEST(Judging, ALargeDeflectionErrorIsNeverOk) {
   const Scene scene = test::paper_scene();
   const RunRecord r = judged_run(scene, "rs-xt-gauss-seidel", 5e-4);
   ASSERT_TRUE(r.rel_l2_error.has_value());
   EXPECT_GT(*r.rel_l2_error, kMaxDeflectionError);
-  EXPECT_EQ(r.status, "amplified") << r.message;
+  EXPECT_EQ(r.status, r.stability == "unstable" ? "amplified" : "inaccurate") << r.message;
   EXPECT_NE(r.message.find("deflection error"), std::string::npos) << r.message;
 }
 
@@ -51,7 +53,7 @@ TEST(Judging, ThePaperCasesKeepTheirVerdicts) {
 }
 
 // A run whose wheel follows the reference exactly but whose sleepers (the
-// rs cut's lower side) or soil channel swing 50 % off is amplified: the
+// rs cut's lower side) or soil channel swing 50 % off is not ok: the
 // history error counts every coupling quantity (it counted the wheel's only).
 TEST(Judging, EveryCouplingQuantityCounts) {
   const Scene scene = test::paper_scene();
@@ -79,14 +81,20 @@ TEST(Judging, EveryCouplingQuantityCounts) {
     RunRecord r = run;
     for (std::size_t i = 1; i < r.coupling_history["rs"].size(); i += 2)
       r.coupling_history["rs"][i] = 1.5e-3;
-    judge(r, ref, scene);
-    EXPECT_EQ(r.status, "amplified");
+    judge(r, ref, scene);  // not probed: the size alone makes it inaccurate
+    EXPECT_EQ(r.status, "inaccurate");
     // Half the rows 0.5 off, relative to the static value: RMS sqrt(0.125).
     EXPECT_NEAR(*r.history_error, std::sqrt(0.125), 1e-12);
   }
   {
     RunRecord r = run;
     for (std::size_t i = 1; i < r.history.size(); i += 2) r.history[i].extra[0] = 1.5e-4;
+    judge(r, ref, scene);
+    EXPECT_EQ(r.status, "inaccurate");
+    r.stability = "unstable";  // the same sizes with a growing probe: amplified
+    r.error_growth = 1e9;
+    r.error_growth_rate = 400;
+    r.probe_time = 0.05;
     judge(r, ref, scene);
     EXPECT_EQ(r.status, "amplified");
   }

@@ -14,6 +14,7 @@
 #include "evaluation.hpp"
 #include "process_support.hpp"
 #include "runner.hpp"
+#include "stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -144,7 +145,7 @@ TEST_F(StudyTest, StabilityMapAgreesWithADirectRunOfTheSameCell) {
     o.macro_step = H;
     o.tolerance = scene.tolerance;
     RunRecord direct = run_cosim(scene, parse_case(method), o, inproc_factory(scene), "inproc");
-    judge(direct, run_monolithic(scene, o), scene);
+    assess(direct, run_monolithic(scene, o), scene, parse_case(method), o);
     EXPECT_EQ(json_value(json, "status"), direct.status) << method;
   }
 }
