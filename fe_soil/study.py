@@ -179,6 +179,16 @@ def checks(runs, ts):
     return out
 
 
+def resolution(soil, cfg, h):
+    """(c_R of the softest layer, the frequency with 10 elements per its
+    wavelength, [the 45-degree phase-error estimate at each receiver])."""
+    from .params import rayleigh_speed, resolved_frequency
+
+    soft = min(cfg["layers"], key=lambda l: rayleigh_speed(l.shear_speed, l.poisson))
+    c = rayleigh_speed(soft.shear_speed, soft.poisson)
+    return c, c / (10.0 * h), [resolved_frequency(h, soil.dt, soft, d) for d in cfg["receivers"]]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", required=True, help="a scene with [soil] model = \"fe\"")
@@ -238,6 +248,7 @@ def main(argv=None):
             "t_end": float(ts["forces"][-1, 0]), "dofs": ts["dofs"], "kf": ts["kf"],
             "kc": ts["kc"], "mesh_size": float(ts["soil"].nodes[0][1] - ts["soil"].nodes[0][0]),
             "checks": found, "total": time.perf_counter() - started, "load": load()}
+    info["resolution"] = resolution(ts["soil"], cfg, info["mesh_size"])
     study_report.write(out, runs, info)
     print("study: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)
 

@@ -38,6 +38,13 @@ def answer(runs, info):
          "Gauss-Seidel, implicit); two-step: the forces into the ballast on a lumped soil "
          "fitted to the block's static stiffness (k_f = %.4g N/m, k_c = %.4g N/m), applied "
          "one way to the same block." % (info["t_end"], info["H"], info["kf"], info["kc"]), "",
+         "Resolution: elements of %.3g m have 10 per Rayleigh wavelength of the softest "
+         "layer (c_R = %.4g m/s) up to %.3g Hz, the rule for band levels within about 1 dB "
+         "(docs/ground-vibration.md); the 45-degree phase-error estimate gives %s. Bands above "
+         "are rough, in both methods alike (they share the mesh)." % (
+             info["mesh_size"], info["resolution"][0], info["resolution"][1],
+             ", ".join("%.3g Hz at %g m" % (f, x) for f, x in zip(info["resolution"][2], d))),
+         "",
          "### Free field per distance", "",
          "| distance | method | PPV (m/s) | PPV_z (m/s) | KB_Fmax | KB_Fmax,z |",
          "|---:|---|---:|---:|---:|---:|"]
