@@ -9,6 +9,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402,F401
 
 STYLE = {"jacobi": ("C0", "o", "-"), "gauss-seidel": ("C1", "s", "--"),
          "implicit": ("C2", "^", "-."), "two-step": ("C3", "x", ":")}
@@ -22,7 +23,7 @@ def receivers(folder):
 
 def levels_vs_distance(path, runs, info, order):
     d = info["distances"]
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
     for m in order:
         c, mk, ls = STYLE[m]
         vib = runs[m]["vibration"]
@@ -32,10 +33,28 @@ def levels_vs_distance(path, runs, info, order):
                      label=runs[m]["label"])
     ax[0].set_ylabel("PPV of v_z (m/s)")
     ax[1].set_ylabel("KB_Fmax,z")
+    # Band levels against distance: up to six bands held by every run,
+    # the implicit run solid, the two-step run dotted.
+    cols = [c for c in runs["implicit"]["vibration"][0] if c.startswith("Lv_z_")]
+    cols = [c for c in cols if all(math.isfinite(r[c]) for m in order
+                                   for r in runs[m]["vibration"])]
+    pick = [cols[int(round(i))] for i in np.linspace(0, len(cols) - 1, min(6, len(cols)))] \
+        if cols else []
+    for j, col in enumerate(dict.fromkeys(pick)):
+        f = float(col[len("Lv_z_"):-len("Hz_dB")])
+        ax[2].semilogx(d, [r[col] for r in runs["implicit"]["vibration"]], color="C%d" % j,
+                       marker="^", label="%.3g Hz" % f)
+        ax[2].semilogx(d, [r[col] for r in runs["two-step"]["vibration"]], color="C%d" % j,
+                       marker="x", ls=":")
+    ax[2].set_ylabel("L_v of v_z (dB re 1e-9 m/s)")
+    ax[2].set_title("bands: implicit (solid), two-step (dotted)", fontsize=9)
     for a in ax:
         a.set_xlabel("distance from the track axis (m)")
+        a.set_xticks(d)
+        a.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         a.grid(True, which="both", alpha=0.3)
-        a.legend()
+        a.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -113,7 +132,8 @@ def draw(out, runs, info, order):
     folder = os.path.join(out, "figures")
     os.makedirs(folder, exist_ok=True)
     figs = [("levels_vs_distance.png",
-             "PPV and KB_Fmax of v_z against distance, each method (log-log)",
+             "PPV and KB_Fmax of v_z against distance, each method (log-log), and up to six "
+             "one-third-octave levels against distance (implicit and two-step)",
              lambda p: levels_vs_distance(p, runs, info, order)),
             ("spectra.png", "one-third-octave levels of v_z per receiver, each method",
              lambda p: spectra(p, runs, info, order)),
