@@ -165,11 +165,14 @@ def checks(runs, ts):
     # gives the Jacobi run's receivers back (the static state is solved
     # again, to 1e-12, hence not bitwise).
     what = "one-way run under the Jacobi run's received forces (held) against that run's receivers"
+    folder = runs["jacobi"]["folder"]
     if ts["dofs"] > ONE_WAY_CHECK_DOFS:
         out.append((what, "<= 1e-7 of the peak", "not run: %d DOFs > %d (it costs one more "
                     "one-way run)" % (ts["dofs"], ONE_WAY_CHECK_DOFS), None))
+    elif not os.path.exists(os.path.join(folder, "soil_forces.csv")):
+        out.append((what, "<= 1e-7 of the peak", "not run: the scene does not write "
+                    "soil_forces.csv ([output] ballast_forces = true)", None))
     else:
-        folder = runs["jacobi"]["folder"]
         _, f = two_step.read_csv(os.path.join(folder, "soil_forces.csv"))
         _, rec = two_step.read_csv(os.path.join(folder, "receivers.csv"))
         _, v = two_step.one_way(ts["soil"], f[:, 1:], f[:, 0], ts["H"], hold=True)
@@ -244,7 +247,7 @@ def main(argv=None):
     from . import study_report
 
     info = {"scene": a.scene, "name": scene.get("scene", {}).get("name", a.scene),
-            "distances": cfg["receivers"], "names": names, "H": ts["H"],
+            "distances": cfg["receivers"], "ranks": cfg["ranks"], "names": names, "H": ts["H"],
             "t_end": float(ts["forces"][-1, 0]), "dofs": ts["dofs"], "kf": ts["kf"],
             "kc": ts["kc"], "mesh_size": float(ts["soil"].nodes[0][1] - ts["soil"].nodes[0][0]),
             "checks": found, "total": time.perf_counter() - started, "load": load()}

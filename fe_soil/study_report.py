@@ -98,6 +98,10 @@ def answer(runs, info):
     L.append("| two-step | the FE block built and fitted (2 static solves) %.1f s; lumped soil, "
              "monolithic %.1f s; the FE block one way %.1f s | %.1f | %.2f | 1 (no coupling) |" % (
                  c["fit"], c["lumped"], c["one_way"], runs["two-step"]["wall"], c["load"][0]))
+    if info["ranks"] > 1:
+        L += ["", "The co-simulations ran the FE soil on %d MPI ranks ([soil] ranks); the "
+              "two-step method's one-way run ran on one, in the study's process, so its time "
+              "is not comparable with theirs as it stands." % info["ranks"]]
     L += ["", "The whole study took %.1f s (load average %.2f at its end); the FE block has %d "
           "degrees of freedom (element size %.3g m)." % (info["total"], info["load"],
                                                           info["dofs"], info["mesh_size"])]
