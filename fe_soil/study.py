@@ -75,6 +75,10 @@ def run_master(master, scene, out, case, extra):
                             (p.stdout + p.stderr)[-2000:]))
     with open(os.path.join(folder, "summary.json")) as f:
         summary = json.load(f)
+    if summary.get("status") != "ok":
+        raise StudyError("%s ended with status %r: %s (%s)" % (
+            " ".join(cmd), summary.get("status"), summary.get("message", ""),
+            os.path.join(folder, "summary.json")))
     return folder, wall, l0, summary
 
 
