@@ -107,3 +107,29 @@ def receiver_summary(v, dt, f_lo=1.0, f_hi=100.0):
         "band_levels": [lv.tolist() for _, lv in levels],
         "kb_fmax": [kb_fmax(v[:, i], dt) for i in range(v.shape[1])],
     }
+
+
+def vibration_csv(names, xs, ys, summaries):
+    """The text of vibration.csv: a row per receiver (its channel name, x
+    along the rail, y its distance from the axis), PPV (largest component
+    and each), KB_Fmax per component, the vertical one-third-octave levels."""
+    centres = summaries[0]["band_centres"] if summaries else []
+    head = ["receiver", "x_m", "y_m", "ppv_mps", "ppv_x_mps", "ppv_y_mps", "ppv_z_mps",
+            "kb_fmax_x", "kb_fmax_y", "kb_fmax_z"] + ["Lv_z_%gHz_dB" % f for f in centres]
+    rows = [",".join(head)]
+    for name, x, y, r in zip(names, xs, ys, summaries):
+        vals = [x, y, r["ppv"]] + r["ppv_components"] + r["kb_fmax"] + r["band_levels"][2]
+        rows.append(",".join([name] + ["%.9g" % v for v in vals]))
+    return "\n".join(rows) + "\n"
+
+
+def receivers_csv(names, t, v):
+    """The text of receivers.csv: t and (vx, vy, vz) of each receiver
+    (v[time, receiver, component]), one row per sample."""
+    head = ["t_s"] + ["%s_%s_mps" % (n[:-len("_vz_mps")], c) for n in names
+                      for c in ("vx", "vy", "vz")]
+    lines = [",".join(head)]
+    flat = np.asarray(v).reshape(len(t), -1)
+    for k in range(len(t)):
+        lines.append(",".join(["%.9g" % t[k]] + ["%.9g" % x for x in flat[k]]))
+    return "\n".join(lines) + "\n"

@@ -213,22 +213,10 @@ class FESoilParticipant(rc.Participant):
     def write_output(self, t, v, s):
         """vibration.csv and receivers.csv in the output folder (rank 0)."""
         os.makedirs(self.output_dir, exist_ok=True)
-        centres = s[0]["band_centres"] if s else []
-        head = ["receiver", "x_m", "y_m", "ppv_mps", "ppv_x_mps", "ppv_y_mps", "ppv_z_mps",
-                "kb_fmax_x", "kb_fmax_y", "kb_fmax_z"] + ["Lv_z_%gHz_dB" % f for f in centres]
-        rows = [",".join(head)]
-        for k, r in enumerate(s):
-            vals = [self.receiver_x[k], self.distances[k], r["ppv"]] + r["ppv_components"] + \
-                r["kb_fmax"] + r["band_levels"][2]
-            rows.append(",".join([self.history[k]] + ["%.9g" % x for x in vals]))
-        write(os.path.join(self.output_dir, "vibration.csv"), "\n".join(rows) + "\n")
-        head = ["t_s"] + ["%s_%s_mps" % (n[:-len("_vz_mps")], c) for n in self.history
-                          for c in ("vx", "vy", "vz")]
-        lines = [",".join(head)]
-        flat = v.reshape(len(t), -1)
-        for k in range(len(t)):
-            lines.append(",".join(["%.9g" % t[k]] + ["%.9g" % x for x in flat[k]]))
-        write(os.path.join(self.output_dir, "receivers.csv"), "\n".join(lines) + "\n")
+        write(os.path.join(self.output_dir, "vibration.csv"),
+              measures.vibration_csv(self.history, self.receiver_x, self.distances, s))
+        write(os.path.join(self.output_dir, "receivers.csv"),
+              measures.receivers_csv(self.history, t, v))
 
 
 def write(path, text):

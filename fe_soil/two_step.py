@@ -98,16 +98,34 @@ def run_master(master, scene, out, case):
     return os.path.join(out, case)
 
 
-def one_way(soil, forces, t, H, hold=False):
+def one_way(soil, forces, t, H, hold=False, after_step=None):
     """The FE soil under the recorded forces: statics at the first row, then
     one macro step per row with the forces linear in between (hold: each
     row's force held over its step, as a Jacobi co-simulation with held
-    inputs delivers it)."""
+    inputs delivers it). after_step(k, soil), if given, is called after
+    step k (1 .. rows - 1)."""
     soil.reset()
     soil.statics(forces[0])
     for k in range(len(t) - 1):
         soil.advance(t[k], H, forces[k], forces[k] if hold else forces[k + 1])
+        if after_step is not None:
+            after_step(k + 1, soil)
     return soil.receiver_series()
+
+
+def lumped_scene(scene_path, scene, cfg, kf, kc, path):
+    """Writes to path the scene with the FE soil replaced by the fitted
+    lumped one and ballast forces written (soil_forces.csv)."""
+    with open(scene_path) as f:
+        text = f.read()
+    spacing, length = scene["sleepers"]["spacing"], scene["sleepers"].get("length", 2.6)
+    text = re.sub(r"(?ms)^\[soil\].*?(?=^\[(?!\[soil\.))", "", text)  # the FE table and its layers
+    text = text.replace("[output]", "[output_]")  # one [output] table, ours
+    text = re.sub(r"(?ms)^\[output_\].*?(?=^\[|\Z)", "", text)
+    text += "\n" + lumped_table(cfg, kf, kc, spacing, length) + "[output]\nballast_forces = true\n"
+    with open(path, "w") as f:
+        f.write(text)
+    return path
 
 
 def summaries(v, dt):
@@ -164,16 +182,7 @@ def main(argv=None):
     # Step 1: the fitted lumped soil, monolithic, its ballast forces.
     soil, cfg = block(scene, soil_csv[:, 0])
     kf, kc = fit_lumped(soil, len(soil_csv))
-    with open(a.scene) as f:
-        text = f.read()
-    spacing, length = scene["sleepers"]["spacing"], scene["sleepers"].get("length", 2.6)
-    text = re.sub(r"(?ms)^\[soil\].*?(?=^\[(?!\[soil\.))", "", text)  # the FE table and its layers
-    text = text.replace("[output]", "[output_]")  # one [output] table, ours
-    text = re.sub(r"(?ms)^\[output_\].*?(?=^\[|\Z)", "", text)
-    text += "\n" + lumped_table(cfg, kf, kc, spacing, length) + "[output]\nballast_forces = true\n"
-    lumped = os.path.join(a.out, "lumped.toml")
-    with open(lumped, "w") as f:
-        f.write(text)
+    lumped = lumped_scene(a.scene, scene, cfg, kf, kc, os.path.join(a.out, "lumped.toml"))
     mono = run_master(a.master, lumped, os.path.join(a.out, "lumped"), "monolithic")
     head, forces = read_csv(os.path.join(mono, "soil_forces.csv"))
     t, H = forces[:, 0], float(forces[1, 0] - forces[0, 0])

@@ -1,9 +1,26 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the study of the paper scene:
-# the monolithic reference, every co-simulation case over TCP (with nodes the
-# master starts), the macro-step sweeps, figures and results/REPORT.md.
+# Installs what is missing, builds, and runs the study of a scene (default:
+# the paper scene): the monolithic reference, every co-simulation case over
+# TCP (with nodes the master starts), the macro-step sweeps, figures and
+# OUT/REPORT.md. A scene on the FE soil ([soil] model = "fe") gets the
+# ground-vibration study instead (python3 -m fe_soil.study): the
+# co-simulations with the FE soil, the two-step method, figures and
+# OUT/REPORT.md.
 # Arguments: [OUT_DIR] [SCENE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh
-build/bin/master study --scene "${2:-scenes/paper.toml}" --out "${1:-results}"
+out="${1:-results}"
+scene="${2:-scenes/paper.toml}"
+soil_model=$(/usr/bin/python3 -c '
+import sys, tomllib
+try:
+    with open(sys.argv[1], "rb") as f:
+        print(tomllib.load(f).get("soil", {}).get("model", ""))
+except (OSError, tomllib.TOMLDecodeError):
+    print("")  # the study that follows names the problem' "$scene")
+if [ "$soil_model" = "fe" ]; then
+  OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec /usr/bin/python3 -m fe_soil.study \
+    --scene "$scene" --out "$out" --master build/bin/master
+fi
+build/bin/master study --scene "$scene" --out "$out"

@@ -1,0 +1,176 @@
+"""REPORT.md and the figures of fe_soil.study, from the files of its runs:
+every number comes from a run's vibration.csv (the two-step run's is
+written by the study in the same format) and every curve from its
+receivers.csv, so the report and the files agree."""
+import math
+import os
+
+import numpy as np
+
+ORDER = ["jacobi", "gauss-seidel", "implicit", "two-step"]
+TWO_WAY = ["jacobi", "gauss-seidel", "implicit"]
+REFERENCE = "implicit"
+DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
+                    "ground-vibration.md")
+
+
+def bands(runs):
+    """[(column, centre Hz)] of the vertical band levels finite in every run."""
+    row = runs[REFERENCE]["vibration"][0]
+    cols = [c for c in row if c.startswith("Lv_z_")]
+    keep = [c for c in cols if all(math.isfinite(r[c]) for k in ORDER
+                                   for r in runs[k]["vibration"])]
+    return [(c, float(c[len("Lv_z_"):-len("Hz_dB")])) for c in keep]
+
+
+def kb_max(r):
+    return max(r["kb_fmax_x"], r["kb_fmax_y"], r["kb_fmax_z"])
+
+
+def answer(runs, info):
+    d = info["distances"]
+    L = ["## Answer", "",
+         "Free field at the receivers (on the surface, beside the middle of the track, at the "
+         "given distance from its axis) over %.4g s, sampled every macro step (%.3g s). PPV: "
+         "the largest component's peak; KB_Fmax: DIN 4150-2's weighted running RMS (largest "
+         "component, and vertical); levels: vertical velocity, dB re 1e-9 m/s. Two-way: the "
+         "co-simulation with the FE soil at the ss cut (explicit Jacobi, explicit "
+         "Gauss-Seidel, implicit); two-step: the forces into the ballast on a lumped soil "
+         "fitted to the block's static stiffness (k_f = %.4g N/m, k_c = %.4g N/m), applied "
+         "one way to the same block." % (info["t_end"], info["H"], info["kf"], info["kc"]), "",
+         "Resolution: elements of %.3g m have 10 per Rayleigh wavelength of the softest "
+         "layer (c_R = %.4g m/s) up to %.3g Hz, the rule for band levels within about 1 dB "
+         "(docs/ground-vibration.md); the 45-degree phase-error estimate gives %s. Bands above "
+         "are rough, in both methods alike (they share the mesh)." % (
+             info["mesh_size"], info["resolution"][0], info["resolution"][1],
+             ", ".join("%.3g Hz at %g m" % (f, x) for f, x in zip(info["resolution"][2], d))),
+         "",
+         "### Free field per distance", "",
+         "| distance | method | PPV (m/s) | PPV_z (m/s) | KB_Fmax | KB_Fmax,z |",
+         "|---:|---|---:|---:|---:|---:|"]
+    for k, dist in enumerate(d):
+        for m in ORDER:
+            r = runs[m]["vibration"][k]
+            L.append("| %g m | %s | %.4e | %.4e | %.4g | %.4g |" % (
+                dist, runs[m]["label"], r["ppv_mps"], r["ppv_z_mps"], kb_max(r), r["kb_fmax_z"]))
+    bs = bands(runs)
+    if not bs:
+        L += ["", "No one-third-octave band of 1-100 Hz holds a spectral line of a %.4g s "
+              "record." % info["t_end"]]
+    else:
+        L += ["", "### One-third-octave levels of v_z (dB re 1e-9 m/s), %s co-simulation"
+              % runs[REFERENCE]["label"], "",
+              "Bands with no spectral line in the %.4g s record are left out." % info["t_end"],
+              "", "| band (Hz) | " + " | ".join("%g m" % x for x in d) + " |",
+              "|---:|" + "---:|" * len(d)]
+        for c, f in bs:
+            L.append("| %.3g | %s |" % (f, " | ".join(
+                "%.2f" % runs[REFERENCE]["vibration"][k][c] for k in range(len(d)))))
+        L += ["", "### Two-way minus two-step (dB)", "",
+              "Per distance and band: the two-step level, and each two-way level minus it."]
+        for k, dist in enumerate(d):
+            L += ["", "#### %g m" % dist, "",
+                  "| band (Hz) | two-step (dB) | " + " | ".join(
+                      "%s - two-step" % runs[m]["label"] for m in TWO_WAY) + " |",
+                  "|---:|---:|" + "---:|" * len(TWO_WAY)]
+            for c, f in bs:
+                base = runs["two-step"]["vibration"][k][c]
+                L.append("| %.3g | %.2f | %s |" % (f, base, " | ".join(
+                    "%+.2f" % (runs[m]["vibration"][k][c] - base) for m in TWO_WAY)))
+        worst = [max(abs(runs[REFERENCE]["vibration"][k][c] - runs["two-step"]["vibration"][k][c])
+                     for c, _ in bs) for k in range(len(d))]
+        L += ["", "Largest |%s - two-step| over the bands: %s." % (
+            runs[REFERENCE]["label"], ", ".join("%.2f dB at %g m" % (w, x)
+                                                for w, x in zip(worst, d)))]
+    L += ["", "### Cost", "",
+          "Wall time of each method on this machine (load average: the 1-minute load when "
+          "it started). A co-simulation's time is the whole `master run` (it starts the nodes "
+          "and the FE soil, finds the static state, steps, writes).", "",
+          "| method | what runs | wall (s) | load | iterations per macro step |",
+          "|---|---|---:|---:|---|"]
+    for m in TWO_WAY:
+        r = runs[m]
+        it = r["summary"].get("iterations")
+        its = "%s mean, %s max" % (it["mean"], it["max"]) if it else "1"
+        L.append("| %s | `master run --case %s%s` | %.1f | %.2f | %s |" % (
+            r["label"], r["case"], "".join(" " + x for x in r["extra"]), r["wall"], r["load"], its))
+    c = runs["two-step"]["cost"]
+    L.append("| two-step | the FE block built and fitted (2 static solves) %.1f s; lumped soil, "
+             "monolithic %.1f s; the FE block one way %.1f s | %.1f | %.2f | 1 (no coupling) |" % (
+                 c["fit"], c["lumped"], c["one_way"], runs["two-step"]["wall"], c["load"][0]))
+    if info["ranks"] > 1:
+        L += ["", "The co-simulations ran the FE soil on %d MPI ranks ([soil] ranks); the "
+              "two-step method's one-way run ran on one, in the study's process, so its time "
+              "is not comparable with theirs as it stands." % info["ranks"]]
+    L += ["", "The whole study took %.1f s (load average %.2f at its end); the FE block has %d "
+          "degrees of freedom (element size %.3g m)." % (info["total"], info["load"],
+                                                          info["dofs"], info["mesh_size"])]
+    return L
+
+
+def decay(runs, info):
+    d = info["distances"]
+    L = ["## Decay with distance", "",
+         "PPV_z and KB_Fmax,z against distance, %s co-simulation and two-step; n is the local "
+         "exponent of a power law r^-n between a receiver and the one before it, "
+         "n = -ln(a2/a1) / ln(r2/r1)." % runs[REFERENCE]["label"], "",
+         "| distance | PPV_z (m/s) | / nearest | n | KB_Fmax,z | n | two-step PPV_z | n |",
+         "|---:|---:|---:|---:|---:|---:|---:|---:|"]
+
+    def n(vals, k):
+        if k == 0 or vals[k] <= 0 or vals[k - 1] <= 0:
+            return "-"
+        return "%.2f" % (-math.log(vals[k] / vals[k - 1]) / math.log(d[k] / d[k - 1]))
+
+    ref, two = runs[REFERENCE]["vibration"], runs["two-step"]["vibration"]
+    p = [r["ppv_z_mps"] for r in ref]
+    kb = [r["kb_fmax_z"] for r in ref]
+    p2 = [r["ppv_z_mps"] for r in two]
+    for k, dist in enumerate(d):
+        L.append("| %g m | %.4e | %.3f | %s | %.4g | %s | %.4e | %s |" % (
+            dist, p[k], p[k] / p[0], n(p, k), kb[k], n(kb, k), p2[k], n(p2, k)))
+    return L
+
+
+def validation(info):
+    L = ["## Validation", "", "### Checks run by this study", "",
+         "| check | bound | measured | result |", "|---|---|---|---|"]
+    for what, bound, measured, ok in info["checks"]:
+        L.append("| %s | %s | %s | %s |" % (what, bound, measured,
+                                             "not run" if ok is None else
+                                             ("pass" if ok else "**FAIL**")))
+    L += ["", "### The FE soil's tests", ""]
+    try:
+        with open(DOCS) as f:
+            text = f.read()
+        start = text.index("## Validation")
+        table = [x for x in text[start:text.index("\n## ", start + 1)].splitlines()
+                 if x.startswith("|")]
+        L += ["Not run by this study: the rows below are the validation table of "
+              "docs/ground-vibration.md, whose measured values the tests in tests/fe_soil "
+              "(`ctest -L fe_soil`) check against the bounds.", ""] + table
+    except (OSError, ValueError):
+        L.append("docs/ground-vibration.md is not beside this package: see its validation "
+                 "table and run `ctest -L fe_soil`.")
+    return L
+
+
+def write(out, runs, info):
+    from . import study_figures
+
+    figs = study_figures.draw(out, runs, info, [m for m in ORDER])
+    L = ["# Ground-vibration study: %s" % info["name"], "",
+         "Scene `%s`. Written by `python3 -m fe_soil.study`." % os.path.basename(info["scene"]),
+         ""]
+    L += answer(runs, info) + [""] + decay(runs, info) + ["", "## Figures", ""]
+    L += ["- `figures/%s`: %s" % (name, what) for name, what in figs]
+    L += [""] + validation(info)
+    L += ["", "## Files", "",
+          "- `runs/<method>/<case>/`: each co-simulation's files (`vibration.csv`: the measures "
+          "per receiver; `receivers.csv`: the velocity series; `history.csv`, `summary.json`)",
+          "- `runs/two-step/`: the one-way run's `vibration.csv` and `receivers.csv`, "
+          "`velocity.xdmf` + `velocity.h5` (the velocity field at the snapshot times; ParaView "
+          "opens it) and `surface.npz`; `runs/lumped/monolithic/`: step 1 and its "
+          "`soil_forces.csv`; `lumped.toml`: its scene", ""]
+    with open(os.path.join(out, "REPORT.md"), "w") as f:
+        f.write("\n".join(L))
