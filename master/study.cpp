@@ -232,8 +232,10 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
   if (load_scene(scene_path).soil_model == "fe")
     throw std::invalid_argument(
         scene_path +
-        ": the scene's soil is the FE soil (soil.model = \"fe\"): a study runs its cases by the "
-        "hundred, too many for a finite-element soil; run each case with master run");
+        ": the scene's soil is the FE soil (soil.model = \"fe\"): master study runs its cases by "
+        "the hundred, too many for a finite-element soil; study it with scripts/run-main.sh OUT " +
+        scene_path + " (python3 -m fe_soil.study --scene " + scene_path +
+        " --out OUT --master build/bin/master), or run each case with master run");
   if (load_scene(scene_path).soil_model == "external")
     throw std::invalid_argument(
         scene_path +
