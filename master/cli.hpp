@@ -1,7 +1,14 @@
-// The master's command line: `master run` and (later) `master study`.
+// The master's command line: `master run`, `master study`, `master conform`
+// (cli_run, cli_study, conform).
 #pragma once
 
+#include <atomic>
+
 namespace railcosim {
+
+// Set by SIGINT or SIGTERM once master_main has installed its handlers: runs
+// stop at the next macro step and leave a summary saying so.
+const std::atomic<int>* stop_flag();
 
 // Parses the arguments and runs the command. Returns the process exit status:
 // 0 when every requested run finished, 1 when a run failed, 2 for a usage or

@@ -138,9 +138,10 @@ TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
   const Outcome s = run_master("study --scene " + (out / "fe.toml").string() + " --out " +
                                (out / "study").string());
   EXPECT_EQ(s.status, 2) << s.output;
-  EXPECT_NE(s.output.find("the scene's soil is the FE soil (soil.model = \"fe\"): a study"),
+  EXPECT_NE(s.output.find("the scene's soil is the FE soil (soil.model = \"fe\"): master study"),
             std::string::npos)
       << s.output;
+  EXPECT_NE(s.output.find("scripts/run-main.sh OUT"), std::string::npos) << s.output;
   const Outcome m = run_master("run --scene " + (out / "fe.toml").string() +
                                " --case monolithic --out " + (out / "res").string());
   EXPECT_NE(m.status, 0) << m.output;

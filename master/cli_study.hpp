@@ -1,0 +1,33 @@
+// `master study`: its options, and a study run, planned or collected.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace railcosim {
+
+struct StudyArgs {
+  CLI::App* command = nullptr;
+  std::string scene_path;
+  std::string out = "results";
+  int jobs = 0;
+  std::vector<double> macro_steps;
+  std::vector<double> tolerances = {1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
+  std::string transport = "tcp";
+  std::vector<std::string> sweeps;  // KEY=V1,V2,...
+  std::string plan;                 // --plan FILE: write the plan only
+  std::string collect;              // --collect DIR: read the runs, write the report
+  std::string master;               // the program a plan's command lines call
+};
+
+// Adds `study` to the master's command line, filling `a`.
+void add_study_command(CLI::App& app, StudyArgs& a);
+// Runs, plans or collects the study; the exit status (0 complete, 1 runs
+// missing or failed, 3 only stage 2 of the plan left to run).
+int do_study(const StudyArgs& a);
+
+}  // namespace railcosim
