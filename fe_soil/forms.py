@@ -40,10 +40,12 @@ def stiffness_form(V, f, ds, spring_centre, alpha):
     return fem.form(a)
 
 
-def damping_stiffness_form(V, f, a1):
-    """The stiffness-proportional Rayleigh part with a layer-wise a1."""
+def damping_stiffness_form(V, f, a1, cells=None):
+    """The stiffness-proportional Rayleigh part with a layer-wise a1; over
+    the cells tagged 1 in `cells` only, when given."""
     u, w = ufl.TrialFunction(V), ufl.TestFunction(V)
-    return fem.form(a1 * ufl.inner(stress(u, f), strain(w)) * ufl.dx)
+    dx = ufl.dx if cells is None else ufl.Measure("dx", domain=V.mesh, subdomain_data=cells)(1)
+    return fem.form(a1 * ufl.inner(stress(u, f), strain(w)) * dx)
 
 
 def assemble_diagonal(form):
