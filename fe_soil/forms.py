@@ -74,3 +74,29 @@ def lumped_damping(V, f, ds, a0, dashpots=True):
     if dashpots:
         form = form + ufl.dot(dash, w) * ds(ABSORBING)
     return assemble_diagonal(fem.form(form))
+
+
+def rigid_body_modes(template, coords, mask, comm):
+    """Three translations and three rotations of the owned DOFs (coords: one
+    row per DOF; zero where mask is), orthonormalised: a PETSc near null
+    space for algebraic multigrid. `template` is a vector of the layout."""
+    import numpy as np
+
+    n = len(mask)
+    comp = np.arange(n) % 3
+    modes = []
+    for k in range(6):
+        a = np.zeros(n)
+        if k < 3:
+            a[comp == k] = 1.0
+        else:
+            i, j = ((0, 1), (1, 2), (2, 0))[k - 3]
+            a[comp == i] = -coords[comp == i, j]
+            a[comp == j] = coords[comp == j, i]
+        v = template.duplicate()
+        v.array[:] = a * mask
+        for q in modes:
+            v.axpy(-v.dot(q), q)
+        v.scale(1.0 / v.norm())
+        modes.append(v)
+    return PETSc.NullSpace().create(vectors=modes, comm=comm)

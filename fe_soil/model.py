@@ -273,9 +273,15 @@ class FESoil:
         b.array[:] = self.load_vector(forces) * self.mask
         if self.ksp is None:
             ksp = PETSc.KSP().create(self.comm)
+            # The rigid-body modes as GAMG's near null space: on the graded
+            # ground-vibration block (219k DOFs, elements up to 7:1, a
+            # half-space with nu = 0.478) 145 CG iterations to 1e-12 against
+            # 253 without; on a 40k-DOF homogeneous cube they had cost time.
+            self.K_static.setNearNullSpace(forms.rigid_body_modes(
+                self.U, self.dof_coordinates(), self.mask, self.comm))
             ksp.setOperators(self.K_static)
             ksp.setType("cg")
-            ksp.getPC().setType("gamg")  # measured: 2x faster than with rigid-body modes, 4x than MUMPS
+            ksp.getPC().setType("gamg")
             ksp.setInitialGuessNonzero(True)
             self.ksp = ksp
         self.ksp.setTolerances(rtol=rtol, atol=0.0, max_it=5000)
