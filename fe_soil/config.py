@@ -11,6 +11,8 @@ the checks run without dolfinx.
     mesh_size = 0.5              # optional, m: overrides the rule
     depth = 20.0                 # m
     margin = 8.0                 # m beyond the track's ends and the farthest receiver
+    growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
+    resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
     receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: its middle)
     damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
@@ -25,7 +27,8 @@ from __future__ import annotations
 
 import math
 
-from .params import Footprint, Layer, SoilParams, rayleigh_speed, uniform_nodes
+from .params import (Footprint, Layer, SoilParams, graded_nodes, rayleigh_speed,
+                     uniform_nodes)
 
 
 class ConfigError(ValueError):
@@ -33,7 +36,7 @@ class ConfigError(ValueError):
 
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
-            "receivers", "receiver_x", "damping_band", "layers"}
+            "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to"}
 LAYER_KEYS = {"thickness", "density", "shear_wave_speed", "poisson", "damping"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0]}
@@ -85,12 +88,18 @@ def parse(table):
     for key in ("f_max", "elements_per_wavelength", "depth", "margin"):
         out[key] = _number(table, key, "", lo=0.0, default=DEFAULTS[key])
     out["mesh_size"] = _number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
+    out["growth"] = _number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
+    if out["growth"] > 1.0 and out["mesh_size"] is not None:
+        raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
+                          "with mesh_size (remove one of them)" % out["growth"])
     out["receivers"] = _numbers(table, "receivers")
     out["receiver_x"] = _number(table, "receiver_x", "") if "receiver_x" in table else None
     band = _numbers(table, "damping_band", 2)
     if not 0.0 < band[0] < band[1]:
         raise ConfigError("[soil] damping_band must be two frequencies 0 < f1 < f2 (got %r)" % band)
     out["damping_band"] = tuple(band)
+    out["resolve_to"] = (_number(table, "resolve_to", "", lo=0.0) if "resolve_to" in table
+                         else max(out["receivers"]))
     layers = table.get("layers")
     if not isinstance(layers, list) or not layers or not all(isinstance(l, dict) for l in layers):
         raise ConfigError("[soil] layers is missing: give one [[soil.layers]] table or more, top "
@@ -131,6 +140,26 @@ def layered_nodes(layers, depth, h):
     return sorted(z) + [0.0]
 
 
+def graded_layer_nodes(layers, depth, f_max, n, growth):
+    """z node planes of the graded mesh: in each layer above the last, at
+    most h_k = c_R,k / (n f_max) apart (the mesh-size rule with that layer's
+    own Rayleigh speed); in the last layer (the half-space) h_k at its top,
+    growing by `growth` per element downwards. Every layer interface is a
+    node plane."""
+    tops = [0.0]
+    for layer in layers[:-1]:
+        tops.append(tops[-1] - layer.thickness)
+    z = [0.0]
+    for k, layer in enumerate(layers):
+        h_k = rayleigh_speed(layer.shear_speed, layer.poisson) / (n * f_max)
+        top = tops[k]
+        if k < len(layers) - 1:
+            z.extend(uniform_nodes(tops[k + 1], top, h_k)[:-1])
+        else:
+            z.extend(graded_nodes(-depth, top, top, h_k, h_k, growth)[:-1])
+    return sorted(z)
+
+
 def block_params(cfg, footprints):
     """SoilParams for a half block (y >= 0, the track axis a symmetry plane)
     under the footprints (rc.Footprint of the interface, in the rail's frame):
@@ -159,9 +188,16 @@ def block_params(cfg, footprints):
     else:
         c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
         h = c_min / cfg["f_max"] / cfg["elements_per_wavelength"]
-    p.x_nodes = uniform_nodes(0.0, length, h)
-    p.y_nodes = uniform_nodes(0.0, half_width, h)
-    p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
+    if cfg["growth"] > 1.0:
+        g = cfg["growth"]
+        p.x_nodes = graded_nodes(0.0, length, 0.5 * length, h, 0.5 * (x1 - x0), g)
+        p.y_nodes = graded_nodes(0.0, half_width, 0.0, h, min(cfg["resolve_to"], half_width), g)
+        p.z_nodes = graded_layer_nodes(cfg["layers"], cfg["depth"], cfg["f_max"],
+                                       cfg["elements_per_wavelength"], g)
+    else:
+        p.x_nodes = uniform_nodes(0.0, length, h)
+        p.y_nodes = uniform_nodes(0.0, half_width, h)
+        p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
     return p, x0 - margin
 
 

@@ -25,6 +25,19 @@ def hat_integrals(nodes, lo, hi):
     return out
 
 
+def hat_values(nodes, x):
+    """The value at x of each 1D hat function of `nodes` (two nonzero
+    entries inside the nodes' span, none outside)."""
+    nodes = np.asarray(nodes, dtype=float)
+    out = np.zeros(len(nodes))
+    if not nodes[0] <= x <= nodes[-1]:
+        return out
+    e = min(max(int(np.searchsorted(nodes, x, side="right")) - 1, 0), len(nodes) - 2)
+    s = (x - nodes[e]) / (nodes[e + 1] - nodes[e])
+    out[e], out[e + 1] = 1.0 - s, s
+    return out
+
+
 def surface_node_index(V, nodes):
     """For each owned DOF block (node) of the vector space V on the surface,
     its (i, j) in the node planes xs, ys; -1 elsewhere."""

@@ -40,10 +40,12 @@ def stiffness_form(V, f, ds, spring_centre, alpha):
     return fem.form(a)
 
 
-def damping_stiffness_form(V, f, a1):
-    """The stiffness-proportional Rayleigh part with a layer-wise a1."""
+def damping_stiffness_form(V, f, a1, cells=None):
+    """The stiffness-proportional Rayleigh part with a layer-wise a1; over
+    the cells tagged 1 in `cells` only, when given."""
     u, w = ufl.TrialFunction(V), ufl.TestFunction(V)
-    return fem.form(a1 * ufl.inner(stress(u, f), strain(w)) * ufl.dx)
+    dx = ufl.dx if cells is None else ufl.Measure("dx", domain=V.mesh, subdomain_data=cells)(1)
+    return fem.form(a1 * ufl.inner(stress(u, f), strain(w)) * dx)
 
 
 def assemble_diagonal(form):
@@ -72,3 +74,29 @@ def lumped_damping(V, f, ds, a0, dashpots=True):
     if dashpots:
         form = form + ufl.dot(dash, w) * ds(ABSORBING)
     return assemble_diagonal(fem.form(form))
+
+
+def rigid_body_modes(template, coords, mask, comm):
+    """Three translations and three rotations of the owned DOFs (coords: one
+    row per DOF; zero where mask is), orthonormalised: a PETSc near null
+    space for algebraic multigrid. `template` is a vector of the layout."""
+    import numpy as np
+
+    n = len(mask)
+    comp = np.arange(n) % 3
+    modes = []
+    for k in range(6):
+        a = np.zeros(n)
+        if k < 3:
+            a[comp == k] = 1.0
+        else:
+            i, j = ((0, 1), (1, 2), (2, 0))[k - 3]
+            a[comp == i] = -coords[comp == i, j]
+            a[comp == j] = coords[comp == j, i]
+        v = template.duplicate()
+        v.array[:] = a * mask
+        for q in modes:
+            v.axpy(-v.dot(q), q)
+        v.scale(1.0 / v.norm())
+        modes.append(v)
+    return PETSc.NullSpace().create(vectors=modes, comm=comm)

@@ -145,7 +145,11 @@ class FESoilParticipant(rc.Participant):
         self.receiver_x = [x + self.x_offset for x, _ in params.receivers]
         self.history = tuple(fe_config.channel_names(self.distances))
         self.results_fields = ("soil_m", "receiver_distance_m", "ppv_mps", "kb_fmax_z")
+        start = time.perf_counter()
         self.soil = self.core.call("build", params)
+        # Where the time goes, printed on stderr at the end of a run.
+        self.clock = {"build": time.perf_counter() - start, "statics": 0.0, "advance": 0.0,
+                      "n_statics": 0, "n_advance": 0}
         self.micro_steps = 0
         self.save_count = 0
         self.last = np.zeros(self.n)
@@ -162,13 +166,19 @@ class FESoilParticipant(rc.Participant):
     # ---- the steps ----------------------------------------------------
     def statics(self, inputs):
         f = np.array(inputs[0].force.start, dtype=float)
+        start = time.perf_counter()
         self.last = self.core.call("statics", f)
+        self.clock["statics"] += time.perf_counter() - start
+        self.clock["n_statics"] += 1
         return [{"displacement": self.last, "velocity": np.zeros(self.n)}]
 
     def advance(self, t, H, inputs):
         w = inputs[0].force
+        start = time.perf_counter()
         u, v = self.core.call("advance", t, H, np.array(w.start, dtype=float),
                               np.array(w.end, dtype=float))
+        self.clock["advance"] += time.perf_counter() - start
+        self.clock["n_advance"] += 1
         self.micro_steps += max(1, int(np.ceil(H / self.soil.dt - 1e-9)))
         self.last = u
         if not (np.isfinite(u).all() and np.isfinite(v).all()):
@@ -200,7 +210,17 @@ class FESoilParticipant(rc.Participant):
         dt = float(t[1] - t[0]) if len(t) > 1 else self.run.macro_step
         return t, v, dt, [measures.receiver_summary(v[:, k, :], dt) for k in range(v.shape[1])]
 
+    def report_time(self):
+        c = self.clock
+        print("fe_soil: %d DOFs on %d rank(s), dt %.4g ms: built in %.1f s; %d static solves "
+              "%.1f s; %d macro steps %.1f s (%.2f ms each)"
+              % (self.soil.global_dofs(), self.core.comm.size, 1e3 * self.soil.dt, c["build"],
+                 c["n_statics"], c["statics"], c["n_advance"], c["advance"],
+                 1e3 * c["advance"] / max(1, c["n_advance"])), file=sys.stderr, flush=True)
+
     def results(self):
+        if self.soil is not None and getattr(self, "clock", None):
+            self.report_time()
         if not self.soil.history:  # asked after a run that ended before its first step
             zeros = np.zeros(len(self.distances))
             return (self.last, np.array(self.distances), zeros, zeros)
