@@ -110,8 +110,8 @@ void write_front_csv(const std::filesystem::path& file, const std::vector<FrontR
         << format_double(row.run->tolerance) << "," << format_double(x.wall_s) << ","
         << format_double(row.run->rel_l2_error_converged) << "," << x.transport << ","
         << row.run->folder;
-    } else {
-      f << ",,,,,,";
+    } else {  // nothing reaches the level: the transport of the row's candidates
+      f << ",,,,," << row.transport << ",";
     }
     f << "\n";
   }

@@ -43,7 +43,8 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs,
 std::string front_column(const FrontRow& row, const std::string& transport);
 
 // front.csv: cut,level,method,macro_step_s,tolerance_m,wall_s,error,transport,folder
-// (empty method: no run reaches the level). Throws naming the file.
+// (empty method: no run reaches the level; its transport is then the
+// row's). Throws naming the file.
 void write_front_csv(const std::filesystem::path& file, const std::vector<FrontRow>& front);
 
 // The report's opening answer: per cut, one line with the method to use at

@@ -277,7 +277,9 @@ def panel(ax, cut, cosim, tol, front, levels, state):
                     fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
                     va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
                     bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
-    missing = [f"{num(f['level']):g}" for f in front if f["cut"] == cut and not f["method"]]
+    several = len({f.get("transport", "") for f in front if f["cut"] == cut}) > 1
+    missing = [f"{num(f['level']):g}" + (f" over {f['transport']}" if several else "")
+               for f in front if f["cut"] == cut and not f["method"]]
     note = []
     if diverged:
         note.append(f"{diverged} diverged runs not drawn")
