@@ -54,10 +54,13 @@ std::string cut_of(const std::string& method) {
 }
 
 std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::string& transport) {
-  // A co-simulation run's transport as the front groups it.
+  // A co-simulation run's transport as the front groups it (a record that
+  // does not say: the study's).
   auto over = [&](const StudyRun& r) {
-    return r.method == "monolithic" || r.record.transport == transport ? transport
-                                                                        : r.record.transport;
+    return r.method == "monolithic" || r.record.transport.empty() ||
+                   r.record.transport == transport
+               ? transport
+               : r.record.transport;
   };
   std::vector<std::pair<std::string, std::string>> columns;  // (cut, transport)
   for (const StudyRun& r : runs)
