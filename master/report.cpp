@@ -1,6 +1,7 @@
 #include "report.hpp"
 #include "report_front.hpp"
 #include "report_methods.hpp"
+#include "report_slopes.hpp"
 #include "report_spectra.hpp"
 
 #include <algorithm>
@@ -154,8 +155,9 @@ void scene_sections(std::ostringstream& md, const std::string& h, const Scene& s
     md << "\n";
   }
 
-  write_front_table(md, study_front(runs), runs, transport, h);
+  write_front_table(md, study_front(runs, transport), runs, transport, h);
   write_method_sections(md, runs, h);
+  write_slopes_section(md, error_slopes(runs), h);
   const bool spectra_figure =
       figures_note.empty() && std::filesystem::exists(dir / "figures" / "spectra.png");
   write_spectra_section(md, dir, spectra_figure ? figures + "/spectra.png" : "", h);
@@ -223,20 +225,22 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
         if (!vdir.empty()) vr.back().folder = r.folder.substr(vdir.size() + 1);
       }
     // front.csv first: the figures draw the report's answer from it.
-    write_front_csv(info.dir / vdir / "front.csv", study_front(vr));
+    write_front_csv(info.dir / vdir / "front.csv", study_front(vr, info.transport));
+    if (const auto slopes = error_slopes(vr); !slopes.empty())
+      write_slopes_csv(info.dir / vdir / "error_slopes.csv", slopes);
     if (swept) {
       write_summary_csv(info.dir / vdir / "summary.csv", vr);
       const std::string note = draw_figures(info.dir / vdir, script);
       const Scene scene = load_scene((info.dir / vdir / "scene.toml").string());
       md << "## " << label << "\n\nScene variant `" << vdir << "/scene.toml`: " << scene_line(scene)
          << ".\n\n";
-      write_answer(md, study_front(vr), info.transport);
+      write_answer(md, study_front(vr, info.transport), info.transport);
       scene_sections(md, "###", scene, vr, info.transport, vdir + "/figures", note,
                      info.dir / vdir);
       md << "\n";
     } else {
       const std::string note = draw_figures(info.dir, script);
-      write_answer(md, study_front(vr), info.transport);
+      write_answer(md, study_front(vr, info.transport), info.transport);
       incomplete_section(md, info, runs);
       scene_sections(md, "##", base, vr, info.transport, "figures", note, info.dir);
     }

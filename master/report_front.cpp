@@ -53,27 +53,53 @@ std::string cut_of(const std::string& method) {
   return cut;
 }
 
-std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs) {
-  std::vector<std::string> cuts;
+std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::string& transport) {
+  // A co-simulation run's transport as the front groups it (a record that
+  // does not say: the study's).
+  auto over = [&](const StudyRun& r) {
+    return r.method == "monolithic" || r.record.transport.empty() ||
+                   r.record.transport == transport
+               ? transport
+               : r.record.transport;
+  };
+  std::vector<std::pair<std::string, std::string>> columns;  // (cut, transport)
   for (const StudyRun& r : runs)
     if (candidate(r) && r.method != "monolithic") {
-      const std::string c = cut_of(r.method);
-      if (std::find(cuts.begin(), cuts.end(), c) == cuts.end()) cuts.push_back(c);
+      const std::pair<std::string, std::string> c{cut_of(r.method), transport};
+      if (std::find(columns.begin(), columns.end(), c) == columns.end()) columns.push_back(c);
     }
-  cuts.push_back("monolithic");
+  // The columns of runs over another transport, each after its cut's.
+  for (const StudyRun& r : runs)
+    if (candidate(r) && r.method != "monolithic" && over(r) != transport) {
+      const std::pair<std::string, std::string> c{cut_of(r.method), over(r)};
+      if (std::find(columns.begin(), columns.end(), c) != columns.end()) continue;
+      auto at = std::find_if(columns.begin(), columns.end(),
+                             [&](const auto& x) { return x.first == c.first; });
+      while (at != columns.end() && at->first == c.first) ++at;
+      columns.insert(at, c);
+    }
+  columns.emplace_back("monolithic", transport);
   std::vector<FrontRow> front;
-  for (const std::string& cut : cuts)
+  for (const auto& [cut, t] : columns)
     for (double level : accuracy_levels()) {
-      FrontRow row{cut, level, nullptr};
+      FrontRow row{cut, t, level, nullptr};
       for (const StudyRun& r : runs) {
-        if (!candidate(r) || cut_of(r.method) != cut || r.record.status != "ok" ||
-            r.rel_l2_error_converged > level)
+        if (!candidate(r) || cut_of(r.method) != cut || over(r) != t ||
+            r.record.status != "ok" || r.rel_l2_error_converged > level)
           continue;
         if (!row.run || r.record.wall_s < row.run->record.wall_s) row.run = &r;
       }
       front.push_back(row);
     }
   return front;
+}
+
+std::string front_column(const FrontRow& row, const std::string& transport) {
+  if (row.cut == "monolithic") return "monolithic (no cut)";
+  return row.cut + " cut" +
+         (row.transport == transport ? ""
+          : row.transport == "inproc" ? ", in process"
+                                      : ", over " + row.transport);
 }
 
 void write_front_csv(const std::filesystem::path& file, const std::vector<FrontRow>& front) {
@@ -87,8 +113,8 @@ void write_front_csv(const std::filesystem::path& file, const std::vector<FrontR
         << format_double(row.run->tolerance) << "," << format_double(x.wall_s) << ","
         << format_double(row.run->rel_l2_error_converged) << "," << x.transport << ","
         << row.run->folder;
-    } else {
-      f << ",,,,,,";
+    } else {  // nothing reaches the level: the transport of the row's candidates
+      f << ",,,,," << row.transport << ",";
     }
     f << "\n";
   }
@@ -108,13 +134,16 @@ std::string cell(const FrontRow& row) {
 }
 
 // Which column is the cheapest at each level: the headline under the table.
-std::string fastest_sentence(const std::vector<FrontRow>& front) {
+// Rows over another transport than the study's are timed without its
+// network and take no part (their own sentence follows the table).
+std::string fastest_sentence(const std::vector<FrontRow>& front, const std::string& transport) {
   std::vector<std::string> parts;
   bool mono_everywhere = true;
   for (double level : accuracy_levels()) {
     const FrontRow* best = nullptr;
     for (const FrontRow& r : front)
-      if (r.level == level && r.run && (!best || r.run->record.wall_s < best->run->record.wall_s))
+      if (r.level == level && r.run && r.transport == transport &&
+          (!best || r.run->record.wall_s < best->run->record.wall_s))
         best = &r;
     if (!best) continue;
     mono_everywhere = mono_everywhere && best->cut == "monolithic";
@@ -135,9 +164,13 @@ std::string fastest_sentence(const std::vector<FrontRow>& front) {
 
 void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
                   const std::string& transport) {
-  std::vector<std::string> cuts;
-  for (const FrontRow& r : front)
-    if (std::find(cuts.begin(), cuts.end(), r.cut) == cuts.end()) cuts.push_back(r.cut);
+  std::vector<std::string> columns;
+  bool other = false;
+  for (const FrontRow& r : front) {
+    const std::string c = front_column(r, transport);
+    if (std::find(columns.begin(), columns.end(), c) == columns.end()) columns.push_back(c);
+    other = other || r.transport != transport;
+  }
   md << "**The answer.** The method to use at each cut for a relative error of the rail "
         "deflection at t_end of at most 1e-3, 1e-4 and 1e-5 (against the converged monolithic "
         "run), and its wall time (co-simulation over `"
@@ -145,19 +178,25 @@ void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
      << "`; the monolithic run in process): the cheapest run of the sweep that "
         "ends `ok` and reaches it. `speed_accuracy.png` draws the same runs bold.\n\n| error at "
         "most |";
-  for (const std::string& c : cuts)
-    md << " " << (c == "monolithic" ? "monolithic (no cut)" : c + " cut") << " |";
+  for (const std::string& c : columns) md << " " << c << " |";
   md << "\n|---|";
-  for (std::size_t i = 0; i < cuts.size(); ++i) md << "---|";
+  for (std::size_t i = 0; i < columns.size(); ++i) md << "---|";
   md << "\n";
   for (double level : accuracy_levels()) {
     md << "| " << shortg(level) << " |";
-    for (const std::string& c : cuts)
+    for (const std::string& c : columns)
       for (const FrontRow& r : front)
-        if (r.cut == c && r.level == level) md << " " << cell(r) << " |";
+        if (front_column(r, transport) == c && r.level == level) md << " " << cell(r) << " |";
     md << "\n";
   }
-  md << "\n" << fastest_sentence(front) << "\n\n";
+  md << "\n" << fastest_sentence(front, transport) << "\n\n";
+  if (other)
+    md << "The columns \"in process\" hold the methods that run in process only (substep "
+          "waveforms: their micro-step samples do not cross the network), the cheapest of them "
+          "at each level. Their wall times pay no network, so they are not compared with the `"
+       << transport
+       << "` columns (nor named above): compare them with each other and with the in-process "
+          "wall times of stage 2 in \"Cheapest method per accuracy\".\n\n";
 }
 
 void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
@@ -172,16 +211,22 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
      << transport << "` (the monolithic run: across tolerances, in process); the same method and "
      << "H rerun over `" << other << "` where stage 2 ran it. This is the table the report opens "
      << "with and the front `speed_accuracy.png` draws (`front.csv`).\n\n"
+     << (std::any_of(front.begin(), front.end(),
+                     [&](const FrontRow& r) { return r.transport != transport; })
+             ? "The rows over `inproc` of a cut are the runs that can run in process only "
+               "(substep waveforms), timed without the network and compared only with each "
+               "other.\n\n"
+             : "")
      << "| cut | error at most | method | H (s) | tolerance (m) | error | wall (s) | wall " << other
-     << " (s) | iterations per step (mean) |\n|---|---|---|---|---|---|---|---|---|\n";
+     << " (s) | iterations per step (mean) | transport |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const FrontRow& row : front) {
     md << "| " << row.cut << " | " << sci(row.level) << " | ";
     if (!row.run) {
-      md << "none of the swept runs | | | | | | |\n";
+      md << "none of the swept runs | | | | | | | " << row.transport << " |\n";
       continue;
     }
     const RunRecord& x = row.run->record;
-    std::string again = "–";
+    std::string again = row.transport == transport ? "–" : "– (in process only)";
     for (const StudyRun& r : runs)
       if (r.group == "other-transport" && r.method == row.run->method &&
           r.record.macro_step == x.macro_step && r.record.status == "ok")
@@ -192,7 +237,7 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
        << (row.cut == "monolithic" ? "–"
            : x.iterations_mean     ? sci(*x.iterations_mean)
                                    : "1 (explicit)")
-       << " |\n";
+       << " | " << (row.cut == "monolithic" ? "inproc" : x.transport) << " |\n";
   }
 }
 

@@ -16,6 +16,10 @@ namespace railcosim {
 // "monolithic" for the monolithic tolerance sweep (the reference).
 struct FrontRow {
   std::string cut;
+  // The transport of its candidates: the study's, or "inproc" for the runs
+  // of a TCP study that can run in process only (substep waveforms), which
+  // form rows of their own: their wall times have no network to pay.
+  std::string transport;
   double level = 0;               // error at most (rel. L2 against the converged run)
   const StudyRun* run = nullptr;  // the cheapest run reaching it; null: none
 };
@@ -24,15 +28,23 @@ struct FrontRow {
 // "wr-xx+ss-xt-jacobi" -> "wr+ss", "monolithic" -> "monolithic".
 std::string cut_of(const std::string& method);
 
-// Per cut (in the order the runs name them, "monolithic" last) and per
-// accuracy level: among the runs of the "case" and "sweep" groups (the
+// Per cut (in the order the runs name them, "monolithic" last), per
+// transport (the study's `transport` first, then "inproc" where the cut has
+// co-simulation runs in process in a TCP study) and per accuracy level: among
+// the runs of the "case" and "sweep" groups over that transport (the
 // "tolerance", "case" and "converged" monolithic runs for "monolithic") that
 // end `ok` with rel_l2_error_converged <= level, the one with the least wall
 // time (the first in plan order on a tie).
-std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs);
+std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs,
+                                  const std::string& transport = "tcp");
+
+// The column of a front row in the report: "wr cut", "wr cut, in process"
+// (a row over another transport than the study's), "monolithic (no cut)".
+std::string front_column(const FrontRow& row, const std::string& transport);
 
 // front.csv: cut,level,method,macro_step_s,tolerance_m,wall_s,error,transport,folder
-// (empty method: no run reaches the level). Throws naming the file.
+// (empty method: no run reaches the level; its transport is then the
+// row's). Throws naming the file.
 void write_front_csv(const std::filesystem::path& file, const std::vector<FrontRow>& front);
 
 // The report's opening answer: per cut, one line with the method to use at

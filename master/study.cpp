@@ -72,10 +72,19 @@ std::vector<Method> methods_for(const Scene& scene) {
     implicit.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
     Method extrapolated = base;
     extrapolated.coupling.inputs = InputMode::kExtrapolate1;
+    // The same implicit coupling with each sender's micro-step outputs as a
+    // cubic waveform (in process only: run_transport()).
+    Method waveform = implicit;
+    waveform.coupling.inputs = InputMode::kWaveform3;
     m.push_back(implicit);
     m.push_back(extrapolated);
+    m.push_back(waveform);
   }
   return m;
+}
+
+std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
+  return waveform_degree(coupling.inputs) >= 0 ? "inproc" : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {

@@ -31,9 +31,14 @@ struct Method {
 // (the only ones where the feedthrough changes anything).
 std::vector<Method> all_methods();
 // The same for every case a scene can run (case_names(scene)), and for each
-// single-cut Jacobi case two more couplings: implicit with linear inputs and
-// IQN-ILS, and explicit with inputs extrapolated at first order.
+// single-cut Jacobi case three more couplings: implicit with linear inputs and
+// IQN-ILS, explicit with inputs extrapolated at first order, and implicit
+// with cubic substep waveforms and IQN-ILS (implicit-waveform3-iqn-ils).
 std::vector<Method> methods_for(const Scene& scene);
+
+// The transport a study runs a coupling over: the study's, except for
+// substep waveforms, which are exchanged in process only ("inproc").
+std::string run_transport(const CouplingOptions& coupling, const std::string& transport);
 
 // --sweep KEY=V1,V2,...: a scene value (dotted TOML key) and its values.
 struct SweepAxis {

@@ -230,7 +230,7 @@ StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
         r.feedthrough = m->feedthrough;
         r.coupling = m->coupling;
       }
-      r.transport = o.transport;
+      r.transport = m ? run_transport(m->coupling, o.transport) : o.transport;
       r.folder = prefix + where + (m ? method_folder(*m) : "monolithic");
       r.macro_step = H;
       r.tolerance = tol;
@@ -287,6 +287,9 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
   std::vector<std::string> order;
   for (std::size_t i = 0; i < runs.size() && i < stage1.runs.size(); ++i) {
+    // Runs over another transport than the study's (substep waveforms, in
+    // process only) are neither compared in wall time with it nor rerun.
+    if (stage1.runs[i].transport != stage1.transport) continue;
     const std::string& v = stage1.runs[i].variant;
     if (!by_variant.count(v)) order.push_back(v);
     by_variant[v].push_back(runs[i]);

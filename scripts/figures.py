@@ -141,10 +141,10 @@ CUT_NAMES = {"wr": "wheel/rail", "rs": "rail/sleepers", "ss": "sleepers/soil"}
 
 
 def family(method):
-    if "+implicit" in method:
-        return FAMILIES[2]
     if "waveform" in method or "substep" in method:
         return FAMILIES[3]
+    if "+implicit" in method:
+        return FAMILIES[2]
     if "extrapolate" in method:
         return FAMILIES[1]
     return FAMILIES[0]
@@ -168,6 +168,7 @@ def short_name(method, cut):
     """The method without its cut(s), for labels inside the cut's panel."""
     name = method.replace("gauss-seidel", "GS").replace("jacobi", "J")
     name = name.replace("+implicit-linear-iqn-ils", " implicit").replace("+explicit-extrapolate1", " extrap.")
+    name = name.replace("+implicit-waveform", " implicit wf").replace("-iqn-ils", "")
     return name if "+" in cut else name[len(cut) + 1:]
 
 
@@ -266,15 +267,19 @@ def panel(ax, cut, cosim, tol, front, levels, state):
             continue
         r = by_folder[f["folder"]]
         x, y = num(r["wall_s"]), num(r["rel_l2_error_converged"])
-        state["drawn"].append((cut, num(f["level"]), r["method"], num(r["macro_step_s"]), num(r["tolerance_m"]), x, y))
-        labels.setdefault((x, y, r["method"], num(r["macro_step_s"])), []).append(f"{num(f['level']):g}")
-    for i, ((x, y, m, h), lv) in enumerate(labels.items()):
+        state["drawn"].append((cut, num(f["level"]), r["method"], num(r["macro_step_s"]), num(r["tolerance_m"]), x, y,
+                               r["transport"]))
+        labels.setdefault((x, y, r["method"], num(r["macro_step_s"]), r["transport"]), []).append(
+            f"{num(f['level']):g}")
+    for i, ((x, y, m, h, t), lv) in enumerate(labels.items()):
         ax.plot(x, y, "*", ms=18, color="gold", mec="k", mew=1.2, zorder=8)
-        ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s", (x, y), fontsize=7.5,
+        ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s over {t}", (x, y), fontsize=7.5,
                     fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
                     va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
                     bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
-    missing = [f"{num(f['level']):g}" for f in front if f["cut"] == cut and not f["method"]]
+    several = len({f.get("transport", "") for f in front if f["cut"] == cut}) > 1
+    missing = [f"{num(f['level']):g}" + (f" over {f['transport']}" if several else "")
+               for f in front if f["cut"] == cut and not f["method"]]
     note = []
     if diverged:
         note.append(f"{diverged} diverged runs not drawn")
@@ -382,6 +387,6 @@ if __name__ == "__main__":
         sys.exit(__doc__)
     front = main(args[0])
     if show:
-        print("cut,level,method,macro_step_s,tolerance_m,wall_s,error")
+        print("cut,level,method,macro_step_s,tolerance_m,wall_s,error,transport")
         for p in front:
             print(",".join(repr(v) if isinstance(v, float) else v for v in p))

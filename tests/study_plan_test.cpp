@@ -159,8 +159,19 @@ TEST_F(StudyPlanTest, EveryRunKindIsACompleteCommandThatReadsBack) {
   for (const char* kind :
        {"group=case", "group=sweep", "group=tolerance", "group=restart", "group=converged",
         "--coupling implicit --inputs linear --accelerator iqn-ils", "--inputs extrapolate1",
-        "--feedthrough resolved", "restart/carry/scene.toml"})
+        "--coupling implicit --inputs waveform3 --accelerator iqn-ils", "--feedthrough resolved",
+        "restart/carry/scene.toml"})
     EXPECT_NE(text.find(kind), std::string::npos) << kind;
+  {  // Substep waveforms travel in process only: their runs are over inproc.
+    std::istringstream lines(text);
+    int waveform = 0;
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("--inputs waveform3") != std::string::npos) {
+        ++waveform;
+        EXPECT_NE(line.find("--transport inproc"), std::string::npos) << line;
+      }
+    EXPECT_GE(waveform, 4);
+  }
   const Scene carry = load_scene((dir_ / "planned" / "restart" / "carry" / "scene.toml").string());
   EXPECT_EQ(carry.micro_steps, 10);
   EXPECT_EQ(carry.restart, "carry");

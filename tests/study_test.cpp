@@ -4,6 +4,7 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -32,6 +33,22 @@ std::string json_value(const std::string& json, const std::string& key) {
   if (!std::regex_search(json, m, re)) return "<missing>";
   if (m[2].matched) return m[2];
   return m[1] == "null" ? "" : std::string(m[1]);
+}
+
+// The rows of a CSV file, each by column name.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::istringstream in(read_file(file));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split_csv(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    const auto f = split_csv(line);
+    std::map<std::string, std::string> r;
+    for (std::size_t i = 0; i < header.size() && i < f.size(); ++i) r[header[i]] = f[i];
+    rows.push_back(std::move(r));
+  }
+  return rows;
 }
 
 class StudyTest : public ::testing::Test {
@@ -120,18 +137,68 @@ TEST_F(StudyTest, SummaryCsvMatchesEveryRunsSummaryJson) {
     }
     ++rows[f[col["group"]]];
   }
-  // 10 paper methods, and per Jacobi case of each cut an implicit and an
-  // extrapolated one: 18 methods at each of the 2 macro steps; the
+  // 10 paper methods, and per Jacobi case of each cut an implicit, an
+  // extrapolated and an implicit cubic-waveform one: 22 methods at each of
+  // the 2 macro steps; the
   // monolithic case; 2 tolerances; the rail/sleepers pair under 2 restart
   // conventions; the converged reference; the cheapest methods (1 to 3)
   // over the other transport.
-  EXPECT_EQ(rows["case"], 19);
+  EXPECT_EQ(rows["case"], 23);
   EXPECT_EQ(rows["converged"], 1);
-  EXPECT_EQ(rows["sweep"], 18);
+  EXPECT_EQ(rows["sweep"], 22);
   EXPECT_EQ(rows["tolerance"], 2);
   EXPECT_EQ(rows["restart"], 4);
   EXPECT_GE(rows["other-transport"], 1);
   EXPECT_LE(rows["other-transport"], 3);
+}
+
+// The cubic-waveform method of every single-cut Jacobi case at both macro
+// steps, in process (waveforms do not cross TCP), none of them rerun over TCP.
+TEST_F(StudyTest, SummaryCsvHoldsTheWaveformMethodInProcess) {
+  ASSERT_EQ(status_, 0) << output_;
+  const auto rows = csv_rows(dir_ / "out" / "summary.csv");
+  std::map<std::string, int> waveform;
+  for (const auto& r : rows) {
+    if (r.at("method").find("+implicit-waveform3-iqn-ils") == std::string::npos) continue;
+    EXPECT_EQ(r.at("transport"), "inproc") << r.at("folder");
+    EXPECT_EQ(r.at("inputs"), "waveform3") << r.at("folder");
+    EXPECT_EQ(r.at("coupling_method"), "implicit") << r.at("folder");
+    EXPECT_NE(r.at("group"), "other-transport") << r.at("folder");
+    ++waveform[r.at("case")];
+  }
+  for (const char* c : {"wr-xt-jacobi", "wr-xx-jacobi", "rs-xt-jacobi", "rs-xx-jacobi"})
+    EXPECT_EQ(waveform[c], 2) << c;
+  EXPECT_EQ(waveform.size(), 4u);
+  const std::string report = read_file(dir_ / "out" / "REPORT.md");
+  EXPECT_NE(report.find("rs cut, in process"), std::string::npos);
+  EXPECT_NE(report.find("## Error against H per input degree"), std::string::npos);
+}
+
+// error_slopes.csv: per case and inputs, the least-squares slope of
+// log(error) on log(H), refitted here from summary.csv.
+TEST_F(StudyTest, SlopeTableIsTheFitOfSummaryCsv) {
+  ASSERT_EQ(status_, 0) << output_;
+  std::map<std::pair<std::string, std::string>, std::vector<std::pair<double, double>>> points;
+  for (const auto& r : csv_rows(dir_ / "out" / "summary.csv"))
+    if ((r.at("group") == "case" || r.at("group") == "sweep") &&
+        r.at("coupling_method") == "implicit" && r.at("accelerator") == "iqn-ils" &&
+        !r.at("rel_l2_error_converged").empty() && std::stod(r.at("rel_l2_error_converged")) > 0)
+      points[{r.at("case"), r.at("inputs")}].emplace_back(
+          std::log(std::stod(r.at("macro_step_s"))),
+          std::log(std::stod(r.at("rel_l2_error_converged"))));
+  const auto slopes = csv_rows(dir_ / "out" / "error_slopes.csv");
+  ASSERT_EQ(slopes.size(), points.size());
+  int fitted = 0;
+  for (const auto& s : slopes) {
+    const auto& p = points.at({s.at("case"), s.at("inputs")});
+    ASSERT_EQ(std::to_string(p.size()), s.at("points")) << s.at("case");
+    if (p.size() < 2) continue;
+    // Two macro steps: the slope is the secant.
+    const double secant = (p[1].second - p[0].second) / (p[1].first - p[0].first);
+    EXPECT_NEAR(std::stod(s.at("slope")), secant, 1e-9 * (1 + std::abs(secant))) << s.at("case");
+    ++fitted;
+  }
+  EXPECT_GE(fitted, 4);  // linear and waveform3 of rs-xx and wr-xx at least
 }
 
 TEST_F(StudyTest, StabilityMapAgreesWithADirectRunOfTheSameCell) {
