@@ -38,12 +38,14 @@ def answer(runs, info):
          "Gauss-Seidel, implicit); two-step: the forces into the ballast on a lumped soil "
          "fitted to the block's static stiffness (k_f = %.4g N/m, k_c = %.4g N/m), applied "
          "one way to the same block." % (info["t_end"], info["H"], info["kf"], info["kc"]), "",
-         "Resolution: elements of %.3g m have 10 per Rayleigh wavelength of the softest "
-         "layer (c_R = %.4g m/s) up to %.3g Hz, the rule for band levels within about 1 dB "
-         "(docs/ground-vibration.md); the 45-degree phase-error estimate gives %s. Bands above "
+         "Resolution, per receiver: the largest element on the surface path from the track, "
+         "the frequency up to which it has 10 elements per Rayleigh wavelength of the softest "
+         "layer (c_R = %.4g m/s: the rule for band levels within about 1 dB, "
+         "docs/ground-vibration.md) and the 45-degree phase-error estimate: %s. Bands above "
          "are rough, in both methods alike (they share the mesh)." % (
-             info["mesh_size"], info["resolution"][0], info["resolution"][1],
-             ", ".join("%.3g Hz at %g m" % (f, x) for f, x in zip(info["resolution"][2], d))),
+             info["resolution"][0],
+             "; ".join("%g m: %.2g m, %.3g Hz (phase %.3g Hz)" % (x, h, f, g)
+                       for (h, f, g), x in zip(info["resolution"][1], d))),
          "",
          "### Free field per distance", "",
          "| distance | method | PPV (m/s) | PPV_z (m/s) | KB_Fmax | KB_Fmax,z |",
@@ -103,8 +105,7 @@ def answer(runs, info):
               "two-step method's one-way run ran on one, in the study's process, so its time "
               "is not comparable with theirs as it stands." % info["ranks"]]
     L += ["", "The whole study took %.1f s (load average %.2f at its end); the FE block has %d "
-          "degrees of freedom (element size %.3g m)." % (info["total"], info["load"],
-                                                          info["dofs"], info["mesh_size"])]
+          "degrees of freedom." % (info["total"], info["load"], info["dofs"])]
     return L
 
 

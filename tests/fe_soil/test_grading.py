@@ -7,6 +7,8 @@ import os
 import sys
 import unittest
 
+import numpy as np
+
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))
 from fe_soil import config  # noqa: E402
 from fe_soil.params import rayleigh_speed  # noqa: E402
@@ -83,6 +85,19 @@ class Grading(unittest.TestCase):
             self.assertLessEqual(max(ratios), 1.3 * 1.25 + 1e-6)
         # The 32 m receiver lies in the graded zone: coarser than the rule.
         self.assertGreater(max(steps(ys)), 2.0 * self.h)
+
+    def test_the_study_reports_each_receivers_largest_element(self):
+        # fe_soil.study: the element that limits a receiver is the largest on
+        # its surface path from the track (along y from 0, along x where it
+        # stands, and the top element's depth), not the first of the x axis.
+        from fe_soil.study import largest_element_on_path
+        x = np.concatenate([[0.0, 3.0], np.arange(5.0, 41.0, 0.5)])  # coarse margin first
+        y = np.concatenate([np.arange(0.0, 16.01, 0.5), 16.0 + 0.5 * np.cumsum(1.25 ** np.arange(1, 8))])
+        z = -np.array([20.0, 10.0, 5.0, 1.4, 0.8, 0.4, 0.0])
+        self.assertEqual(largest_element_on_path((x, y, z), 20.2, 8.0), 0.5)
+        self.assertEqual(largest_element_on_path((x, y, z), 20.2, 20.0), 0.5 * 1.25 ** 5)
+        self.assertEqual(largest_element_on_path((x, y, z[:-1] + 0.4), 20.2, 4.0), 0.5)
+        self.assertEqual(largest_element_on_path((x, y, z), 1.0, 4.0), 3.0)  # in the margin
 
     def test_growth_one_is_the_uniform_mesh(self):
         table = dict(TABLE, growth=1.0)
