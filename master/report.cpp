@@ -20,12 +20,6 @@
 namespace railcosim {
 namespace {
 
-std::string sci(double v, int digits = 2) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
-  return buf;
-}
-
 // Runs a shell command; true on exit status 0.
 bool shell(const std::string& cmd) {
   return std::system(cmd.c_str()) == 0;

@@ -7,15 +7,10 @@
 #include <sstream>
 
 #include "report.hpp"
+#include "run_output.hpp"
 
 namespace railcosim {
 namespace {
-std::string sci(double v, int digits = 2) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
-  return buf;
-}
-
 // The runs at the scene's macro step, by method label.
 std::map<std::string, const RunRecord*> cases_of(const std::vector<StudyRun>& runs) {
   std::map<std::string, const RunRecord*> m;

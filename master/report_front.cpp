@@ -10,12 +10,6 @@
 namespace railcosim {
 namespace {
 
-std::string sci(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2e", v);
-  return b;
-}
-
 std::string shortg(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", v);
@@ -57,8 +51,7 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::
   // A co-simulation run's transport as the front groups it (a record that
   // does not say: the study's).
   auto over = [&](const StudyRun& r) {
-    return r.method == "monolithic" || r.record.transport.empty() ||
-                   r.record.transport == transport
+    return r.method == "monolithic" || r.record.transport.empty() || r.record.transport == transport
                ? transport
                : r.record.transport;
   };
@@ -84,8 +77,8 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::
     for (double level : accuracy_levels()) {
       FrontRow row{cut, t, level, nullptr};
       for (const StudyRun& r : runs) {
-        if (!candidate(r) || cut_of(r.method) != cut || over(r) != t ||
-            r.record.status != "ok" || r.rel_l2_error_converged > level)
+        if (!candidate(r) || cut_of(r.method) != cut || over(r) != t || r.record.status != "ok" ||
+            r.rel_l2_error_converged > level)
           continue;
         if (!row.run || r.record.wall_s < row.run->record.wall_s) row.run = &r;
       }
@@ -97,7 +90,7 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::
 std::string front_column(const FrontRow& row, const std::string& transport) {
   if (row.cut == "monolithic") return "monolithic (no cut)";
   return row.cut + " cut" +
-         (row.transport == transport ? ""
+         (row.transport == transport  ? ""
           : row.transport == "inproc" ? ", in process"
                                       : ", over " + row.transport);
 }
@@ -218,7 +211,8 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
                "other.\n\n"
              : "")
      << "| cut | error at most | method | H (s) | tolerance (m) | error | wall (s) | wall " << other
-     << " (s) | iterations per step (mean) | transport |\n|---|---|---|---|---|---|---|---|---|---|\n";
+     << " (s) | iterations per step (mean) | transport "
+        "|\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const FrontRow& row : front) {
     md << "| " << row.cut << " | " << sci(row.level) << " | ";
     if (!row.run) {

@@ -5,14 +5,10 @@
 #include <map>
 #include <string>
 
+#include "run_output.hpp"
+
 namespace railcosim {
 namespace {
-
-std::string sci(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2e", v);
-  return b;
-}
 
 bool is_cosim(const StudyRun& r) {
   return (r.group == "case" || r.group == "sweep") && r.method != "monolithic";

@@ -11,12 +11,6 @@
 namespace railcosim {
 namespace {
 
-std::string sci(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.2e", v);
-  return b;
-}
-
 int input_order(const std::string& inputs) {
   static const std::vector<std::string> order{"hold",      "linear",    "waveform0",
                                               "waveform1", "waveform2", "waveform3"};

@@ -6,6 +6,8 @@
 // reader never sees half a file.
 #pragma once
 
+#include <cstdio>
+
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -81,5 +83,13 @@ std::string spectra_csv(const RunRecord& run);
 
 // The shortest text that reads back to the same double ("null" if not finite).
 std::string format_double(double v);
+
+// Scientific notation with the given digits after the point, e.g. 1.23e-04:
+// how the reports print errors and times.
+inline std::string sci(double v, int digits = 2) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
+  return buf;
+}
 
 }  // namespace railcosim
