@@ -4,5 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAILCOSIM_WERROR=ON "$@" >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAILCOSIM_WERROR=ON -DRAILCOSIM_BUILD_BENCH=ON "$@" >/dev/null
 cmake --build build -j "$(nproc)"
