@@ -97,6 +97,9 @@ struct ParticipantResults {
 // An opaque snapshot of a participant (bitwise restorable).
 struct ParticipantState {
   std::vector<double> values;
+  // The snapshot stayed with the participant's node, which restores it on
+  // request (a remote participant in lock step); `values` is then empty.
+  bool kept = false;
   bool operator==(const ParticipantState&) const = default;
 };
 

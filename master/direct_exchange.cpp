@@ -13,6 +13,17 @@ namespace railcosim {
 
 using std::chrono::milliseconds;
 
+bool enter_lockstep(const std::vector<Participant*>& ps, long first, long end) {
+  std::vector<RemoteParticipant*> nodes;
+  for (Participant* p : ps) {
+    auto* r = dynamic_cast<RemoteParticipant*>(p);
+    if (!r || !r->lockstep_capable()) return false;
+    nodes.push_back(r);
+  }
+  for (RemoteParticipant* r : nodes) r->enter_lockstep(first, end);
+  return true;
+}
+
 std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
                                                      const StepPlan& plan, double bound, long total,
                                                      DirectOptions options) {

@@ -5,8 +5,10 @@
 // the run's loop (divergence, history, progress) is the same on both planes.
 //
 // Used for explicit coupling with held inputs when every participant is a
-// remote node that offers it; the other couplings decide on every step
-// centrally (implicit iterations) or ramp inputs, and stay relayed.
+// remote node that offers it. The couplings the master decides step by step
+// (implicit iterations, ramped inputs) run on the direct plane in lock step
+// instead (enter_lockstep): the master's executor sends each node one frame
+// per step or iteration, which the node serves without its event loop.
 #pragma once
 
 #include <chrono>
@@ -24,6 +26,11 @@
 #include "step_plan.hpp"
 
 namespace railcosim {
+
+// Puts every participant into lock step for macro steps [first, end) and
+// returns true, if every one is a RemoteParticipant whose node offers it;
+// false (nothing sent) otherwise.
+bool enter_lockstep(const std::vector<Participant*>& participants, long first, long end);
 
 class DirectExchange final : public MacroSteps {
  public:

@@ -27,7 +27,10 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
         auth_answer(*token, config.participant.role, reply.challenge().nonce()));
     send(auth, false);
     const wire::Envelope accepted = await(wire::Envelope::kHelloReply, "auth");
-    for (const auto& c : accepted.hello_reply().capabilities()) direct_ = direct_ || c == "direct";
+    for (const auto& c : accepted.hello_reply().capabilities()) {
+      direct_ = direct_ || c == "direct";
+      lockstep_capable_ = lockstep_capable_ || c == "lockstep";
+    }
   } else if (reply.has_error()) {
     fail("hello failed: " + wire::Error::Code_Name(reply.error().code()) + ": " +
          reply.error().message());
@@ -35,7 +38,10 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
     fail("unexpected " + body_name(reply) + " in reply to hello");
   }
   if (reply.has_hello_reply())
-    for (const auto& c : reply.hello_reply().capabilities()) direct_ = direct_ || c == "direct";
+    for (const auto& c : reply.hello_reply().capabilities()) {
+      direct_ = direct_ || c == "direct";
+      lockstep_capable_ = lockstep_capable_ || c == "lockstep";
+    }
 
   send(configure_envelope(scene, config), false);
   const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
@@ -194,6 +200,19 @@ void RemoteParticipant::set_inputs(long n, const CouplingData& start, const Coup
 }
 
 void RemoteParticipant::flush_inputs() {
+  // A kept checkpoint's save or restore goes first, as it was asked for.
+  if (pending_keep_) {
+    wire::Envelope e;
+    e.mutable_save()->set_keep(true);
+    pending_keep_ = false;
+    send(e, true);
+  }
+  if (pending_restore_) {
+    wire::Envelope e;
+    e.mutable_restore()->set_kept(true);
+    pending_restore_ = false;
+    send(e, true);
+  }
   if (!pending_inputs_) return;
   wire::Envelope e;
   auto* s = e.mutable_set_inputs();
@@ -221,6 +240,9 @@ void RemoteParticipant::start_step(long n) {
   s->set_step(n);
   s->set_t(static_cast<double>(n) * config_.macro_step);
   s->set_h(config_.macro_step);
+  s->set_keep_checkpoint(pending_keep_);
+  s->set_restore_checkpoint(pending_restore_);
+  pending_keep_ = pending_restore_ = false;
   step_started_ = std::chrono::steady_clock::now();
   if (pending_inputs_) {
     *s->mutable_inputs() = to_wire(*pending_inputs_);
@@ -259,6 +281,11 @@ ParticipantResults RemoteParticipant::results() {
 }
 
 ParticipantState RemoteParticipant::save() {
+  if (lockstep_) {
+    flush_inputs();  // inputs held before the save belong to the snapshot
+    pending_keep_ = true;
+    return ParticipantState{{}, true};
+  }
   wire::Envelope e;
   e.mutable_save();
   const wire::State w = request(std::move(e), wire::Envelope::kState).state();
@@ -270,11 +297,28 @@ ParticipantState RemoteParticipant::save() {
 void RemoteParticipant::restore(const ParticipantState& state) {
   pending_inputs_.reset();  // the restored state brings its own held inputs
   pending_end_.reset();
+  if (state.kept) {
+    if (!lockstep_) throw std::logic_error(name() + ": a kept checkpoint outside a lock step");
+    // Not saved yet (the save rides with the next step): the state is still
+    // the snapshot's.
+    if (!pending_keep_) pending_restore_ = true;
+    return;
+  }
   wire::Envelope e;
   auto* r = e.mutable_restore()->mutable_state();
   for (double v : state.values) r->add_values(v);
   send(e, true);
   await(wire::Envelope::kAck, "restore");
+}
+
+void RemoteParticipant::enter_lockstep(long first_step, long end_step) {
+  wire::Envelope e;
+  auto* w = e.mutable_window();
+  w->set_first_step(first_step);
+  w->set_end_step(end_step);
+  w->set_lockstep(true);
+  send(e, true);  // its ack is read with the next reply
+  lockstep_ = true;
 }
 
 void RemoteParticipant::set_links(const wire::Links& links) {

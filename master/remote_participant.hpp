@@ -61,6 +61,11 @@ class RemoteParticipant final : public Participant {
 
   // The direct data plane (direct_exchange.hpp) drives these.
   bool direct_capable() const { return direct_; }
+  // Lock step (the direct plane's form for couplings the master decides
+  // step by step): the node serves the step requests without its event
+  // loop and keeps its checkpoints itself (save() returns a kept state).
+  bool lockstep_capable() const { return lockstep_capable_; }
+  void enter_lockstep(long first_step, long end_step);
   const Address& address() const { return address_; }
   const std::string& role() const { return config_.participant.role; }
   double macro_step() const { return config_.macro_step; }
@@ -121,6 +126,11 @@ class RemoteParticipant final : public Participant {
   ReplyShape shape_;                         // what its replies must look like
   std::deque<std::uint64_t> in_flight_;      // ids of the requests not answered yet
   bool direct_ = false;                      // the node offers the direct data plane
+  bool lockstep_capable_ = false;            // ... and the lock step
+  bool lockstep_ = false;                    // in lock step
+  // Lock step: a checkpoint to keep, or to restore, before the next step.
+  bool pending_keep_ = false;
+  bool pending_restore_ = false;
 };
 
 }  // namespace railcosim

@@ -37,6 +37,7 @@ struct RunRecord {
   std::optional<double> error_growth, error_growth_rate, probe_time;
   std::string transport = "inproc";
   std::string data_plane;              // over TCP: "direct" or "relay"
+  std::string data_plane_mode;         // direct: "windows" or "lock step"
   std::string restart = "consistent";  // at communication points: consistent or carry
   // How the macro step was coupled (coupling_options.hpp): explicit or
   // implicit, hold/linear/extrapolate1/extrapolate2, and the accelerator.

@@ -247,19 +247,27 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   const double bound = divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
   std::unique_ptr<DirectExchange> direct;
+  bool lockstep = false;
   if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
+    // Explicit coupling with held inputs runs in windows over peer links;
+    // the couplings the master decides step by step (implicit, ramped) in
+    // lock step. A node that offers neither is worth a word.
     const bool windows =
         o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
-    if (windows) direct = DirectExchange::make(ps, schedule->plan(), bound, N, o.direct);
-    // A node without the direct plane is worth a word; implicit and ramped
-    // couplings are relayed by design (summary.json says so either way).
-    if (!direct)
-      log->log(windows ? spdlog::level::info : spdlog::level::debug, "{}: relayed data plane ({})",
-               r.case_name,
-               windows ? "a node does not offer the direct one"
-                       : "this coupling decides every macro step at the master");
+    if (windows)
+      direct = DirectExchange::make(ps, schedule->plan(), bound, N, o.direct);
+    else
+      lockstep = enter_lockstep(ps, 0, N);
+    if (!direct && !lockstep)
+      log->info("{}: relayed data plane (a node does not offer the direct one)", r.case_name);
+    else if (lockstep)
+      log->debug("{}: direct data plane in lock step (the master decides every macro step)",
+                 r.case_name);
   }
-  if (transport == "tcp") r.data_plane = to_string(direct ? DataPlane::kDirect : DataPlane::kRelay);
+  if (transport == "tcp") {
+    r.data_plane = to_string(direct || lockstep ? DataPlane::kDirect : DataPlane::kRelay);
+    if (direct || lockstep) r.data_plane_mode = direct ? "windows" : "lock step";
+  }
   // The same plan either way: run by the master (in process or relayed), or
   // by the nodes over their peer links.
   MacroSteps* steps = schedule.get();

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "fd_channel.hpp"
+#include "frame_source.hpp"
 #include "log.hpp"
 #include "work_budget.hpp"
 
@@ -43,6 +44,8 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         socket_(std::move(socket)),
         peer_(endpoint_text(socket_)),
         decoder_(server.limits_.max_frame_bytes),
+        source_(socket_.native_handle(), decoder_,
+                {server.limits_.idle_timeout, server.limits_.message_timeout}, &server.stopping_),
         session_(server.options_),
         log_(logger(component(server.options_.role))),
         deadline_(socket_.get_executor()) {
@@ -53,6 +56,8 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
                 "the master at " + peer_);
     });
     session_.set_max_frame_bytes(server.limits_.max_frame_bytes);
+    // A lock step reads its requests on the worker (nothing else reads then).
+    session_.set_request_source([this](wire::Envelope& e) { return source_.next(e); });
     session_.set_master_gone([this] {
       if (!socket_.is_open()) return true;
       pollfd p{socket_.native_handle(), POLLRDHUP, 0};
@@ -267,6 +272,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   tcp::socket socket_;
   std::string peer_;
   FrameDecoder decoder_;
+  FrameSource source_;
   NodeSession session_;
   std::shared_ptr<spdlog::logger> log_;
   std::array<char, 65536> buf_{};

@@ -26,6 +26,7 @@ wire::Envelope NodeSession::hello_reply(std::uint64_t id) const {
   r->set_name(options_.name);
   // The direct data plane needs a way to stream reports (the server's).
   if (report_) r->add_capabilities("direct");
+  if (report_ && next_request_) r->add_capabilities("lockstep");
   return reply;
 }
 
@@ -97,6 +98,8 @@ void NodeSession::check_hello_target() const {
 
 wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   close = false;
+  if (request.has_window() && request.window().lockstep() && state_ == State::kConfigured)
+    return lockstep(request, close);
   wire::Error::Code code = wire::Error::INTERNAL;
   std::string message;
   std::string sender;
@@ -304,6 +307,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       if (s.has_inputs_end() && !s.has_inputs())
         throw ProtocolError(wire::Error::BAD_REQUEST,
                             "step " + std::to_string(n) + " carries inputs_end without inputs");
+      if (s.keep_checkpoint()) kept_ = sub.save();
+      if (s.restore_checkpoint()) restore_kept(sub);
       if (s.has_inputs_end())
         sub.set_inputs(n, from_wire(s.inputs()), from_wire(s.inputs_end()));
       else if (s.has_inputs())
@@ -321,12 +326,22 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       return reply;
     }
     case E::kSave: {
+      if (req.save().keep()) {
+        kept_ = sub.save();
+        reply.mutable_ack();
+        return reply;
+      }
       const ParticipantState st = sub.save();
       auto* w = reply.mutable_state();
       for (double v : st.values) w->add_values(v);
       return reply;
     }
     case E::kRestore: {
+      if (req.restore().kept()) {
+        restore_kept(sub);
+        reply.mutable_ack();
+        return reply;
+      }
       const auto& values = req.restore().state().values();
       sub.restore(ParticipantState{{values.begin(), values.end()}});
       reply.mutable_ack();

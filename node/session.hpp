@@ -4,6 +4,7 @@
 //
 //   hello [-> challenge/auth] -> configure -> statics* -> initialize ->
 //       { set_inputs, get_outputs, step, save, restore, get_results }* -> shutdown
+// (the steps may come in a lock step: session_lockstep.cpp)
 //
 // Every request gets exactly one reply. A request that breaks the protocol
 // gets an error reply and ends the session (the node then serves the next).
@@ -64,6 +65,11 @@ class NodeSession {
   void set_max_frame_bytes(std::size_t bytes) { max_frame_bytes_ = bytes; }
   // Whether the master has closed its connection (asked while links open).
   void set_master_gone(std::function<bool()> probe) { master_gone_ = std::move(probe); }
+  // Lock step: how the thread that runs it reads the master's next request
+  // (false: the master closed the connection; throws ProtocolError).
+  void set_request_source(std::function<bool(wire::Envelope&)> source) {
+    next_request_ = std::move(source);
+  }
 
  private:
   enum class State { kAwaitHello, kAwaitAuth, kAwaitConfigure, kConfigured };
@@ -75,6 +81,11 @@ class NodeSession {
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
   wire::Envelope links(const wire::Envelope& request);
   wire::Envelope window(const wire::Envelope& request);
+  // Serves step requests read through the request source until one of
+  // another kind comes, whose reply it returns (session_lockstep.cpp).
+  wire::Envelope lockstep(const wire::Envelope& request, bool& close);
+  // Restores the checkpoint kept by a Save with `keep` (OUT_OF_ORDER if none).
+  void restore_kept(Participant& participant);
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -93,6 +104,8 @@ class NodeSession {
   std::unique_ptr<WindowRunner> runner_;
   std::function<void(const std::string&)> report_;
   std::function<bool()> master_gone_;
+  std::function<bool(wire::Envelope&)> next_request_;
+  std::optional<ParticipantState> kept_;  // Save with `keep`: the node's own checkpoint
   std::size_t max_frame_bytes_ = kDefaultMaxFrameBytes;
 };
 

@@ -1,0 +1,71 @@
+#include "frame_source.hpp"
+
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+namespace railcosim {
+
+bool FrameSource::next(wire::Envelope& out) {
+  using Clock = std::chrono::steady_clock;
+  using std::chrono::milliseconds;
+  // The deadline: the idle limit until a frame begins, then the message limit.
+  bool begun = decoder_.buffered() > 0;
+  auto since = Clock::now();
+  while (true) {
+    switch (decoder_.next(out)) {
+      case FrameDecoder::Status::kFrame:
+        return true;
+      case FrameDecoder::Status::kTooLarge:
+        throw ProtocolError(wire::Error::FRAME_TOO_LARGE,
+                            "a frame of " + std::to_string(decoder_.announced()) +
+                                " bytes exceeds this node's --max-frame-bytes");
+      case FrameDecoder::Status::kBadFrame:
+        throw ProtocolError(wire::Error::BAD_FRAME, "a frame did not decode as a message");
+      case FrameDecoder::Status::kNeedMore:
+        break;
+    }
+    if (!begun && decoder_.buffered() > 0) {
+      begun = true;
+      since = Clock::now();
+    }
+    if (stop_ && stop_->load())
+      throw ProtocolError(wire::Error::INTERNAL, "the node is shutting down");
+    const milliseconds limit = begun ? limits_.message : limits_.idle;
+    const auto left =
+        std::chrono::duration_cast<milliseconds>(since + limit - Clock::now()).count();
+    if (left <= 0)
+      throw ProtocolError(wire::Error::TIMEOUT,
+                          begun
+                              ? "the master did not send the rest of its request within " +
+                                    std::to_string(limit.count()) + " ms"
+                              : "the master sent nothing within " + std::to_string(limit.count()) +
+                                    " ms during the lock step; closing the session");
+    pollfd p{fd_, POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long>(left, 100)));
+    if (ready < 0 && errno != EINTR)
+      throw ProtocolError(wire::Error::INTERNAL,
+                          std::string("poll on the master's connection: ") + std::strerror(errno));
+    if (ready <= 0) continue;
+    const ssize_t n = ::recv(fd_, buf_.data(), buf_.size(), MSG_DONTWAIT);
+    if (n > 0) {
+      decoder_.feed(buf_.data(), static_cast<std::size_t>(n));
+      continue;
+    }
+    if (n == 0 && decoder_.buffered() == 0) return false;
+    if (n == 0)
+      throw ProtocolError(wire::Error::BAD_FRAME,
+                          "the connection was closed in the middle of a frame (" +
+                              std::to_string(decoder_.buffered()) +
+                              " bytes of an unfinished frame)");
+    if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) continue;
+    if (decoder_.buffered() == 0 && (errno == ECONNRESET || errno == EPIPE)) return false;
+    throw ProtocolError(wire::Error::INTERNAL,
+                        std::string("reading the master's connection: ") + std::strerror(errno));
+  }
+}
+
+}  // namespace railcosim
