@@ -55,22 +55,32 @@ pid_t start_master(const std::vector<std::string>& args, const fs::path& log) {
   return pid;
 }
 
-// A track node killed while the master waits on a window of 25,000 macro
-// steps: the master names the node, its address and the macro step within
-// 3 s, and history.csv keeps every step that both nodes had reported, equal
-// to the in-process run's rows.
-TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKept) {
+// A track node killed in the middle of a run of 25,000 macro steps on the
+// direct plane, `coupling` the run's coupling options: the master names the
+// node, its address and the macro step within 3 s, and history.csv keeps
+// every step that both nodes had reported, equal to the in-process run's rows.
+void kill_the_track_node(const std::vector<std::string>& coupling) {
   const fs::path dir = test::temp_dir("kill");
   const std::string scene = test::source_path("scenes/paper.toml");
   const std::string c = "rs-xx-jacobi";
   // H = 1e-5 s: 25,000 macro steps, several seconds over loopback.
   LaunchedNode vehicle("vehicle_node", milliseconds(10000));
   LaunchedNode track("track_node", milliseconds(10000));
-  const pid_t master =
-      start_master({"run", "--scene", scene, "--case", c, "--macro-step", "1e-5", "--node",
-                    "vehicle=" + vehicle.address().str(), "--node",
-                    "track=" + track.address().str(), "--out", (dir / "tcp").string()},
-                   dir / "master.log");
+  std::vector<std::string> args{"run",
+                                "--scene",
+                                scene,
+                                "--case",
+                                c,
+                                "--macro-step",
+                                "1e-5",
+                                "--node",
+                                "vehicle=" + vehicle.address().str(),
+                                "--node",
+                                "track=" + track.address().str(),
+                                "--out",
+                                (dir / "tcp").string()};
+  args.insert(args.end(), coupling.begin(), coupling.end());
+  const pid_t master = start_master(args, dir / "master.log");
   ASSERT_GT(master, 0);
   const fs::path history = dir / "tcp" / c / "history.csv";
   const auto started = Clock::now();
@@ -93,17 +103,18 @@ TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKe
   const std::string log = test::read_file(dir / "master.log");
   const std::string summary = test::read_file(dir / "tcp" / c / "summary.json");
   EXPECT_NE(summary.find("\"status\": \"failed\""), std::string::npos) << summary;
+  std::string options;
+  for (const std::string& a : coupling) options += a + " ";
   for (const std::string& needle :
        {std::string("track node at ") + track.address().str(), std::string("macro step"),
         std::string("closed the connection")})
     EXPECT_NE(summary.find(needle), std::string::npos) << needle << " not in " << summary;
 
   // Every row the file holds is whole and equal to the in-process run's.
-  ASSERT_EQ(
-      test::run_master("run --scene " + scene + " --case " + c +
-                       " --macro-step 1e-5 --transport inproc --out " + (dir / "inproc").string())
-          .status,
-      0);
+  ASSERT_EQ(test::run_master("run --scene " + scene + " --case " + c + " --macro-step 1e-5 " +
+                             options + "--transport inproc --out " + (dir / "inproc").string())
+                .status,
+            0);
   const std::string got = test::read_file(history);
   const std::string want = test::read_file(dir / "inproc" / c / "history.csv");
   ASSERT_FALSE(got.empty());
@@ -111,6 +122,16 @@ TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKe
   EXPECT_EQ(want.compare(0, got.size(), got), 0) << "the history differs from the in-process run";
   EXPECT_GE(count_lines(history), seen) << "rows written before the kill were lost";
   fs::remove_all(dir);
+}
+
+// Explicit coupling: the nodes are in a window of 25,000 macro steps.
+TEST(DirectPlane, ANodeKilledInAWindowIsNamedWithinThreeSecondsAndTheHistoryIsKept) {
+  kill_the_track_node({});
+}
+
+// Implicit coupling in lock step: the node dies in the middle of an iteration.
+TEST(DirectPlane, ANodeKilledInAnImplicitIterationIsNamedWithinThreeSeconds) {
+  kill_the_track_node({"--coupling", "implicit", "--inputs", "linear"});
 }
 
 // A track node with a shared secret, in a session of the direct data plane
