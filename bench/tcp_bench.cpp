@@ -25,6 +25,7 @@
 #include "raw_pingpong.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "step_frames.hpp"
 #include "transport.hpp"
 #include "wire.hpp"
 
@@ -57,33 +58,6 @@ double floor_round_trips(DataPlane plane, Scheme scheme, int participants) {
 // The targets: overhead over the physics, in raw round trips.
 double target_round_trips(Scheme scheme) {
   return scheme == Scheme::kJacobi ? 0.6 : 1.2;
-}
-
-// The largest Step request and StepReport frame of a macro step of the case,
-// encoded as the master and the nodes encode them (the inputs and outputs of
-// the participants at t = 0, which have their sizes all run long).
-std::pair<std::size_t, std::size_t> step_frame_bytes(const Scene& scene, const CaseSpec& spec) {
-  std::size_t request = 0, reply = 0;
-  for (const ParticipantSpec& p : partition(scene, spec)) {
-    SubsystemConfig cfg;
-    cfg.participant = p;
-    cfg.macro_step = kMacroStep;
-    cfg.tolerance = scene.tolerance;
-    const CouplingData inputs = zero_inputs(scene, p);
-    const StepResult r = inproc_factory(scene)(cfg)->initialize(inputs);
-    wire::Envelope step;
-    step.set_id(12345);
-    step.mutable_step()->set_step(1234);
-    step.mutable_step()->set_t(0.1234);
-    step.mutable_step()->set_h(kMacroStep);
-    *step.mutable_step()->mutable_inputs() = to_wire(inputs);
-    wire::Envelope report;
-    report.set_id(12345);
-    *report.mutable_step_report() = to_wire(r, 1235, 0.1235);
-    request = std::max(request, encode_frame(step).size());
-    reply = std::max(reply, encode_frame(report).size());
-  }
-  return {request, reply};
 }
 
 double wall_per_step(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
@@ -225,7 +199,7 @@ int main(int argc, char** argv) {
       row.name = name;
       row.scheme = spec.scheme;
       row.participants = static_cast<int>(spec.cuts.size() + 1);
-      std::tie(row.request, row.reply) = step_frame_bytes(scene, spec);
+      std::tie(row.request, row.reply) = step_frame_bytes(scene, spec, kMacroStep);
       // The repeats interleave every measurement, so that a disturbance of
       // the machine touches all of them alike.
       for (int k = 0; k < repeats; ++k) {

@@ -255,10 +255,11 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       ->check(CLI::IsMember({"inproc", "tcp"}))
       ->capture_default_str();
   run->add_option("--data-plane", a.data_plane,
-                  "tcp: direct (the nodes send each other their data; the master grants windows "
-                  "of macro steps and takes their reports; explicit coupling with held inputs, "
-                  "when every node offers it) or relay (every value through the master, one "
-                  "request per macro step)")
+                  "tcp: direct (explicit coupling with held inputs: the nodes send each other "
+                  "their data, the master grants windows of macro steps and takes their "
+                  "reports; implicit coupling and ramped inputs: lock step, one frame per node "
+                  "and iteration, checkpoints kept by the nodes; when every node offers it) or "
+                  "relay (every value and checkpoint through the master's event-driven relay)")
       ->check(CLI::IsMember({"direct", "relay"}))
       ->capture_default_str();
   run->add_option("--window-steps", a.window_steps,

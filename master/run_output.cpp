@@ -120,8 +120,7 @@ std::string summary_json(const RunRecord& r) {
       << ", \"probe_s\": " << json_opt(r.probe_time) << "},\n";
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
   if (!r.data_plane.empty()) s << "  \"data_plane\": " << json_string(r.data_plane) << ",\n";
-  if (!r.data_plane_mode.empty())
-    s << "  \"data_plane_mode\": " << json_string(r.data_plane_mode) << ",\n";
+  if (!r.data_plane_mode.empty()) s << "  \"data_plane_mode\": \"" << r.data_plane_mode << "\",\n";
   s << "  \"restart\": " << json_string(r.restart) << ",\n";
   s << "  \"method\": " << json_string(r.method) << ",\n";
   s << "  \"inputs\": " << json_string(r.inputs) << ",\n";

@@ -9,6 +9,11 @@
 
 namespace railcosim {
 
+bool FrameSource::hung_up() const {
+  pollfd p{fd_, POLLRDHUP, 0};
+  return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
+}
+
 bool FrameSource::next(wire::Envelope& out) {
   using Clock = std::chrono::steady_clock;
   using std::chrono::milliseconds;

@@ -33,6 +33,8 @@ class FrameSource {
   // FRAME_TOO_LARGE (the stream is lost), INTERNAL (the node shuts down,
   // or the connection broke in the middle of a frame).
   bool next(wire::Envelope& out);
+  // Whether the master has closed or broken the connection (does not wait).
+  bool hung_up() const;
 
  private:
   int fd_;

@@ -25,10 +25,6 @@ std::string endpoint_text(const tcp::socket& s) {
   return ep.address().to_string() + ":" + std::to_string(ep.port());
 }
 
-const std::string& component(const std::string& role) {
-  return role;
-}
-
 }  // namespace
 
 // One accepted connection. Reads a frame, hands it to the session (the long
@@ -47,7 +43,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
         source_(socket_.native_handle(), decoder_,
                 {server.limits_.idle_timeout, server.limits_.message_timeout}, &server.stopping_),
         session_(server.options_),
-        log_(logger(component(server.options_.role))),
+        log_(logger(server.options_.role)),
         deadline_(socket_.get_executor()) {
     // A window's step reports are written by the worker while this
     // connection waits for the window's reply (nothing else writes then).
@@ -58,11 +54,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
     session_.set_max_frame_bytes(server.limits_.max_frame_bytes);
     // A lock step reads its requests on the worker (nothing else reads then).
     session_.set_request_source([this](wire::Envelope& e) { return source_.next(e); });
-    session_.set_master_gone([this] {
-      if (!socket_.is_open()) return true;
-      pollfd p{socket_.native_handle(), POLLRDHUP, 0};
-      return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR)) != 0;
-    });
+    session_.set_master_gone([this] { return !socket_.is_open() || source_.hung_up(); });
   }
 
   const std::shared_ptr<PeerInbox>& inbox() const { return session_.inbox(); }
@@ -357,7 +349,7 @@ void NodeServer::accept() {
     }
     auto conn = std::make_shared<Conn>(*this, std::move(socket));
     if (active_) {
-      logger(component(options_.role))
+      logger(options_.role)
           ->warn("refused a connection from {}: busy with the session from {}", conn->peer(),
                  active_->peer());
       conn->refuse_busy();
@@ -381,7 +373,7 @@ void NodeServer::run(bool handle_signals) {
     signals.add(SIGTERM);
     signals.async_wait([this](boost::system::error_code ec, int sig) {
       if (ec) return;
-      logger(component(options_.role))->info("signal {} received: stopping", sig);
+      logger(options_.role)->info("signal {} received: stopping", sig);
       stop();
     });
   }
