@@ -1,5 +1,6 @@
 #include "frame_source.hpp"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
 
@@ -8,6 +9,17 @@
 #include <cstring>
 
 namespace railcosim {
+
+void FrameSource::set_blocking(bool on) {
+  const int flags = ::fcntl(fd_, F_GETFL, 0);
+  if (flags < 0) return;
+  if (::fcntl(fd_, F_SETFL, on ? flags & ~O_NONBLOCK : flags | O_NONBLOCK) < 0) return;
+  // Sends time out too, so that a writer's deadline (write_all) still holds.
+  timeval tv{0, on ? 100000 : 0};
+  ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+  blocking_ = on;
+}
 
 bool FrameSource::hung_up() const {
   pollfd p{fd_, POLLRDHUP, 0};
@@ -49,13 +61,18 @@ bool FrameSource::next(wire::Envelope& out) {
                                     std::to_string(limit.count()) + " ms"
                               : "the master sent nothing within " + std::to_string(limit.count()) +
                                     " ms during the lock step; closing the session");
-    pollfd p{fd_, POLLIN, 0};
-    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long>(left, 100)));
-    if (ready < 0 && errno != EINTR)
-      throw ProtocolError(wire::Error::INTERNAL,
-                          std::string("poll on the master's connection: ") + std::strerror(errno));
-    if (ready <= 0) continue;
-    const ssize_t n = ::recv(fd_, buf_.data(), buf_.size(), MSG_DONTWAIT);
+    // A blocking socket waits here (at most 100 ms: its receive timeout);
+    // one that is not waits in poll.
+    const ssize_t n = ::recv(fd_, buf_.data(), buf_.size(), 0);
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      if (blocking_) continue;
+      pollfd p{fd_, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(std::min<long>(left, 100))) < 0 && errno != EINTR)
+        throw ProtocolError(
+            wire::Error::INTERNAL,
+            std::string("poll on the master's connection: ") + std::strerror(errno));
+      continue;
+    }
     if (n > 0) {
       decoder_.feed(buf_.data(), static_cast<std::size_t>(n));
       continue;
@@ -66,7 +83,7 @@ bool FrameSource::next(wire::Envelope& out) {
                           "the connection was closed in the middle of a frame (" +
                               std::to_string(decoder_.buffered()) +
                               " bytes of an unfinished frame)");
-    if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) continue;
+    if (errno == EINTR) continue;
     if (decoder_.buffered() == 0 && (errno == ECONNRESET || errno == EPIPE)) return false;
     throw ProtocolError(wire::Error::INTERNAL,
                         std::string("reading the master's connection: ") + std::strerror(errno));

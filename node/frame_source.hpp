@@ -33,6 +33,10 @@ class FrameSource {
   // FRAME_TOO_LARGE (the stream is lost), INTERNAL (the node shuts down,
   // or the connection broke in the middle of a frame).
   bool next(wire::Envelope& out);
+  // Blocking reads with a receive timeout of 100 ms (one system call per
+  // frame), for as long as nothing else uses the socket; off again before
+  // the event loop takes it back.
+  void set_blocking(bool on);
   // Whether the master has closed or broken the connection (does not wait).
   bool hung_up() const;
 
@@ -42,6 +46,7 @@ class FrameSource {
   FrameSourceLimits limits_;
   const std::atomic<bool>* stop_;
   std::vector<char> buf_ = std::vector<char>(65536);
+  bool blocking_ = false;
 };
 
 }  // namespace railcosim

@@ -151,9 +151,11 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
     protocol_ = socket_.local_endpoint(ec).protocol();
     if (!ec) released_ = socket_.release(ec);
     if (ec) released_ = -1;
+    if (released_ >= 0) source_.set_blocking(true);
     return released_ >= 0;
   }
   void take_back() {
+    source_.set_blocking(false);
     boost::system::error_code ec;
     socket_.assign(protocol_, released_, ec);
     if (ec) ::close(released_);
