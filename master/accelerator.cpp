@@ -4,29 +4,6 @@
 
 namespace railcosim {
 
-std::string to_string(AcceleratorKind k) {
-  switch (k) {
-    case AcceleratorKind::kConstant:
-      return "constant";
-    case AcceleratorKind::kAitken:
-      return "aitken";
-    case AcceleratorKind::kIqnIls:
-      return "iqn-ils";
-  }
-  return "?";
-}
-
-AcceleratorKind parse_accelerator(const std::string& s, const std::string& what) {
-  for (AcceleratorKind k :
-       {AcceleratorKind::kConstant, AcceleratorKind::kAitken, AcceleratorKind::kIqnIls})
-    if (to_string(k) == s) return k;
-  std::string msg = what;
-  msg += ": unknown accelerator '";
-  msg += s;
-  msg += "' (constant, aitken or iqn-ils)";
-  throw std::invalid_argument(msg);
-}
-
 void Accelerator::set_weights(const std::vector<double>&) {}
 
 namespace {
@@ -60,7 +37,8 @@ class Weighted : public Accelerator {
 
 class Constant final : public Weighted {
  public:
-  Constant(double omega, std::vector<int> blocks) : Weighted(std::move(blocks)), omega_(omega) {}
+  Constant(const AcceleratorOptions& o, std::vector<int> blocks)
+      : Weighted(std::move(blocks)), omega_(o.relaxation) {}
   VectorXd next(const VectorXd& x, const VectorXd& gx) override { return x + omega_ * (gx - x); }
 
  private:
@@ -71,7 +49,8 @@ class Constant final : public Weighted {
 // every window.
 class Aitken final : public Weighted {
  public:
-  Aitken(double omega0, std::vector<int> blocks) : Weighted(std::move(blocks)), omega0_(omega0) {}
+  Aitken(const AcceleratorOptions& o, std::vector<int> blocks)
+      : Weighted(std::move(blocks)), omega0_(o.relaxation) {}
   void start_window() override { first_ = true; }
   VectorXd next(const VectorXd& x, const VectorXd& gx) override {
     const VectorXd r = gx - x;
@@ -174,21 +153,62 @@ class IqnIls final : public Weighted {
   std::deque<std::deque<Column>> past_;
 };
 
+template <class A>
+std::unique_ptr<Accelerator> make(const AcceleratorOptions& o, std::vector<int> blocks) {
+  return std::make_unique<A>(o, std::move(blocks));
+}
+
+struct Registered {
+  std::string_view name;
+  std::unique_ptr<Accelerator> (*make)(const AcceleratorOptions&, std::vector<int>);
+};
+
+// Every accelerator the product knows, by name (`--accelerator`, study
+// plans, summary.json): a new one is its class, built from the options and
+// the blocks, and one line here.
+constexpr Registered kAccelerators[] = {
+    {AcceleratorKind::kConstant.name(), make<Constant>},
+    {AcceleratorKind::kAitken.name(), make<Aitken>},
+    {AcceleratorKind::kIqnIls.name(), make<IqnIls>},
+};
+
 }  // namespace
+
+// Makes kinds from the table's names (AcceleratorKind's constructor is private).
+class AcceleratorRegistry {
+ public:
+  static AcceleratorKind kind(std::string_view name) { return AcceleratorKind(name); }
+};
+
+std::string to_string(AcceleratorKind k) {
+  return std::string(k.name());
+}
+
+std::vector<std::string> accelerator_names() {
+  std::vector<std::string> names;
+  for (const Registered& r : kAccelerators) names.emplace_back(r.name);
+  return names;
+}
+
+AcceleratorKind parse_accelerator(const std::string& s, const std::string& what) {
+  for (const Registered& r : kAccelerators)
+    if (r.name == s) return AcceleratorRegistry::kind(r.name);
+  std::string msg = what + ": unknown accelerator '" + s + "' (";
+  for (const Registered& r : kAccelerators) {
+    if (&r != &kAccelerators[0])
+      msg += &r == &kAccelerators[std::size(kAccelerators) - 1] ? " or " : ", ";
+    msg += r.name;
+  }
+  throw std::invalid_argument(msg + ")");
+}
 
 std::unique_ptr<Accelerator> make_accelerator(const AcceleratorOptions& o,
                                               std::vector<int> blocks) {
   if (!(o.relaxation > 0 && o.relaxation <= 1))
     throw std::invalid_argument("the relaxation factor must be in (0, 1]");
-  switch (o.kind) {
-    case AcceleratorKind::kConstant:
-      return std::make_unique<Constant>(o.relaxation, std::move(blocks));
-    case AcceleratorKind::kAitken:
-      return std::make_unique<Aitken>(o.relaxation, std::move(blocks));
-    case AcceleratorKind::kIqnIls:
-      return std::make_unique<IqnIls>(o, std::move(blocks));
-  }
-  throw std::logic_error("make_accelerator: unknown kind");
+  for (const Registered& r : kAccelerators)
+    if (r.name == o.kind.name()) return r.make(o, std::move(blocks));
+  throw std::logic_error("make_accelerator: no accelerator '" + to_string(o.kind) + "'");
 }
 
 }  // namespace railcosim

@@ -9,15 +9,34 @@
 #include <deque>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace railcosim {
 
-enum class AcceleratorKind { kConstant, kAitken, kIqnIls };
+// An accelerator, by the name it is registered under: the table
+// kAccelerators in accelerator.cpp, where a new accelerator is one line
+// next to its class.
+class AcceleratorKind {
+ public:
+  static const AcceleratorKind kConstant, kAitken, kIqnIls;  // the built-in ones
+  constexpr std::string_view name() const { return name_; }
+  constexpr bool operator==(const AcceleratorKind& o) const { return name_ == o.name_; }
+
+ private:
+  friend class AcceleratorRegistry;
+  constexpr explicit AcceleratorKind(std::string_view name) : name_(name) {}
+  std::string_view name_;  // a literal of the table
+};
+inline constexpr AcceleratorKind AcceleratorKind::kConstant{"constant"};
+inline constexpr AcceleratorKind AcceleratorKind::kAitken{"aitken"};
+inline constexpr AcceleratorKind AcceleratorKind::kIqnIls{"iqn-ils"};
 
 std::string to_string(AcceleratorKind k);
-// "constant", "aitken", "iqn-ils"; nullopt-like: throws std::invalid_argument naming `what`.
+// Any registered name; throws std::invalid_argument naming `what` and the names.
 AcceleratorKind parse_accelerator(const std::string& s, const std::string& what);
+// The registered names, in the table's order.
+std::vector<std::string> accelerator_names();
 
 struct AcceleratorOptions {
   AcceleratorKind kind = AcceleratorKind::kIqnIls;

@@ -198,7 +198,7 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
       ->capture_default_str();
   run->add_option("--accelerator", a.accelerator,
                   "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")
-      ->check(CLI::IsMember({"constant", "aitken", "iqn-ils"}))
+      ->check(CLI::IsMember(accelerator_names()))
       ->capture_default_str();
   run->add_option("--relaxation", a.c.accelerator.relaxation,
                   "Implicit: the constant factor, and the first factor of aitken and iqn-ils")

@@ -52,7 +52,12 @@ awk -v a="$t0" -v b="$t1" 'BEGIN { if (b - a > 10) { print "took " b - a " s"; e
 
 # 2. A SIGINT while the node trickles acts within a second.
 run_master interrupted
-sleep 1.0
+# Once it has done some steps (a loaded machine takes a while to get there).
+for _ in $(seq 200); do
+  [[ $(cat "$work/interrupted/rs-xx-jacobi/history.csv" 2>/dev/null | wc -l) -gt 2 ]] && break
+  sleep 0.05
+done
+sleep 0.2
 t0=$(date +%s.%N)
 kill -INT "$master"
 rc=0
