@@ -75,6 +75,10 @@ class NodeSession {
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
   wire::Envelope links(const wire::Envelope& request);
   wire::Envelope window(const wire::Envelope& request);
+  // Substep waveforms (session_waveform.cpp): recording on or off, and a
+  // step's inputs as waveforms; a participant that refuses is BAD_REQUEST.
+  wire::Envelope record_samples(const wire::Envelope& request);
+  void take_waveforms(long n, const wire::InputWaveforms& waveforms, bool with_inputs);
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -86,6 +90,7 @@ class NodeSession {
   std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
   long step_ = -1;
+  bool record_ = false;  // step reports carry the step's samples
   std::string description_ = "not configured";
   CouplingData outputs_;  // at the current point, for the first window
   std::shared_ptr<PeerInbox> inbox_ = std::make_shared<PeerInbox>();
