@@ -38,6 +38,7 @@ class Waveform {
   std::size_t samples() const { return times_.size(); }
   double first_time() const { return times_.front(); }
   double last_time() const { return times_.back(); }
+  double time(std::size_t i) const { return times_[i]; }
   const std::vector<double>& sample(std::size_t i) const { return values_[i]; }
 
   // The values at time t into `out` (resized to width). Outside the sampled

@@ -191,12 +191,26 @@ void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
   step_ = n;
   pending_inputs_ = inputs;  // sent with the step, or flushed before any other request
   pending_end_.reset();
+  pending_waves_.reset();
 }
 
 void RemoteParticipant::set_inputs(long n, const CouplingData& start, const CouplingData& end) {
   step_ = n;
   pending_inputs_ = start;
   pending_end_ = end;
+  pending_waves_.reset();
+}
+
+template <class Message>
+bool RemoteParticipant::take_pending(Message* m) {
+  if (pending_waves_) *m->mutable_waveforms() = to_wire(*pending_waves_);
+  if (pending_inputs_) *m->mutable_inputs() = to_wire(*pending_inputs_);
+  if (pending_end_) *m->mutable_inputs_end() = to_wire(*pending_end_);
+  const bool any = pending_inputs_ || pending_waves_;
+  pending_inputs_.reset();
+  pending_end_.reset();
+  pending_waves_.reset();
+  return any;
 }
 
 void RemoteParticipant::flush_inputs() {
@@ -213,16 +227,11 @@ void RemoteParticipant::flush_inputs() {
     pending_restore_ = false;
     send(e, true);
   }
-  if (!pending_inputs_) return;
   wire::Envelope e;
   auto* s = e.mutable_set_inputs();
   s->set_step(step_);
   s->set_t(static_cast<double>(step_) * config_.macro_step);
-  *s->mutable_inputs() = to_wire(*pending_inputs_);
-  if (pending_end_) *s->mutable_inputs_end() = to_wire(*pending_end_);
-  pending_inputs_.reset();
-  pending_end_.reset();
-  send(e, true);  // pipelined: its ack is read with the next reply
+  if (take_pending(s)) send(e, true);  // pipelined: its ack is read with the next reply
 }
 
 CouplingData RemoteParticipant::outputs() {
@@ -244,12 +253,7 @@ void RemoteParticipant::start_step(long n) {
   s->set_restore_checkpoint(pending_restore_);
   pending_keep_ = pending_restore_ = false;
   step_started_ = std::chrono::steady_clock::now();
-  if (pending_inputs_) {
-    *s->mutable_inputs() = to_wire(*pending_inputs_);
-    if (pending_end_) *s->mutable_inputs_end() = to_wire(*pending_end_);
-    pending_inputs_.reset();
-    pending_end_.reset();
-  }
+  take_pending(s);
   send(e, false);
 }
 
@@ -258,6 +262,7 @@ StepResult RemoteParticipant::finish_step() {
       await(wire::Envelope::kStepReport, "step", step_deadline()).step_report();
   StepResult r = from_wire(w);
   check(check_step_report(r, w.step(), w.t(), step_ + 1, shape_));
+  keep_samples(w);
   slowest_step_ = std::max(slowest_step_, std::chrono::steady_clock::now() - step_started_);
   return r;
 }
@@ -297,6 +302,7 @@ ParticipantState RemoteParticipant::save() {
 void RemoteParticipant::restore(const ParticipantState& state) {
   pending_inputs_.reset();  // the restored state brings its own held inputs
   pending_end_.reset();
+  pending_waves_.reset();
   if (state.kept) {
     if (!lockstep_) throw std::logic_error(name() + ": a kept checkpoint outside a lock step");
     // Not saved yet (the save rides with the next step): the state is still

@@ -52,6 +52,10 @@ class RemoteParticipant final : public Participant {
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& start, const CouplingData& end) override;
+  // Substep waveforms (remote_waveforms.cpp): relayed data plane only.
+  void set_input_waveforms(long n, const InputWaveforms& inputs) override;
+  void record_samples(bool on) override;
+  OutputSamples step_samples() const override { return samples_; }
   CouplingData outputs() override;
   void start_step(long n) override;
   StepResult finish_step() override;
@@ -105,6 +109,11 @@ class RemoteParticipant final : public Participant {
   wire::Envelope request(wire::Envelope e, wire::Envelope::BodyCase expected);
   // Sends inputs held back by set_inputs() as a message of their own.
   void flush_inputs();
+  // Moves the pending inputs into a Step or SetInputs (false: none pending).
+  template <class Message>
+  bool take_pending(Message* m);
+  // Keeps a step report's samples (recording on), checked.
+  void keep_samples(const wire::StepReport& report);
 
   // Connects and says hello, again while the node answers BUSY; returns its
   // reply to the hello. Throws NodeFailure.
@@ -121,13 +130,16 @@ class RemoteParticipant final : public Participant {
   std::chrono::steady_clock::duration slowest_step_{0};
   // set_inputs() keeps its data here; the next step carries it.
   std::optional<CouplingData> pending_inputs_;
-  std::optional<CouplingData> pending_end_;  // inputs that ramp: their value at the step's end
-  Channels channels_;                        // as the node declared them
-  ReplyShape shape_;                         // what its replies must look like
-  std::deque<std::uint64_t> in_flight_;      // ids of the requests not answered yet
-  bool direct_ = false;                      // the node offers the direct data plane
-  bool lockstep_capable_ = false;            // ... and the lock step
-  bool lockstep_ = false;                    // in lock step
+  std::optional<CouplingData> pending_end_;      // inputs that ramp: their value at the step's end
+  std::optional<InputWaveforms> pending_waves_;  // or the inputs as waveforms
+  bool record_ = false;                          // step reports carry samples
+  OutputSamples samples_;                        // those of the last step
+  Channels channels_;                            // as the node declared them
+  ReplyShape shape_;                             // what its replies must look like
+  std::deque<std::uint64_t> in_flight_;          // ids of the requests not answered yet
+  bool direct_ = false;                          // the node offers the direct data plane
+  bool lockstep_capable_ = false;                // ... and the lock step
+  bool lockstep_ = false;                        // in lock step
   // Lock step: a checkpoint to keep, or to restore, before the next step.
   bool pending_keep_ = false;
   bool pending_restore_ = false;

@@ -184,9 +184,10 @@ void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
   }
   md << "\n" << fastest_sentence(front, transport) << "\n\n";
   if (other)
-    md << "The columns \"in process\" hold the methods that run in process only (substep "
-          "waveforms: their micro-step samples do not cross the network), the cheapest of them "
-          "at each level. Their wall times pay no network, so they are not compared with the `"
+    md << "The columns \"in process\" hold the methods the study runs in process only "
+          "(substep waveforms, which over the network take the relayed data plane), the "
+          "cheapest of them at each level. Their wall times pay no network, so they are not "
+          "compared with the `"
        << transport
        << "` columns (nor named above): compare them with each other and with the in-process "
           "wall times of stage 2 in \"Cheapest method per accuracy\".\n\n";
@@ -206,7 +207,7 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
      << "with and the front `speed_accuracy.png` draws (`front.csv`).\n\n"
      << (std::any_of(front.begin(), front.end(),
                      [&](const FrontRow& r) { return r.transport != transport; })
-             ? "The rows over `inproc` of a cut are the runs that can run in process only "
+             ? "The rows over `inproc` of a cut are the runs the study makes in process only "
                "(substep waveforms), timed without the network and compared only with each "
                "other.\n\n"
              : "")

@@ -17,7 +17,7 @@ namespace railcosim {
 struct FrontRow {
   std::string cut;
   // The transport of its candidates: the study's, or "inproc" for the runs
-  // of a TCP study that can run in process only (substep waveforms), which
+  // of a TCP study that it runs in process only (substep waveforms), which
   // form rows of their own: their wall times have no network to pay.
   std::string transport;
   double level = 0;               // error at most (rel. L2 against the converged run)

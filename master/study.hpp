@@ -37,7 +37,7 @@ std::vector<Method> all_methods();
 std::vector<Method> methods_for(const Scene& scene);
 
 // The transport a study runs a coupling over: the study's, except for
-// substep waveforms, which are exchanged in process only ("inproc").
+// substep waveforms, which the study runs in process ("inproc").
 std::string run_transport(const CouplingOptions& coupling, const std::string& transport);
 
 // --sweep KEY=V1,V2,...: a scene value (dotted TOML key) and its values.

@@ -280,7 +280,9 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
     }
     case E::kSetInputs: {
       const auto& s = req.set_inputs();
-      if (s.has_inputs_end())
+      if (s.has_waveforms())
+        take_waveforms(static_cast<long>(s.step()), s.waveforms(), s.has_inputs());
+      else if (s.has_inputs_end())
         sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()),
                        from_wire(s.inputs_end()));
       else
@@ -309,13 +311,16 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
                             "step " + std::to_string(n) + " carries inputs_end without inputs");
       if (s.keep_checkpoint()) kept_ = sub.save();
       if (s.restore_checkpoint()) restore_kept(sub);
-      if (s.has_inputs_end())
+      if (s.has_waveforms())
+        take_waveforms(n, s.waveforms(), s.has_inputs());
+      else if (s.has_inputs_end())
         sub.set_inputs(n, from_wire(s.inputs()), from_wire(s.inputs_end()));
       else if (s.has_inputs())
         sub.set_inputs(n, from_wire(s.inputs()));
       const StepResult r = sub.step(n);
       step_ = n + 1;
       *reply.mutable_step_report() = to_wire(r, step_, static_cast<double>(step_) * macro_step_);
+      if (record_) to_wire(sub.step_samples(), reply.mutable_step_report());
       return reply;
     }
     case E::kGetResults: {
@@ -347,6 +352,8 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       reply.mutable_ack();
       return reply;
     }
+    case E::kRecordSamples:
+      return record_samples(req);
     case E::kLinks:
       return links(req);
     case E::kWindow:

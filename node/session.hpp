@@ -86,6 +86,10 @@ class NodeSession {
   wire::Envelope lockstep(const wire::Envelope& request, bool& close);
   // Restores the checkpoint kept by a Save with `keep` (OUT_OF_ORDER if none).
   void restore_kept(Participant& participant);
+  // Substep waveforms (session_waveform.cpp): recording on or off, and a
+  // step's inputs as waveforms; a participant that refuses is BAD_REQUEST.
+  wire::Envelope record_samples(const wire::Envelope& request);
+  void take_waveforms(long n, const wire::InputWaveforms& waveforms, bool with_inputs);
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -97,6 +101,7 @@ class NodeSession {
   std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
   long step_ = -1;
+  bool record_ = false;  // step reports carry the step's samples
   std::string description_ = "not configured";
   CouplingData outputs_;  // at the current point, for the first window
   std::shared_ptr<PeerInbox> inbox_ = std::make_shared<PeerInbox>();

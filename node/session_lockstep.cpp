@@ -21,6 +21,7 @@ bool step_request(const wire::Envelope& e) {
     case E::kStep:
     case E::kSave:
     case E::kRestore:
+    case E::kRecordSamples:
       return true;
     default:
       return false;

@@ -98,4 +98,13 @@ CouplingData from_wire(const wire::CouplingData& data);
 wire::StepReport to_wire(const StepResult& result, long step, double t);
 StepResult from_wire(const wire::StepReport& report);
 
+// Substep waveforms (wire_waveform.cpp): a step's samples in its report, and
+// input waveforms as the receiver rebuilds them, bit for bit. from_wire()
+// throws ProtocolError(BAD_REQUEST) for a degree outside 0..3, values that
+// are not `width` per sample or not finite, or times that do not increase.
+void to_wire(const OutputSamples& samples, wire::StepReport* report);
+OutputSamples samples_from_wire(const wire::StepReport& report);
+wire::InputWaveforms to_wire(const InputWaveforms& waveforms);
+InputWaveforms from_wire(const wire::InputWaveforms& waveforms);
+
 }  // namespace railcosim

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -71,6 +72,88 @@ TEST(Frames, CouplingDataSurvivesBitwise) {
   EXPECT_EQ(r.history, (std::vector<double>{1.97e-3, 110362.5}));
   EXPECT_EQ(back.step_report().step(), 123);
   EXPECT_EQ(back.step_report().t(), 0.0123);
+}
+
+// Bitwise equality of doubles, NaN payloads and signed zeros included.
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+TEST(Frames, SubstepSamplesAndInputWaveformsSurviveBitwise) {
+  wire::Envelope e = sample_step_report();
+  OutputSamples samples;
+  for (int k = 0; k <= 3; ++k) {
+    CouplingData d(2);
+    d[0].displacement = {0.1 * k + 0.2, -0.0, 1e-310 * k};
+    d[1].force = {110362.5 / 3.0 * k};
+    samples.push_back({(123 + k / 3.0) * 1e-4, d});
+  }
+  to_wire(samples, e.mutable_step_report());
+  InputWaveforms waves;
+  waves.emplace_back(3, 2);
+  for (int k = 0; k <= 4; ++k) waves[0].add(1e-4 * (5 + k / 7.0), {std::sqrt(k + 0.5), -0.0});
+  waves.emplace_back(0, 1);
+  waves[1].add(5e-4, {1.0 / 3.0});
+  wire::Envelope step;
+  *step.mutable_step()->mutable_waveforms() = to_wire(waves);
+  FrameDecoder dec;
+  const std::string bytes = encode_frame(e) + encode_frame(step);
+  dec.feed(bytes.data(), bytes.size());
+  wire::Envelope back, back_step;
+  ASSERT_EQ(dec.next(back), FrameDecoder::Status::kFrame);
+  ASSERT_EQ(dec.next(back_step), FrameDecoder::Status::kFrame);
+  const OutputSamples got = samples_from_wire(back.step_report());
+  ASSERT_EQ(got.size(), samples.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_TRUE(same_bits({got[i].t}, {samples[i].t})) << i;
+    ASSERT_EQ(got[i].outputs.size(), 2u);
+    EXPECT_TRUE(same_bits(got[i].outputs[0].displacement, samples[i].outputs[0].displacement));
+    EXPECT_TRUE(got[i].outputs[0].velocity.empty());
+    EXPECT_TRUE(same_bits(got[i].outputs[1].force, samples[i].outputs[1].force));
+  }
+  ASSERT_TRUE(back_step.step().has_waveforms());
+  EXPECT_FALSE(back_step.step().has_inputs());
+  const InputWaveforms w = from_wire(back_step.step().waveforms());
+  ASSERT_EQ(w.size(), 2u);
+  for (std::size_t j = 0; j < w.size(); ++j) {
+    EXPECT_EQ(w[j].degree(), waves[j].degree());
+    EXPECT_EQ(w[j].width(), waves[j].width());
+    ASSERT_EQ(w[j].samples(), waves[j].samples());
+    for (std::size_t i = 0; i < w[j].samples(); ++i) {
+      EXPECT_TRUE(same_bits({w[j].time(i)}, {waves[j].time(i)}));
+      EXPECT_TRUE(same_bits(w[j].sample(i), waves[j].sample(i)));
+    }
+    // So the receiver evaluates exactly what the sender would.
+    EXPECT_TRUE(same_bits(w[j].at(5.3e-4), waves[j].at(5.3e-4)));
+  }
+}
+
+TEST(Frames, AMalformedInputWaveformIsABadRequest) {
+  auto refused = [](const wire::InputWaveforms& w, const std::string& message) {
+    try {
+      from_wire(w);
+      ADD_FAILURE() << "accepted: " << message;
+    } catch (const ProtocolError& e) {
+      EXPECT_EQ(e.code(), wire::Error::BAD_REQUEST);
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  };
+  wire::InputWaveforms w;
+  auto* a = w.add_interfaces();
+  a->set_degree(4);
+  refused(w, "waveform of input interface 0: degree 4 is not 0 to 3");
+  a->set_degree(1);
+  a->set_width(2);
+  a->add_times(0.0);
+  a->add_values(1.0);
+  refused(w, "waveform of input interface 0: 1 values for 1 samples of 2");
+  a->add_values(std::nan(""));
+  refused(w, "waveform of input interface 0: sample 0 is not finite");
+  a->set_values(1, 2.0);
+  a->add_times(0.0);
+  a->add_values(1.0);
+  a->add_values(2.0);
+  EXPECT_THROW(from_wire(w), ProtocolError);  // times that do not increase
 }
 
 TEST(Frames, OversizedFramesAreRefusedBothWays) {

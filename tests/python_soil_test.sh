@@ -5,7 +5,8 @@
 # relative: relayed and direct data planes, explicit and implicit coupling,
 # two and three participants, resolved feedthrough, a shared secret. A soil
 # that ignores Restore must be caught by the implicit comparison; a soil whose
-# integrator gives up must end the run as diverged, with its message.
+# integrator gives up must end the run as diverged, with its message; a run
+# with substep waveforms must end naming the soil, which takes none.
 # Usage: python_soil_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 bin=$1
@@ -129,6 +130,21 @@ both 2-implicit ss-xx-jacobi --coupling implicit --inputs linear
 both 3-implicit wr-xx+ss-xx-jacobi --coupling implicit
 grep -q '"method": "implicit"' "$work/outside/2-implicit/summary.json"
 run forgetful 2-implicit ss-xx-jacobi --node "soil=$broken" --coupling implicit --inputs linear
+# Substep waveforms: the SDK's participants take none; the run ends at once,
+# naming the participant and the option to change.
+if "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --out "$work/tmp" \
+  --node "soil=$good" --coupling implicit --inputs waveform1 >"$work/master.log" 2>&1; then
+  echo "a waveform run with the SDK soil did not fail"
+  exit 1
+fi
+grep -q "record_samples failed: BAD_REQUEST: participant soil takes no substep waveforms (a \
+participant of the Python SDK takes held or ramped inputs): run it with --inputs hold or linear" \
+  "$work/master.log" || {
+  echo "a waveform run with the SDK soil failed without naming it:"
+  cat "$work/master.log"
+  exit 1
+}
+rm -rf "$work/tmp"
 
 compare() {  # A B [expect-differ]
   /usr/bin/python3 - "$@" <<'PY'

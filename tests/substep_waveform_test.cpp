@@ -1,8 +1,8 @@
 // Substep waveforms in the coupling (--inputs waveform0..3): a participant
 // records its outputs at its micro steps and takes its inputs as waveforms of
 // its peers' samples; with implicit coupling the error against the
-// monolithic run falls with the waveform's degree, and over TCP the modes are
-// refused up front.
+// monolithic run falls with the waveform's degree; they run in process and
+// over TCP (relayed), no other transport.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -135,25 +135,21 @@ TEST(SubstepWaveform, ExplicitGaussSeidelTakesTheFreshSamples) {
   EXPECT_LT(*wave.rel_l2_error, *hold.rel_l2_error);
 }
 
-TEST(SubstepWaveform, OverTcpTheModesAreRefusedUpFront) {
-  const Scene scene = paper(0.01);
-  NodePool pool;
-  const Transport tcp = tcp_transport(scene, {}, pool);
-  RunOptions o;
-  o.macro_step = 1e-3;
-  o.tolerance = scene.tolerance;
-  o.coupling = coupling(CouplingMethod::kImplicit, InputMode::kWaveform3);
+TEST(SubstepWaveform, TheModesRunInProcessAndOverTcpOnly) {
+  // Over tcp the runner relays them (tcp_waveform_test.cpp runs them there).
+  CouplingOptions c = coupling(CouplingMethod::kImplicit, InputMode::kWaveform3);
+  EXPECT_NO_THROW(check_transport(c, "inproc"));
+  EXPECT_NO_THROW(check_transport(c, "tcp"));
   try {
-    run_cosim(scene, parse_case("rs-xx-jacobi"), o, tcp.factory, tcp.name);
-    FAIL() << "a waveform coupling ran over TCP";
+    check_transport(c, "carrier-pigeon");
+    FAIL() << "a waveform coupling on an unknown transport";
   } catch (const std::invalid_argument& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("--inputs waveform3"), std::string::npos) << what;
-    EXPECT_NE(what.find("use --transport inproc"), std::string::npos) << what;
+    EXPECT_EQ(std::string(e.what()),
+              "--inputs waveform3: substep waveforms travel in process or over tcp (relayed data "
+              "plane), not over the carrier-pigeon transport (use --transport inproc or tcp)");
   }
-  EXPECT_NO_THROW(check_transport(o.coupling, "inproc"));
-  o.coupling.inputs = InputMode::kLinear;
-  EXPECT_NO_THROW(check_transport(o.coupling, "tcp"));
+  c.inputs = InputMode::kLinear;
+  EXPECT_NO_THROW(check_transport(c, "carrier-pigeon"));
 }
 
 }  // namespace

@@ -133,6 +133,39 @@ int main(int argc, char** argv) {
     s += frame([](wire::Envelope& e) { e.mutable_shutdown(); });
     std::ofstream(dir / ("session_" + std::to_string(n++)), std::ios::binary) << s;
   }
+  // Substep waveforms: recording on, inputs as cubic waveforms in a Step
+  // and in a SetInputs.
+  {
+    SubsystemConfig cfg;
+    cfg.participant = partition(scene, parse_case("rs-xx-gauss-seidel"))[1];
+    cfg.macro_step = scene.macro_step;
+    cfg.tolerance = scene.tolerance;
+    const CouplingData in = static_inputs(scene, "rs-xx-gauss-seidel")[1];
+    std::string s = frame_of(hello_envelope(cfg.participant.role, scene_fingerprint(scene)));
+    s += frame_of(configure_envelope(scene, cfg));
+    s += frame([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(in); });
+    s += frame([](wire::Envelope& e) { e.mutable_record_samples()->set_on(true); });
+    for (long k = 0; k < 2; ++k) {
+      Waveform w(3, pack_values(in[0]).size());
+      for (int j = 0; j <= 3; ++j)
+        w.add((static_cast<double>(k) + j / 3.0) * scene.macro_step,
+              pack_values(scaled(in, 1.0 + 0.01 * j)[0]));
+      if (k == 1)
+        s += frame([&](wire::Envelope& e) {
+          e.mutable_set_inputs()->set_step(k);
+          *e.mutable_set_inputs()->mutable_waveforms() = to_wire(InputWaveforms{w});
+        });
+      s += frame([&](wire::Envelope& e) {
+        auto* st = e.mutable_step();
+        st->set_step(k);
+        st->set_t(static_cast<double>(k) * scene.macro_step);
+        st->set_h(scene.macro_step);
+        if (k == 0) *st->mutable_waveforms() = to_wire(InputWaveforms{w});
+      });
+    }
+    s += frame([](wire::Envelope& e) { e.mutable_shutdown(); });
+    std::ofstream(dir / "session_waveform", std::ios::binary) << s;
+  }
   std::ofstream(dir / "hello_only", std::ios::binary)
       << frame_of(hello_envelope("track", scene_fingerprint(scene)));
   return 0;

@@ -268,9 +268,23 @@ class Session:
             raise ProtocolError(E.OUT_OF_ORDER, "%s for macro step %d; the participant is at "
                                 "macro step %d" % (what, n, self.step))
 
+    def no_waveforms(self):
+        return ProtocolError(E.BAD_REQUEST, "participant %s takes no substep waveforms (a "
+                             "participant of the Python SDK takes held or ramped inputs): run "
+                             "it with --inputs hold or linear, not waveform0 to waveform3"
+                             % self.p.name)
+
+    def on_record_samples(self, req, out):
+        if req.record_samples.on:
+            raise self.no_waveforms()
+        out.ack.SetInParent()
+        return out
+
     def on_set_inputs(self, req, out):
         s = req.set_inputs
         self.check_step(s.step, "inputs")
+        if s.HasField("waveforms"):
+            raise self.no_waveforms()
         self.set_inputs(s.inputs.interfaces,
                         s.inputs_end.interfaces if s.HasField("inputs_end") else None)
         out.ack.SetInParent()
@@ -282,6 +296,8 @@ class Session:
         if s.h != self.H:
             raise ProtocolError(E.BAD_REQUEST, "step with h = %r; the configured macro step is "
                                 "%r" % (s.h, self.H))
+        if s.HasField("waveforms"):
+            raise self.no_waveforms()
         if s.HasField("inputs"):
             self.set_inputs(s.inputs.interfaces,
                             s.inputs_end.interfaces if s.HasField("inputs_end") else None)
