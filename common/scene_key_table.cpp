@@ -1,6 +1,5 @@
 // The entries of the scene key table (scene_keys.hpp), one per key the
 // parsers read, table by table in the order of the reference.
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,17 +10,8 @@
 namespace railcosim {
 namespace {
 
-// The shortest form of v, with an exponent as 2e8 and 1e-12.
 std::string text(double v) {
-  std::ostringstream s;
-  s << v;
-  std::string t = s.str();
-  for (const char* from : {"e+0", "e+", "e-0"}) {
-    const std::size_t at = t.find(from);
-    if (at != std::string::npos)
-      t.replace(at, std::string(from).size(), from[1] == '-' ? "e-" : "e");
-  }
-  return t;
+  return key_number_text(v);
 }
 
 KeyRange positive() {
@@ -108,7 +98,7 @@ void vehicle_keys(std::vector<Entry>& v) {
   v.push_back(
       number("vehicle", "speed_kmh", "km/h", "the constant speed v_0").range(non_negative()));
   v.push_back(number("vehicle", "initial_position", "m",
-                     "x_0: where the leading wheel stands at t = 0 (on the rail's frame)")
+                     "x_0: where the leading wheel stands at t = 0, in the scene's frame")
                   .note("every wheel on the rail at t = 0 and at t_end"));
   v.push_back(number("vehicle", "mass", "kg", "the wheel's mass, which carries the static load")
                   .range(positive())
@@ -160,12 +150,14 @@ void irregularity_keys(std::vector<Entry>& v) {
                   .range(closed(1, 6, "must be an FRA track class 1 to 6"))
                   .fallback_text("a_v and omega_c instead")
                   .when(random));
-  v.push_back(number("irregularity", "a_v", "cm² rad/m", "the spectrum's roughness A_v")
+  v.push_back(number("irregularity", "a_v", "cm² rad/m",
+                     "the spectrum's roughness A_v, with omega_c instead of fra_class (not both)")
                   .range(positive())
-                  .when(random + " without fra_class"));
-  v.push_back(number("irregularity", "omega_c", "rad/m", "the spectrum's cut-off Ω_c")
+                  .when(random));
+  v.push_back(number("irregularity", "omega_c", "rad/m",
+                     "the spectrum's cut-off Ω_c, with a_v instead of fra_class")
                   .range(positive())
-                  .when(random + " without fra_class"));
+                  .when(random));
   v.push_back(number("irregularity", "wavelength_min", "m", "the shortest wavelength generated")
                   .range(positive())
                   .when(random));
@@ -189,8 +181,7 @@ void irregularity_keys(std::vector<Entry>& v) {
                      "the spacing of the table the profile is interpolated from")
                   .range(positive())
                   .fallback_text("wavelength_min / 20")
-                  .note("at most " + std::to_string(static_cast<long>(kMaxProfilePoints)) +
-                        " grid points over the wheels' path")
+                  .note("at most " + text(kMaxProfilePoints) + " grid points over the wheels' path")
                   .when(random));
   v.push_back(key("irregularity", "file", KeyType::string, "",
                   "a CSV of rows x_m,r_m, relative to the scene file's folder")
@@ -256,8 +247,8 @@ void soil_keys(std::vector<Entry>& v) {
                   .fallback(1)
                   .when("model = \"fe\""));
   Entry rest = key("soil", "*", KeyType::table, "",
-                   "any other key: the outside soil's own configuration, handed to it whole as "
-                   "TOML text (the FE soil's keys: docs/ground-vibration.md)");
+                   "the outside soil's own configuration, any keys its author defines, handed to "
+                   "it whole as TOML text (the FE soil's keys: docs/ground-vibration.md)");
   rest.k.required = false;
   v.push_back(rest.when("model = \"external\" or \"fe\""));
 }
@@ -279,17 +270,16 @@ void simulation_keys(std::vector<Entry>& v) {
       integer("simulation", "micro_steps", "that many equal micro steps per macro step")
           .range(closed(1, 65536, "must lie between 1 and 65536, or be left out (adaptive)"))
           .fallback_text("adaptive")
-          .note("macro steps × micro_steps ≤ " +
-                std::to_string(static_cast<long>(kMaxFixedMicroSteps))));
+          .note("macro steps × micro_steps ≤ " + text(kMaxFixedMicroSteps)));
   v.push_back(choice("simulation", "restart", {"consistent", "carry"}, "",
                      "at communication points: restart from the acceleration the new inputs imply, "
                      "or keep the integrator's"));
   v.push_back(number("cosim", "divergence_factor", "",
-                     "a run diverged when |displacement| exceeds this × the static maximum")
+                     "a run is diverged when a displacement exceeds this × the largest static one")
                   .range(positive())
                   .fallback(50.0));
   v.push_back(number("cosim", "amplification_threshold", "",
-                     "a run amplified when its history error exceeds this")
+                     "a stable run is inaccurate when its history error exceeds this")
                   .range(positive())
                   .fallback(0.1));
   Entry forces = key("output", "ballast_forces", KeyType::boolean, "",

@@ -18,6 +18,18 @@ std::string shortest(double v) {
 
 }  // namespace
 
+std::string key_number_text(double v) {
+  if (std::abs(v) < 1e8 && v == std::trunc(v)) return std::to_string(static_cast<long long>(v));
+  std::string t = shortest(v);
+  const std::size_t e = t.find('e');
+  if (e == std::string::npos) return t;
+  std::size_t digits = e + 1;
+  std::string exponent = t[digits] == '-' ? "-" : "";
+  if (t[digits] == '-' || t[digits] == '+') ++digits;
+  while (digits + 1 < t.size() && t[digits] == '0') ++digits;
+  return t.substr(0, e + 1) + exponent + t.substr(digits);
+}
+
 bool KeyRange::contains(double v) const {
   const bool above = lo_open ? v > lo : v >= lo;
   const bool below = hi_open ? v < hi : v <= hi;
@@ -39,15 +51,16 @@ std::string KeyRange::error(double v) const {
 
 std::string KeyRange::text() const {
   if (unbounded()) return "";
+  const std::string a = key_number_text(lo), b = key_number_text(hi);
   std::ostringstream t;
   if (std::isinf(hi))
-    t << (lo_open ? "> " : "≥ ") << lo;
+    t << (lo_open ? "> " : "≥ ") << a;
   else if (std::isinf(lo))
-    t << (hi_open ? "< " : "≤ ") << hi;
+    t << (hi_open ? "< " : "≤ ") << b;
   else if (!lo_open && !hi_open)
-    t << lo << " … " << hi;
+    t << a << " … " << b;
   else
-    t << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]");
+    t << (lo_open ? "(" : "[") << a << ", " << b << (hi_open ? ")" : "]");
   return t.str();
 }
 

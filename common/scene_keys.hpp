@@ -81,6 +81,10 @@ std::string choice_error(const SceneKey& k, const std::string& value);
 // the parser can take as it is.
 double default_number(const SceneKey& k);
 
+// A number as the reference prints it: whole numbers below 1e8 in full,
+// others in the shortest form with a bare exponent (1e-12, 2e8).
+std::string key_number_text(double v);
+
 // While one exists (per thread), every scene_key() lookup is recorded as
 // "table.key": what a test uses to see which entries a parse reaches.
 class SceneKeyTrace {
