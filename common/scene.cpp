@@ -4,115 +4,14 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
-#include <set>
 #include <sstream>
 
 #include "excitation_toml.hpp"
 #include "scene_checks.hpp"
 #include "scene_keys.hpp"
-#include "section_reader.hpp"
+#include "scene_reader.hpp"
 
 namespace railcosim {
-namespace {
-
-// Reads typed keys from a TOML document, each through its entry of the
-// scene key table (type, default, plain range), and remembers which it
-// consumed, so that anything left over can be reported as an unknown key.
-class Reader {
- public:
-  Reader(const toml::table& root, std::string source) : root_(root), source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw SceneError(source_ + ": key '" + key + "': " + what);
-  }
-
-  // The key's node: nullptr when absent and optional.
-  const toml::node* find(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    used_[table].insert(key);
-    const auto* tbl = root_.get(table) ? root_.get(table)->as_table() : nullptr;
-    const toml::node* node = tbl ? tbl->get(key) : nullptr;
-    if (!node && k.required) fail(table + "." + key, "missing (every scene must set it)");
-    return node;
-  }
-  bool present(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    used_[table].insert(key);
-    const auto* tbl = root_.get(table) ? root_.get(table)->as_table() : nullptr;
-    return k.type != KeyType::table && tbl && tbl->get(key);
-  }
-
-  double number(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    const toml::node* n = find(table, key);
-    const double v = n ? key_number(*n, failer(table, key)) : default_number(k);
-    return key_in_range(k, v, failer(table, key));
-  }
-  long integer(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    const toml::node* n = find(table, key);
-    if (!n) return static_cast<long>(default_number(k));
-    const std::int64_t v = key_integer(*n, failer(table, key));
-    if (auto why = integer_range_error(v); !why.empty()) fail(table + "." + key, why);
-    key_in_range(k, static_cast<double>(v), failer(table, key));
-    return static_cast<long>(v);
-  }
-  // A string or a choice (its entry's default when absent).
-  std::string string(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    const toml::node* n = find(table, key);
-    return n ? key_string(k, *n, failer(table, key)) : k.default_text;
-  }
-  bool boolean(const std::string& table, const std::string& key) {
-    const SceneKey& k = scene_key(table, key);
-    const toml::node* n = find(table, key);
-    return n ? key_boolean(*n, failer(table, key)) : default_number(k) != 0.0;
-  }
-
-  // A table read by its own parser (which looks its keys up and rejects
-  // unknown keys itself), or handed whole to a participant (an entry "*");
-  // nullptr if the file has none.
-  const toml::table* whole_table(const std::string& table) {
-    const toml::node* n = root_.get(table);
-    if (!n) return nullptr;
-    const toml::table* t = n->as_table();
-    if (!t) fail(table, "must be a table ([" + table + "])");
-    for (const auto& [k, v] : *t) {
-      (void)v;
-      used_[table].insert(std::string(k.str()));
-    }
-    used_[table];
-    return t;
-  }
-
-  // Every table and key in the file must have been read.
-  void reject_unknown() const {
-    for (const auto& [tname, tnode] : root_) {
-      const std::string table(tname.str());
-      const auto it = used_.find(table);
-      if (it == used_.end()) fail(table, "unknown table");
-      const auto* tbl = tnode.as_table();
-      if (!tbl) fail(table, "must be a table ([" + table + "])");
-      for (const auto& [kname, knode] : *tbl) {
-        (void)knode;
-        if (!it->second.count(std::string(kname.str())))
-          fail(table + "." + std::string(kname.str()), "unknown key");
-      }
-    }
-  }
-
- private:
-  KeyFail failer(const std::string& table, const std::string& key) const {
-    return {source_, table + "." + key};
-  }
-
-  const toml::table& root_;
-  std::string source_;
-  std::map<std::string, std::set<std::string>> used_;
-};
-
-}  // namespace
 
 double Scene::winkler_beta() const {
   const double support = pad_stiffness * ballast_stiffness / (pad_stiffness + ballast_stiffness);
@@ -268,7 +167,7 @@ void Scene::validate() const {
 
 namespace {
 
-void read_track(Reader& r, Scene& sc) {
+void read_track(SceneReader& r, Scene& sc) {
   sc.young_modulus = r.number("rail", "young_modulus");
   sc.second_moment = r.number("rail", "second_moment");
   sc.area = r.number("rail", "area");
@@ -300,7 +199,7 @@ void read_track(Reader& r, Scene& sc) {
   sc.ballast_damping = r.number("ballast", "damping");
 }
 
-void read_soil(Reader& r, Scene& sc) {
+void read_soil(SceneReader& r, Scene& sc) {
   sc.soil_model = r.string("soil", "model");
   if (sc.soil_model == "external" || sc.soil_model == "fe") {
     // The soil is an outside participant's: its table is that participant's
@@ -308,7 +207,7 @@ void read_soil(Reader& r, Scene& sc) {
     // text) at configure time and covered by the scene's fingerprint. The
     // product reads none of its keys but `model` (and, for the FE soil it
     // starts itself, `ranks`; the FE soil checks the others).
-    scene_key("soil", "*");
+    scene_key("soil", "*");  // the entry of the keys handed on whole
     const toml::table* soil = r.whole_table("soil");
     std::ostringstream text;
     text << *soil;
@@ -332,7 +231,33 @@ void read_soil(Reader& r, Scene& sc) {
   }
 }
 
-void read_simulation(Reader& r, Scene& sc) {
+// [coupling]: only the keys the scene sets (master run takes them unless
+// their flags are given).
+void read_coupling(SceneReader& r, Scene& sc) {
+  SceneCoupling& c = sc.coupling;
+  c.given = r.present_table("coupling");
+  auto text = [&](const char* key, std::optional<std::string>& out) {
+    if (r.present("coupling", key)) out = r.string("coupling", key);
+  };
+  auto number = [&](const char* key, std::optional<double>& out) {
+    if (r.present("coupling", key)) out = r.number("coupling", key);
+  };
+  auto whole = [&](const char* key, std::optional<long>& out) {
+    if (r.present("coupling", key)) out = r.integer("coupling", key);
+  };
+  if (r.present("coupling", "implicit")) c.implicit = r.boolean("coupling", "implicit");
+  text("inputs", c.inputs);
+  text("accelerator", c.accelerator);
+  number("relaxation", c.relaxation);
+  whole("max_iterations", c.max_iterations);
+  number("convergence", c.convergence);
+  whole("reused_windows", c.reused_windows);
+  text("feedthrough", c.feedthrough);
+  text("data_plane", c.data_plane);
+  whole("window_steps", c.window_steps);
+}
+
+void read_simulation(SceneReader& r, Scene& sc) {
   sc.gravity = r.number("simulation", "gravity");
   sc.end_time = r.number("simulation", "end_time");
   sc.macro_step = r.number("simulation", "macro_step");
@@ -358,7 +283,7 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
       << ": not valid TOML: " << e.description();
     throw SceneError(s.str());
   }
-  Reader r(root, source_name);
+  SceneReader r(root, source_name);
   Scene sc;
   sc.source = source_name;
   sc.name = r.string("scene", "name");
@@ -378,6 +303,7 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   read_track(r, sc);
   read_soil(r, sc);
   read_simulation(r, sc);
+  read_coupling(r, sc);
   r.reject_unknown();
   // count = "auto": every value the sizing uses was checked as it was read.
   if (sc.auto_length) sc.size_track(sc.initial_position);

@@ -50,6 +50,11 @@ struct Entry {
     k.when = std::move(condition);
     return *this;
   }
+  // A choice's default other than its first value.
+  Entry& word(std::string w) {
+    k.default_text = std::move(w);
+    return *this;
+  }
   Entry& words(std::vector<std::string> w) {
     k.choices = std::move(w);
     return *this;
@@ -287,6 +292,53 @@ void simulation_keys(std::vector<Entry>& v) {
   v.push_back(forces.fallback(0.0));
 }
 
+// [coupling]: what `master run` takes unless its flag is given; the
+// defaults and ranges are those of the flags (master/cli_run.cpp).
+void coupling_keys(std::vector<Entry>& v) {
+  Entry method = key("coupling", "implicit", KeyType::boolean, "",
+                     "repeat each macro step from a checkpoint until the exchanged values "
+                     "converge (--coupling implicit); false: one pass (--coupling explicit)");
+  v.push_back(method.fallback(0.0));
+  v.push_back(choice("coupling", "inputs",
+                     {"hold", "linear", "extrapolate1", "extrapolate2", "waveform0", "waveform1",
+                      "waveform2", "waveform3"},
+                     "input mode", "what an input does over the macro step (--inputs)"));
+  v.push_back(
+      choice("coupling", "accelerator", {"constant", "aitken", "iqn-ils"}, "accelerator",
+             "implicit coupling: how the iterations of a step are accelerated (--accelerator)")
+          .word("iqn-ils"));
+  v.push_back(
+      number("coupling", "relaxation", "",
+             "implicit coupling: the constant factor, the first factor of aitken and iqn-ils "
+             "(--relaxation)")
+          .range(closed(1e-6, 1.0, "must lie between 1e-6 and 1"))
+          .fallback(0.5));
+  v.push_back(integer("coupling", "max_iterations",
+                      "implicit coupling: iterations per macro step (--max-iterations)")
+                  .range(closed(1, 10000, "must lie between 1 and 10000"))
+                  .fallback(50));
+  v.push_back(number("coupling", "convergence", "",
+                     "implicit coupling: the relative residual every exchanged quantity must reach "
+                     "(--convergence)")
+                  .range(closed(1e-15, 0.5, "must lie between 1e-15 and 0.5"))
+                  .fallback(1e-8));
+  v.push_back(integer("coupling", "reused_windows",
+                      "implicit coupling, iqn-ils: past macro steps whose iterations it reuses "
+                      "(--reused-windows)")
+                  .range(closed(0, 100, "must lie between 0 and 100"))
+                  .fallback(8));
+  v.push_back(choice("coupling", "feedthrough", {"lagged", "resolved"}, "feedthrough",
+                     "Jacobi with an xt cut: when a force output is read (--feedthrough)"));
+  v.push_back(choice("coupling", "data_plane", {"direct", "relay"}, "data plane",
+                     "over TCP: the nodes send each other their coupling data, or every value "
+                     "goes through the master (--data-plane)"));
+  v.push_back(
+      integer("coupling", "window_steps",
+              "direct data plane: macro steps per window, 0: the whole run (--window-steps)")
+          .range(closed(0, 1e9, "must lie between 0 and 1000000000"))
+          .fallback(0));
+}
+
 void track_keys(std::vector<Entry>& v) {
   v.push_back(number("rail", "young_modulus", "Pa", "E").range(positive()));
   v.push_back(
@@ -333,6 +385,7 @@ const std::vector<SceneKey>& scene_keys() {
     irregularity_keys(v);
     wheel_flat_keys(v);
     track_keys(v);
+    coupling_keys(v);
     std::vector<SceneKey> keys;
     for (Entry& e : v) keys.push_back(std::move(e.k));
     return keys;

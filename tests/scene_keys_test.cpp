@@ -40,7 +40,7 @@ std::string replace_line(std::string text, const std::string& prefix, const std:
 
 // Scenes that reach the keys the shipped scenes leave out: every model of
 // [irregularity], a flat on the car's third wheel, the optional keys of
-// [sleepers] and [simulation], an outside soil.
+// [sleepers] and [simulation], an outside soil, every key of [coupling].
 std::vector<std::pair<std::string, std::string>> variants() {
   const std::string paper = read_text(test::source_path("scenes/paper.toml"));
   const std::string car = read_text(test::source_path("scenes/car_irregular.toml"));
@@ -58,6 +58,10 @@ std::vector<std::pair<std::string, std::string>> variants() {
                          "length = 0.4\ndepth = 0.002\n"},
       {"csv", paper + "\n[irregularity]\nmodel = \"csv\"\nfile = \"profile.csv\"\n"},
       {"external", replace_line(paper, "model = \"fixed\"", "model = \"external\"\nlayers = 3")},
+      {"coupling", paper + "\n[coupling]\nimplicit = true\ninputs = \"linear\"\n"
+                           "accelerator = \"aitken\"\nrelaxation = 0.25\nmax_iterations = 12\n"
+                           "convergence = 1e-6\nreused_windows = 3\nfeedthrough = \"lagged\"\n"
+                           "data_plane = \"relay\"\nwindow_steps = 40\n"},
       {"car_flat", car + "\n[wheel_flat]\nlength = 0.05\nwheel_diameter = 0.92\nwheel = 3\n"
                          "shape = \"rounded\"\nangle_deg = 10\n"},
   };
