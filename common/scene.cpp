@@ -4,99 +4,14 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
-#include <set>
 #include <sstream>
 
 #include "excitation_toml.hpp"
 #include "scene_checks.hpp"
+#include "scene_keys.hpp"
+#include "scene_reader.hpp"
 
 namespace railcosim {
-namespace {
-
-// Reads typed keys from a TOML document and remembers which it consumed, so
-// that anything left over can be reported as an unknown key.
-class Reader {
- public:
-  Reader(const toml::table& root, std::string source) : root_(root), source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw SceneError(source_ + ": key '" + key + "': " + what);
-  }
-
-  const toml::node* find(const std::string& table, const std::string& key, bool required) {
-    used_[table].insert(key);
-    const auto* tbl = root_.get(table) ? root_.get(table)->as_table() : nullptr;
-    const toml::node* node = tbl ? tbl->get(key) : nullptr;
-    if (!node && required) fail(table + "." + key, "missing (every scene must set it)");
-    return node;
-  }
-
-  double number(const std::string& table, const std::string& key) {
-    return number_or(table, key, std::nullopt);
-  }
-  double number_or(const std::string& table, const std::string& key,
-                   std::optional<double> fallback) {
-    const toml::node* n = find(table, key, !fallback.has_value());
-    if (!n) return *fallback;
-    if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
-      if (!std::isfinite(*v)) fail(table + "." + key, "must be a finite number");
-      return *v;
-    }
-    fail(table + "." + key, "must be a number");
-  }
-  long integer(const std::string& table, const std::string& key) {
-    const toml::node* n = find(table, key, true);
-    if (!n->is_integer()) fail(table + "." + key, "must be an integer");
-    if (auto why = integer_range_error(*n->value<int64_t>()); !why.empty())
-      fail(table + "." + key, why);
-    return static_cast<long>(*n->value<int64_t>());
-  }
-  std::string string_or(const std::string& table, const std::string& key, std::string fallback) {
-    const toml::node* n = find(table, key, false);
-    if (!n) return fallback;
-    if (!n->is_string()) fail(table + "." + key, "must be a string");
-    return *n->value<std::string>();
-  }
-
-  // A table read whole by its own parser (which rejects unknown keys
-  // itself); nullptr if the file has none.
-  const toml::table* whole_table(const std::string& table) {
-    const toml::node* n = root_.get(table);
-    if (!n) return nullptr;
-    const toml::table* t = n->as_table();
-    if (!t) fail(table, "must be a table ([" + table + "])");
-    for (const auto& [k, v] : *t) {
-      (void)v;
-      used_[table].insert(std::string(k.str()));
-    }
-    used_[table];
-    return t;
-  }
-
-  // Every table and key in the file must have been read.
-  void reject_unknown() const {
-    for (const auto& [tname, tnode] : root_) {
-      const std::string table(tname.str());
-      const auto it = used_.find(table);
-      if (it == used_.end()) fail(table, "unknown table");
-      const auto* tbl = tnode.as_table();
-      if (!tbl) fail(table, "must be a table ([" + table + "])");
-      for (const auto& [kname, knode] : *tbl) {
-        (void)knode;
-        if (!it->second.count(std::string(kname.str())))
-          fail(table + "." + std::string(kname.str()), "unknown key");
-      }
-    }
-  }
-
- private:
-  const toml::table& root_;
-  std::string source_;
-  std::map<std::string, std::set<std::string>> used_;
-};
-
-}  // namespace
 
 double Scene::winkler_beta() const {
   const double support = pad_stiffness * ballast_stiffness / (pad_stiffness + ballast_stiffness);
@@ -165,53 +80,49 @@ void Scene::validate() const {
       fail(key, s.str());
     }
   };
-  auto non_negative = [&](const std::string& key, double v) {
-    if (!(v >= 0.0)) {
-      std::ostringstream s;
-      s << "must be zero or positive (got " << v << ")";
-      fail(key, s.str());
-    }
+  // A key's own range, from its entry of the scene key table (the parser
+  // checks the same when it reads the file; a scene from the wire comes here).
+  auto in_range = [&](const char* table, const char* key, double v) {
+    const std::string why = scene_key(table, key).range.error(v);
+    if (!why.empty()) fail(std::string(table) + "." + key, why);
   };
   check_scene_numbers(*this);  // scene_checks.hpp
   positive("vehicle.mass", vehicle_mass);
-  positive("vehicle.hertz_constant", hertz_constant);
-  non_negative("vehicle.speed_kmh", speed);
-  positive("rail.young_modulus", young_modulus);
-  positive("rail.second_moment", second_moment);
-  positive("rail.area", area);
-  positive("rail.density", density);
+  in_range("vehicle", "hertz_constant", hertz_constant);
+  in_range("vehicle", "speed_kmh", speed);
+  in_range("rail", "young_modulus", young_modulus);
+  in_range("rail", "second_moment", second_moment);
+  in_range("rail", "area", area);
+  in_range("rail", "density", density);
   if (elements_per_span < 2 || elements_per_span % 2 != 0)
     fail("rail.elements_per_span",
          "must be a positive even number, so that a rail node sits over each sleeper (got " +
              std::to_string(elements_per_span) + ")");
-  positive("railpad.stiffness", pad_stiffness);
-  non_negative("railpad.damping", pad_damping);
-  positive("sleepers.mass", sleeper_mass);
-  positive("sleepers.spacing", sleeper_spacing);
-  if (!(sleeper_length > 0.0 && sleeper_length <= 10.0))
-    fail("sleepers.length", "must lie in (0, 10] m (got " + std::to_string(sleeper_length) + ")");
+  in_range("railpad", "stiffness", pad_stiffness);
+  in_range("railpad", "damping", pad_damping);
+  in_range("sleepers", "mass", sleeper_mass);
+  in_range("sleepers", "spacing", sleeper_spacing);
+  in_range("sleepers", "length", sleeper_length);
   if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
-  positive("ballast.stiffness", ballast_stiffness);
-  non_negative("ballast.damping", ballast_damping);
-  if (soil_model != "fixed" && soil_model != "lumped" && soil_model != "external" &&
-      soil_model != "fe")
-    fail("soil.model",
-         "unknown soil model '" + soil_model + "' (known: fixed, lumped, external, fe)");
+  in_range("ballast", "stiffness", ballast_stiffness);
+  in_range("ballast", "damping", ballast_damping);
+  if (const std::string why = choice_error(scene_key("soil", "model"), soil_model); !why.empty())
+    fail("soil.model", why);
   if (soil_model == "lumped") {
-    positive("soil.mass", soil_mass);
-    positive("soil.stiffness", soil_stiffness);
-    non_negative("soil.damping", soil_damping);
-    non_negative("soil.coupling_stiffness", soil_coupling_stiffness);
-    non_negative("soil.coupling_damping", soil_coupling_damping);
+    for (const auto& [key, v] : {std::pair{"mass", soil_mass},
+                                 {"stiffness", soil_stiffness},
+                                 {"damping", soil_damping},
+                                 {"coupling_stiffness", soil_coupling_stiffness},
+                                 {"coupling_damping", soil_coupling_damping}})
+      in_range("soil", key, v);
   }
-  if (restart != "consistent" && restart != "carry")
+  if (!choice_error(scene_key("simulation", "restart"), restart).empty())
     fail("simulation.restart", "must be \"consistent\" or \"carry\"");
-  if (micro_steps < 0 || micro_steps > 65536)
-    fail("simulation.micro_steps", "must lie between 1 and 65536, or be left out (adaptive)");
-  positive("simulation.gravity", gravity);
-  positive("simulation.end_time", end_time);
-  positive("simulation.macro_step", macro_step);
-  positive("simulation.tolerance", tolerance);
+  if (micro_steps != 0) in_range("simulation", "micro_steps", micro_steps);
+  in_range("simulation", "gravity", gravity);
+  in_range("simulation", "end_time", end_time);
+  in_range("simulation", "macro_step", macro_step);
+  in_range("simulation", "tolerance", tolerance);
   const double steps = end_time / macro_step;
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
     fail("simulation.end_time", "must be a whole number of macro steps (end_time / macro_step = " +
@@ -225,8 +136,8 @@ void Scene::validate() const {
       fail("irregularity.file", e.what());
     }
   }
-  positive("cosim.divergence_factor", divergence_factor);
-  positive("cosim.amplification_threshold", amplification_threshold);
+  in_range("cosim", "divergence_factor", divergence_factor);
+  in_range("cosim", "amplification_threshold", amplification_threshold);
 
   const double length = track_length();
   auto on_rail = [&](double x) { return x >= 0.0 && x <= length; };
@@ -254,6 +165,114 @@ void Scene::validate() const {
   check_scene_derived(*this);  // scene_checks.hpp
 }
 
+namespace {
+
+void read_track(SceneReader& r, Scene& sc) {
+  sc.young_modulus = r.number("rail", "young_modulus");
+  sc.second_moment = r.number("rail", "second_moment");
+  sc.area = r.number("rail", "area");
+  sc.density = r.number("rail", "density");
+  sc.elements_per_span = static_cast<int>(r.integer("rail", "elements_per_span"));
+
+  sc.pad_stiffness = r.number("railpad", "stiffness");
+  sc.pad_damping = r.number("railpad", "damping");
+
+  sc.sleeper_mass = r.number("sleepers", "mass");
+  sc.sleeper_spacing = r.number("sleepers", "spacing");
+  if (const toml::node* n = r.find("sleepers", "count"); n->is_string()) {
+    const SceneKey& count = scene_key("sleepers", "count");
+    if (choice_error(count, *n->value<std::string>()) != "")
+      r.fail("sleepers.count", "must be a whole number of sleepers or \"auto\"");
+    sc.auto_length = true;
+  } else {
+    sc.sleeper_count = static_cast<int>(r.integer("sleepers", "count"));
+  }
+  if (r.present("sleepers", "margin_tolerance")) {
+    if (!sc.auto_length) r.fail("sleepers.margin_tolerance", "applies only with count = \"auto\"");
+    sc.margin_tolerance = r.number("sleepers", "margin_tolerance");
+  }
+  if (r.present("sleepers", "length")) {
+    sc.sleeper_length = r.number("sleepers", "length");
+    sc.sleeper_length_given = true;
+  }
+  sc.ballast_stiffness = r.number("ballast", "stiffness");
+  sc.ballast_damping = r.number("ballast", "damping");
+}
+
+void read_soil(SceneReader& r, Scene& sc) {
+  sc.soil_model = r.string("soil", "model");
+  if (sc.soil_model == "external" || sc.soil_model == "fe") {
+    // The soil is an outside participant's: its table is that participant's
+    // own configuration, with any keys it knows, handed to it whole (as TOML
+    // text) at configure time and covered by the scene's fingerprint. The
+    // product reads none of its keys but `model` (and, for the FE soil it
+    // starts itself, `ranks`; the FE soil checks the others).
+    scene_key("soil", "*");  // the entry of the keys handed on whole
+    const toml::table* soil = r.whole_table("soil");
+    std::ostringstream text;
+    text << *soil;
+    sc.soil_config = text.str();
+    if (sc.soil_model == "fe") {
+      const SceneKey& ranks = scene_key("soil", "ranks");
+      sc.soil_ranks = static_cast<int>(default_number(ranks));
+      if (const toml::node* n = soil->get("ranks")) {
+        const auto v = n->value<int64_t>();
+        if (!n->is_integer() || !v || !ranks.range.contains(static_cast<double>(*v)))
+          r.fail("soil.ranks", ranks.range.message);
+        sc.soil_ranks = static_cast<int>(*v);
+      }
+    }
+  } else if (sc.soil_model == "lumped") {
+    sc.soil_mass = r.number("soil", "mass");
+    sc.soil_stiffness = r.number("soil", "stiffness");
+    sc.soil_damping = r.number("soil", "damping");
+    sc.soil_coupling_stiffness = r.number("soil", "coupling_stiffness");
+    sc.soil_coupling_damping = r.number("soil", "coupling_damping");
+  }
+}
+
+// [coupling]: only the keys the scene sets (master run takes them unless
+// their flags are given).
+void read_coupling(SceneReader& r, Scene& sc) {
+  SceneCoupling& c = sc.coupling;
+  c.given = r.present_table("coupling");
+  auto text = [&](const char* key, std::optional<std::string>& out) {
+    if (r.present("coupling", key)) out = r.string("coupling", key);
+  };
+  auto number = [&](const char* key, std::optional<double>& out) {
+    if (r.present("coupling", key)) out = r.number("coupling", key);
+  };
+  auto whole = [&](const char* key, std::optional<long>& out) {
+    if (r.present("coupling", key)) out = r.integer("coupling", key);
+  };
+  if (r.present("coupling", "implicit")) c.implicit = r.boolean("coupling", "implicit");
+  text("inputs", c.inputs);
+  text("accelerator", c.accelerator);
+  number("relaxation", c.relaxation);
+  whole("max_iterations", c.max_iterations);
+  number("convergence", c.convergence);
+  whole("reused_windows", c.reused_windows);
+  text("feedthrough", c.feedthrough);
+  text("data_plane", c.data_plane);
+  whole("window_steps", c.window_steps);
+}
+
+void read_simulation(SceneReader& r, Scene& sc) {
+  sc.gravity = r.number("simulation", "gravity");
+  sc.end_time = r.number("simulation", "end_time");
+  sc.macro_step = r.number("simulation", "macro_step");
+  sc.tolerance = r.number("simulation", "tolerance");
+  sc.restart = r.string("simulation", "restart");
+  if (r.present("simulation", "micro_steps"))
+    sc.micro_steps = static_cast<int>(r.integer("simulation", "micro_steps"));
+
+  sc.divergence_factor = r.number("cosim", "divergence_factor");
+  sc.amplification_threshold = r.number("cosim", "amplification_threshold");
+  sc.ballast_forces = r.boolean("output", "ballast_forces");
+}
+
+}  // namespace
+
 Scene parse_scene(const std::string& toml_text, const std::string& source_name) {
   toml::table root;
   try {
@@ -264,10 +283,10 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
       << ": not valid TOML: " << e.description();
     throw SceneError(s.str());
   }
-  Reader r(root, source_name);
+  SceneReader r(root, source_name);
   Scene sc;
   sc.source = source_name;
-  sc.name = r.string_or("scene", "name", "unnamed");
+  sc.name = r.string("scene", "name");
 
   const toml::table* vehicle = r.whole_table("vehicle");
   if (!vehicle) r.fail("vehicle", "missing table (every scene must have one)");
@@ -281,109 +300,13 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   if (const toml::table* flat = r.whole_table("wheel_flat"))
     sc.wheel_flat = parse_wheel_flat(*flat, source_name, sc.wheel_count());
 
-  sc.young_modulus = r.number("rail", "young_modulus");
-  sc.second_moment = r.number("rail", "second_moment");
-  sc.area = r.number("rail", "area");
-  sc.density = r.number("rail", "density");
-  sc.elements_per_span = static_cast<int>(r.integer("rail", "elements_per_span"));
-
-  sc.pad_stiffness = r.number("railpad", "stiffness");
-  sc.pad_damping = r.number("railpad", "damping");
-
-  sc.sleeper_mass = r.number("sleepers", "mass");
-  sc.sleeper_spacing = r.number("sleepers", "spacing");
-  double x0_scene = 0;
-  if (const toml::node* n = r.find("sleepers", "count", true); n->is_string()) {
-    if (*n->value<std::string>() != "auto")
-      r.fail("sleepers.count", "must be a whole number of sleepers or \"auto\"");
-    sc.auto_length = true;
-  } else {
-    sc.sleeper_count = static_cast<int>(r.integer("sleepers", "count"));
-  }
-  if (r.find("sleepers", "margin_tolerance", false)) {
-    if (!sc.auto_length) r.fail("sleepers.margin_tolerance", "applies only with count = \"auto\"");
-    sc.margin_tolerance = r.number("sleepers", "margin_tolerance");
-    if (!(sc.margin_tolerance > 0 && sc.margin_tolerance < 1))
-      r.fail("sleepers.margin_tolerance", "must lie strictly between 0 and 1");
-  }
-
-  if (r.find("sleepers", "length", false)) {
-    sc.sleeper_length = r.number("sleepers", "length");
-    sc.sleeper_length_given = true;
-  }
-  sc.ballast_stiffness = r.number("ballast", "stiffness");
-  sc.ballast_damping = r.number("ballast", "damping");
-
-  sc.soil_model = r.string_or("soil", "model", "fixed");
-  if (sc.soil_model == "external" || sc.soil_model == "fe") {
-    // The soil is an outside participant's: its table is that participant's
-    // own configuration, with any keys it knows, handed to it whole (as TOML
-    // text) at configure time and covered by the scene's fingerprint. The
-    // product reads none of its keys but `model` (and, for the FE soil it
-    // starts itself, `ranks`; the FE soil checks the others).
-    const toml::table* soil = r.whole_table("soil");
-    std::ostringstream text;
-    text << *soil;
-    sc.soil_config = text.str();
-    if (sc.soil_model == "fe") {
-      if (const toml::node* n = soil->get("ranks")) {
-        const auto v = n->value<int64_t>();
-        if (!n->is_integer() || !v || *v < 1 || *v > 256)
-          r.fail("soil.ranks",
-                 "must be a whole number from 1 to 256 (the MPI ranks of the FE soil)");
-        sc.soil_ranks = static_cast<int>(*v);
-      }
-    }
-  } else if (sc.soil_model != "fixed") {
-    const bool need = sc.soil_model == "lumped";
-    auto soil_key = [&](const char* key) {
-      return need ? r.number("soil", key) : r.number_or("soil", key, 0.0);
-    };
-    sc.soil_mass = soil_key("mass");
-    sc.soil_stiffness = soil_key("stiffness");
-    sc.soil_damping = soil_key("damping");
-    sc.soil_coupling_stiffness = soil_key("coupling_stiffness");
-    sc.soil_coupling_damping = soil_key("coupling_damping");
-  }
-
-  sc.gravity = r.number("simulation", "gravity");
-  sc.end_time = r.number("simulation", "end_time");
-  sc.macro_step = r.number("simulation", "macro_step");
-  sc.tolerance = r.number("simulation", "tolerance");
-  sc.restart = r.string_or("simulation", "restart", "consistent");
-  if (sc.restart != "consistent" && sc.restart != "carry")
-    r.fail("simulation.restart",
-           "must be \"consistent\" or \"carry\" (got \"" + sc.restart + "\")");
-  if (r.find("simulation", "micro_steps", false)) {
-    const long m = r.integer("simulation", "micro_steps");
-    if (m < 1 || m > 65536)
-      r.fail("simulation.micro_steps", "must lie between 1 and 65536, or be left out (adaptive)");
-    sc.micro_steps = static_cast<int>(m);
-  }
-
-  sc.divergence_factor = r.number_or("cosim", "divergence_factor", sc.divergence_factor);
-  sc.amplification_threshold =
-      r.number_or("cosim", "amplification_threshold", sc.amplification_threshold);
-
-  if (const toml::node* n = r.find("output", "ballast_forces", false)) {
-    if (!n->is_boolean()) r.fail("output.ballast_forces", "must be true or false");
-    sc.ballast_forces = *n->value<bool>();
-  }
-
+  read_track(r, sc);
+  read_soil(r, sc);
+  read_simulation(r, sc);
+  read_coupling(r, sc);
   r.reject_unknown();
-  if (sc.auto_length) {
-    x0_scene = sc.initial_position;
-    // Check what sizing needs before using it; the full check follows.
-    for (const auto& [key, v] : {std::pair{"rail.young_modulus", sc.young_modulus},
-                                 {"rail.second_moment", sc.second_moment},
-                                 {"railpad.stiffness", sc.pad_stiffness},
-                                 {"ballast.stiffness", sc.ballast_stiffness},
-                                 {"sleepers.spacing", sc.sleeper_spacing},
-                                 {"simulation.end_time", sc.end_time}})
-      if (!(v > 0)) r.fail(key, "must be positive");
-    if (!(sc.speed >= 0)) r.fail("vehicle.speed_kmh", "must be zero or positive");
-    sc.size_track(x0_scene);
-  }
+  // count = "auto": every value the sizing uses was checked as it was read.
+  if (sc.auto_length) sc.size_track(sc.initial_position);
   sc.validate();
   return sc;
 }

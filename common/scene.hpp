@@ -15,6 +15,23 @@
 
 namespace railcosim {
 
+// [coupling] (optional): how `master run` couples the participants unless its
+// command line says otherwise (a flag given wins); each member is unset when
+// the scene leaves its key out. The names are those of the flags' values.
+struct SceneCoupling {
+  std::optional<bool> implicit;            // --coupling implicit (true) or explicit
+  std::optional<std::string> inputs;       // --inputs
+  std::optional<std::string> accelerator;  // --accelerator
+  std::optional<double> relaxation;        // --relaxation
+  std::optional<long> max_iterations;      // --max-iterations
+  std::optional<double> convergence;       // --convergence
+  std::optional<long> reused_windows;      // --reused-windows
+  std::optional<std::string> feedthrough;  // --feedthrough
+  std::optional<std::string> data_plane;   // --data-plane
+  std::optional<long> window_steps;        // --window-steps
+  bool given = false;                      // the scene has the table
+};
+
 struct Scene {
   std::string source;  // the file it came from, for messages
   std::string name;
@@ -102,6 +119,8 @@ struct Scene {
   // At communication points: "consistent" (restart from the acceleration the
   // new inputs imply) or "carry" (keep the integrator's acceleration).
   std::string restart = "consistent";
+
+  SceneCoupling coupling;
 
   // [cosim]: how a co-simulation run is judged.
   double divergence_factor = 50.0;       // |displacement| > factor * static max => diverged

@@ -1,20 +1,64 @@
-// Strict reading of one TOML table of a scene ([vehicle], [irregularity],
-// [wheel_flat]): typed keys, each key remembered when read, so that any key
-// left over is reported as unknown. Errors are SceneError naming the file and
-// the key ("scenes/car.toml: key 'vehicle.body_mass': must be positive").
+// Strict reading of the keys of a scene: every key through its entry of the
+// scene key table (scene_keys.hpp) for its type, default and plain range.
+// `key_value` and friends read one present key; SectionReader reads one
+// table ([vehicle], [irregularity], [wheel_flat]), each key remembered when
+// read, so that any key left over is reported as unknown. Errors are
+// SceneError naming the file and the key ("scenes/car.toml: key
+// 'vehicle.body_mass': must be positive").
 #pragma once
 
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "scene_error.hpp"
+#include "scene_keys.hpp"
 
 namespace railcosim {
+
+// Throws the SceneError "<source>: key '<table.key>': <what>".
+struct KeyFail {
+  const std::string& source;
+  std::string name;  // table.key
+  [[noreturn]] void operator()(const std::string& what) const {
+    throw SceneError(source + ": key '" + name + "': " + what);
+  }
+};
+
+// The value of a present key as a number, integer, string or boolean, its
+// type checked. The range is checked by key_in_range.
+inline double key_number(const toml::node& n, const KeyFail& fail) {
+  if (auto v = n.value<double>(); v && (n.is_floating_point() || n.is_integer())) {
+    if (!std::isfinite(*v)) fail("must be a finite number");
+    return *v;
+  }
+  fail("must be a number");
+}
+inline std::int64_t key_integer(const toml::node& n, const KeyFail& fail) {
+  if (!n.is_integer()) fail("must be an integer");
+  return *n.value<std::int64_t>();
+}
+inline std::string key_string(const SceneKey& k, const toml::node& n, const KeyFail& fail) {
+  if (!n.is_string()) fail("must be a string");
+  std::string v = *n.value<std::string>();
+  if (k.type == KeyType::choice)
+    if (std::string why = choice_error(k, v); !why.empty()) fail(why);
+  return v;
+}
+inline bool key_boolean(const toml::node& n, const KeyFail& fail) {
+  if (!n.is_boolean()) fail("must be true or false");
+  return *n.value<bool>();
+}
+inline double key_in_range(const SceneKey& k, double v, const KeyFail& fail) {
+  if (std::string why = k.range.error(v); !why.empty()) fail(why);
+  return v;
+}
 
 class SectionReader {
  public:
@@ -25,37 +69,41 @@ class SectionReader {
     throw SceneError(source_ + ": key '" + name_ + "." + key + "': " + what);
   }
 
-  bool has(const std::string& key) const { return table_.get(key) != nullptr; }
+  bool has(const std::string& key) const {
+    scene_key(name_, key);
+    return table_.get(key) != nullptr;
+  }
 
-  double number(const std::string& key) { return number_or(key, std::nullopt); }
-  double number_or(const std::string& key, std::optional<double> fallback) {
-    const toml::node* n = find(key, !fallback.has_value());
-    if (!n) return *fallback;
-    if (auto v = n->value<double>(); v && (n->is_floating_point() || n->is_integer())) {
-      if (!std::isfinite(*v)) fail(key, "must be a finite number");
-      return *v;
-    }
-    fail(key, "must be a number");
+  // A number: required, or its entry's default when absent; in its range.
+  double number(const std::string& key) {
+    const SceneKey& k = scene_key(name_, key);
+    const toml::node* n = find(k);
+    const double v = n ? key_number(*n, failer(key)) : default_number(k);
+    return key_in_range(k, v, failer(key));
   }
-  double positive(const std::string& key) { return check_positive(key, number(key)); }
-  double positive_or(const std::string& key, double fallback) {
-    return check_positive(key, number_or(key, fallback));
+  // A number whose default the parser computes (the entry says which).
+  double number_or(const std::string& key, double computed) {
+    const SceneKey& k = scene_key(name_, key);
+    if (k.required || !std::isnan(k.default_number))
+      throw std::logic_error("scene key '" + name_ + "." + key + "' has no computed default");
+    const toml::node* n = find(k);
+    const double v = n ? key_number(*n, failer(key)) : computed;
+    return key_in_range(k, v, failer(key));
   }
-  double non_negative(const std::string& key) {
-    const double v = number(key);
-    if (!(v >= 0.0)) fail(key, "must be zero or positive (got " + str(v) + ")");
+  long integer(const std::string& key) {
+    const SceneKey& k = scene_key(name_, key);
+    const toml::node* n = find(k);
+    const double fallback = n ? 0.0 : default_number(k);
+    const long v =
+        n ? static_cast<long>(key_integer(*n, failer(key))) : static_cast<long>(fallback);
+    key_in_range(k, static_cast<double>(v), failer(key));
     return v;
   }
-  long integer_or(const std::string& key, std::optional<long> fallback) {
-    const toml::node* n = find(key, !fallback.has_value());
-    if (!n) return *fallback;
-    if (!n->is_integer()) fail(key, "must be an integer");
-    return static_cast<long>(*n->value<int64_t>());
-  }
+  // A string or a choice (required, or its entry's default).
   std::string string(const std::string& key) {
-    const toml::node* n = find(key, true);
-    if (!n->is_string()) fail(key, "must be a string");
-    return *n->value<std::string>();
+    const SceneKey& k = scene_key(name_, key);
+    const toml::node* n = find(k);
+    return n ? key_string(k, *n, failer(key)) : k.default_text;
   }
 
   // Every key of the table must have been read.
@@ -75,15 +123,12 @@ class SectionReader {
   }
 
  private:
-  const toml::node* find(const std::string& key, bool required) {
-    used_.insert(key);
-    const toml::node* n = table_.get(key);
-    if (!n && required) fail(key, "missing (required here)");
+  KeyFail failer(const std::string& key) const { return {source_, name_ + "." + key}; }
+  const toml::node* find(const SceneKey& k) {
+    used_.insert(k.key);
+    const toml::node* n = table_.get(k.key);
+    if (!n && k.required) fail(k.key, "missing (required here)");
     return n;
-  }
-  double check_positive(const std::string& key, double v) const {
-    if (!(v > 0.0)) fail(key, "must be positive (got " + str(v) + ")");
-    return v;
   }
 
   const toml::table& table_;

@@ -232,6 +232,10 @@ def main(argv=None):
         sys.exit("%s: [soil] model must be \"fe\" (got %r); a scene on the lumped soil is "
                  "studied by `master study --scene %s`"
                  % (a.scene, scene.get("soil", {}).get("model"), a.scene))
+    if "coupling" in scene:
+        sys.exit("%s: the scene has a [coupling] table, which sets how master run couples one "
+                 "case; this study runs its own couplings and its runs would take the table's "
+                 "values: study a copy of the scene without it" % a.scene)
     if not os.access(a.master, os.X_OK):
         sys.exit("--master %s: not an executable (build it with scripts/build.sh: "
                  "build/bin/master)" % a.master)

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "cli_keys.hpp"
 #include "cli_run.hpp"
 #include "cli_study.hpp"
 #include "conform.hpp"
@@ -50,6 +51,8 @@ int master_main(int argc, char** argv) {
   add_study_command(app, sa);
   ConformArgs ca;
   add_conform_command(app, ca);
+  KeysArgs ka;
+  add_keys_command(app, ka);
 
   try {
     app.parse(argc, argv);
@@ -62,6 +65,7 @@ int master_main(int argc, char** argv) {
     if (*ra.command) return do_run(ra);
     if (*sa.command) return do_study(sa);
     if (*ca.command) return do_conform(ca);
+    if (*ka.command) return do_keys(ka);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "master: scene error: %s\n", e.what());
     return 2;

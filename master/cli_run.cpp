@@ -30,6 +30,7 @@
 #include "run_output.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
+#include "scene_coupling.hpp"
 #include "stability.hpp"
 #include "study.hpp"
 #include "study_plan.hpp"
@@ -276,15 +277,26 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--out", a.out, "Output folder; the run writes OUT/CASE/")->capture_default_str();
   run->add_option("--token-file", a.token_file, "Shared secret of nodes started with --token-file")
       ->check(CLI::ExistingFile);
+  run->footer(
+      "A scene's [coupling] table (docs/scene-keys.md) stands in for --coupling, --inputs, "
+      "--accelerator, --relaxation, --max-iterations, --convergence, --reused-windows, "
+      "--feedthrough, --data-plane and --window-steps; a flag given wins.");
   a.command = run;
 }
 
-int do_run(const RunArgs& a) {
+int do_run(const RunArgs& command_line) {
   auto log = logger("master");
-  Scene scene = load_scene(a.scene_path);
+  Scene scene = load_scene(command_line.scene_path);
+  // The scene's [coupling] stands in for the flags not given.
+  const RunArgs a = with_scene_coupling(command_line, scene);
   if (!a.restart.empty()) scene.restart = a.restart;
   const CaseSpec spec = parse_case_of(a.case_name, scene);
-  RunOptions o = run_options(a, scene, spec);
+  RunOptions o;
+  try {
+    o = run_options(a, scene, spec);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(e.what() + scene_coupling_note(command_line, scene));
+  }
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
 
   RunRecord reference;

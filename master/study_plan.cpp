@@ -186,7 +186,13 @@ StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
   plan.sweeps = o.sweeps;
 
   const std::string base = read_text(scene_path);
-  parse_scene(base, scene_path);  // the user's scene must be sound before anything else
+  // The user's scene must be sound before anything else.
+  if (parse_scene(base, scene_path).coupling.given)
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene has a [coupling] table, which sets how master run couples one case; a "
+        "study runs every coupling method itself and would have its runs take the table's "
+        "values: study a copy of the scene without it");
   plan.scene_files.emplace_back("scene.toml", base);
 
   for (const Variant& v : variants_of(o.sweeps)) {

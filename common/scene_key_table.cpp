@@ -1,0 +1,396 @@
+// The entries of the scene key table (scene_keys.hpp), one per key the
+// parsers read, table by table in the order of the reference.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene_checks.hpp"
+#include "scene_keys.hpp"
+
+namespace railcosim {
+namespace {
+
+std::string text(double v) {
+  return key_number_text(v);
+}
+
+KeyRange positive() {
+  return {0.0, KeyRange{}.hi, true, false, "must be positive", KeyRange::Got::shortest};
+}
+KeyRange non_negative() {
+  return {0.0, KeyRange{}.hi, false, false, "must be zero or positive", KeyRange::Got::shortest};
+}
+KeyRange closed(double lo, double hi, std::string message) {
+  return {lo, hi, false, false, std::move(message), KeyRange::Got::none};
+}
+
+// One entry under construction: required unless given a default.
+struct Entry {
+  SceneKey k;
+  Entry& range(KeyRange r) {
+    k.range = std::move(r);
+    return *this;
+  }
+  Entry& fallback(double v) {
+    k.required = false;
+    k.default_number = v;
+    return *this;
+  }
+  // A default the parser computes, or what leaving the key out means.
+  Entry& fallback_text(std::string text) {
+    k.required = false;
+    k.default_text = std::move(text);
+    return *this;
+  }
+  Entry& note(std::string text) {
+    k.range_note = std::move(text);
+    return *this;
+  }
+  Entry& when(std::string condition) {
+    k.when = std::move(condition);
+    return *this;
+  }
+  // A choice's default other than its first value.
+  Entry& word(std::string w) {
+    k.default_text = std::move(w);
+    return *this;
+  }
+  Entry& words(std::vector<std::string> w) {
+    k.choices = std::move(w);
+    return *this;
+  }
+};
+
+Entry key(std::string table, std::string name, KeyType type, std::string unit,
+          std::string meaning) {
+  Entry e;
+  e.k.table = std::move(table);
+  e.k.key = std::move(name);
+  e.k.type = type;
+  e.k.required = true;
+  e.k.unit = std::move(unit);
+  e.k.meaning = std::move(meaning);
+  return e;
+}
+Entry number(std::string table, std::string name, std::string unit, std::string meaning) {
+  return key(std::move(table), std::move(name), KeyType::number, std::move(unit),
+             std::move(meaning));
+}
+Entry integer(std::string table, std::string name, std::string meaning) {
+  return key(std::move(table), std::move(name), KeyType::integer, "", std::move(meaning));
+}
+// A choice with its default (its first value unless `fallback` is given).
+Entry choice(std::string table, std::string name, std::vector<std::string> values, std::string noun,
+             std::string meaning) {
+  Entry e = key(std::move(table), std::move(name), KeyType::choice, "", std::move(meaning));
+  e.k.required = false;
+  e.k.default_text = values.front();
+  e.k.choices = std::move(values);
+  e.k.noun = std::move(noun);
+  return e;
+}
+
+const char* const kWheel = "model = \"wheel\"";
+const char* const kSprung = "model = \"quarter\" or \"car\"";
+const char* const kCar = "model = \"car\"";
+
+void vehicle_keys(std::vector<Entry>& v) {
+  v.push_back(choice("vehicle", "model", {"wheel", "quarter", "car"}, "vehicle model",
+                     "the vehicle: one wheel carrying the static load (the paper), a quarter car "
+                     "(3 DOFs) or a car on two bogies (10 DOFs)"));
+  v.push_back(number("vehicle", "hertz_constant", "N/m^1.5", "K_H of every wheel's Hertz contact")
+                  .range(positive()));
+  v.push_back(
+      number("vehicle", "speed_kmh", "km/h", "the constant speed v_0").range(non_negative()));
+  v.push_back(number("vehicle", "initial_position", "m",
+                     "x_0: where the leading wheel stands at t = 0, in the scene's frame")
+                  .note("every wheel on the rail at t = 0 and at t_end"));
+  v.push_back(number("vehicle", "mass", "kg", "the wheel's mass, which carries the static load")
+                  .range(positive())
+                  .when(kWheel));
+  v.push_back(
+      number("vehicle", "wheelset_mass", "kg", "one wheelset").range(positive()).when(kSprung));
+  v.push_back(number("vehicle", "bogie_mass", "kg", "the bogie share (quarter) or one bogie (car)")
+                  .range(positive())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "body_mass", "kg", "the body share (quarter) or the body (car)")
+                  .range(positive())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "primary_stiffness", "N/m",
+                     "the primary suspension, between bogie and wheelset (per wheelset)")
+                  .range(positive())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "primary_damping", "N s/m", "the primary suspension's damping")
+                  .range(non_negative())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "secondary_stiffness", "N/m",
+                     "the secondary suspension, between body and bogie (per bogie)")
+                  .range(positive())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "secondary_damping", "N s/m", "the secondary suspension's damping")
+                  .range(non_negative())
+                  .when(kSprung));
+  v.push_back(number("vehicle", "body_pitch_inertia", "kg m²", "the body's pitch inertia")
+                  .range(positive())
+                  .when(kCar));
+  v.push_back(number("vehicle", "bogie_pitch_inertia", "kg m²", "one bogie's pitch inertia")
+                  .range(positive())
+                  .when(kCar));
+  v.push_back(number("vehicle", "bogie_semi_spacing", "m",
+                     "l_c: half the distance between the bogie centres")
+                  .range(positive())
+                  .when(kCar));
+  v.push_back(number("vehicle", "wheelset_semi_base", "m", "l_t: half a bogie's wheelbase")
+                  .range(positive())
+                  .note("< bogie_semi_spacing")
+                  .when(kCar));
+}
+
+void irregularity_keys(std::vector<Entry>& v) {
+  const std::string random = "model = \"random\"";
+  const std::string depth = "|value| ≤ " + text(kMaxProfileDepth) + " m";
+  v.push_back(choice("irregularity", "model", {"none", "random", "csv", "dipped_joint", "sine"},
+                     "irregularity model", "the rail's vertical profile (none: smooth)"));
+  v.push_back(integer("irregularity", "fra_class", "the FRA track class of the spectrum")
+                  .range(closed(1, 6, "must be an FRA track class 1 to 6"))
+                  .fallback_text("a_v and omega_c instead")
+                  .when(random));
+  v.push_back(number("irregularity", "a_v", "cm² rad/m",
+                     "the spectrum's roughness A_v, with omega_c instead of fra_class (not both)")
+                  .range(positive())
+                  .when(random));
+  v.push_back(number("irregularity", "omega_c", "rad/m",
+                     "the spectrum's cut-off Ω_c, with a_v instead of fra_class")
+                  .range(positive())
+                  .when(random));
+  v.push_back(number("irregularity", "wavelength_min", "m", "the shortest wavelength generated")
+                  .range(positive())
+                  .when(random));
+  v.push_back(number("irregularity", "wavelength_max", "m", "the longest wavelength generated")
+                  .range(positive())
+                  .note("> wavelength_min")
+                  .when(random));
+  v.push_back(integer("irregularity", "seed", "the random generator's seed: one seed, one profile")
+                  .range({0.0, KeyRange{}.hi, false, false, "must be zero or positive"})
+                  .when(random));
+  v.push_back(number("irregularity", "amplitude_scale", "", "multiplies the profile")
+                  .range({0.0, KeyRange{}.hi, false, false, "must be zero or positive"})
+                  .fallback(1.0)
+                  .when(random));
+  v.push_back(integer("irregularity", "components", "the cosines the profile sums")
+                  .range(closed(1, 1000000, "must lie between 1 and 1000000"))
+                  .fallback(2048)
+                  .note("grid points × components ≤ " + text(kMaxProfileWork))
+                  .when(random));
+  v.push_back(number("irregularity", "grid_step", "m",
+                     "the spacing of the table the profile is interpolated from")
+                  .range(positive())
+                  .fallback_text("wavelength_min / 20")
+                  .note("at most " + text(kMaxProfilePoints) + " grid points over the wheels' path")
+                  .when(random));
+  v.push_back(key("irregularity", "file", KeyType::string, "",
+                  "a CSV of rows x_m,r_m, relative to the scene file's folder")
+                  .note("covers the wheels' path; heights " + depth + "; at most " +
+                        std::to_string(kMaxProfileFileBytes / (1024 * 1024)) + " MiB")
+                  .when("model = \"csv\""));
+  v.push_back(number("irregularity", "position", "m", "the joint's centre")
+                  .when("model = \"dipped_joint\""));
+  v.push_back(number("irregularity", "length", "m", "the joint's length")
+                  .range(positive())
+                  .when("model = \"dipped_joint\""));
+  v.push_back(number("irregularity", "depth", "m", "the dip's depth")
+                  .note(depth)
+                  .when("model = \"dipped_joint\""));
+  v.push_back(number("irregularity", "amplitude", "m", "A in r = A sin(2π x/λ + φ)")
+                  .note(depth)
+                  .when("model = \"sine\""));
+  v.push_back(
+      number("irregularity", "wavelength", "m", "λ").range(positive()).when("model = \"sine\""));
+  v.push_back(
+      number("irregularity", "phase_deg", "deg", "φ").fallback(0.0).when("model = \"sine\""));
+}
+
+void wheel_flat_keys(std::vector<Entry>& v) {
+  v.push_back(number("wheel_flat", "length", "m", "the flat's length L along the rail")
+                  .range(positive())
+                  .note("< wheel_diameter"));
+  v.push_back(
+      number("wheel_flat", "wheel_diameter", "m", "the wheel's diameter D").range(positive()));
+  v.push_back(number("wheel_flat", "angle_deg", "deg",
+                     "how far the wheel turns before the flat's centre first meets the rail")
+                  .fallback(0.0));
+  v.push_back(choice("wheel_flat", "shape", {"chord", "rounded"}, "flat shape",
+                     "the exact chord, or a worn flat (a haversine of the same depth)"));
+  v.push_back(integer("wheel_flat", "wheel", "the wheel with the flat, counted from the front")
+                  .fallback(1)
+                  .note("1 … the vehicle's wheels"));
+}
+
+void soil_keys(std::vector<Entry>& v) {
+  const std::string lumped = "model = \"lumped\"";
+  v.push_back(choice("soil", "model", {"fixed", "lumped", "external", "fe"}, "soil model",
+                     "fixed: the ballast rests on the ground; lumped: a soil mass under each "
+                     "sleeper; external: an outside participant; fe: the finite-element soil"));
+  v.push_back(
+      number("soil", "mass", "kg", "m_f, under one sleeper").range(positive()).when(lumped));
+  v.push_back(number("soil", "stiffness", "N/m", "k_f, soil mass to the ground")
+                  .range(positive())
+                  .when(lumped));
+  v.push_back(number("soil", "damping", "N s/m", "c_f, soil mass to the ground")
+                  .range(non_negative())
+                  .when(lumped));
+  v.push_back(number("soil", "coupling_stiffness", "N/m", "k_c, between neighbouring soil masses")
+                  .range(non_negative())
+                  .when(lumped));
+  v.push_back(number("soil", "coupling_damping", "N s/m", "c_c, between neighbouring soil masses")
+                  .range(non_negative())
+                  .when(lumped));
+  v.push_back(integer("soil", "ranks", "the MPI ranks the master starts the FE soil on")
+                  .range(closed(1, 256,
+                                "must be a whole number from 1 to 256 (the MPI ranks of the FE "
+                                "soil)"))
+                  .fallback(1)
+                  .when("model = \"fe\""));
+  Entry rest = key("soil", "*", KeyType::table, "",
+                   "the outside soil's own configuration, any keys its author defines, handed to "
+                   "it whole as TOML text (the FE soil's keys: docs/ground-vibration.md)");
+  rest.k.required = false;
+  v.push_back(rest.when("model = \"external\" or \"fe\""));
+}
+
+void simulation_keys(std::vector<Entry>& v) {
+  v.push_back(number("simulation", "gravity", "m/s²", "g").range(positive()));
+  v.push_back(number("simulation", "end_time", "s", "t_end")
+                  .range(positive())
+                  .note("a whole number of macro steps, at most " + std::to_string(kMaxMacroSteps) +
+                        " of them"));
+  v.push_back(
+      number("simulation", "macro_step", "s", "H: the communication step").range(positive()));
+  v.push_back(number("simulation", "tolerance", "m",
+                     "the bound on the local error of one micro step (rotations weighed by the "
+                     "element length)")
+                  .range(positive())
+                  .note("≥ " + text(kMinRelativeTolerance) + " × the static deflection"));
+  v.push_back(
+      integer("simulation", "micro_steps", "that many equal micro steps per macro step")
+          .range(closed(1, 65536, "must lie between 1 and 65536, or be left out (adaptive)"))
+          .fallback_text("adaptive")
+          .note("macro steps × micro_steps ≤ " + text(kMaxFixedMicroSteps)));
+  v.push_back(choice("simulation", "restart", {"consistent", "carry"}, "",
+                     "at communication points: restart from the acceleration the new inputs imply, "
+                     "or keep the integrator's"));
+  v.push_back(number("cosim", "divergence_factor", "",
+                     "a run is diverged when a displacement exceeds this × the largest static one")
+                  .range(positive())
+                  .fallback(50.0));
+  v.push_back(number("cosim", "amplification_threshold", "",
+                     "a stable run is inaccurate when its history error exceeds this")
+                  .range(positive())
+                  .fallback(0.1));
+  Entry forces = key("output", "ballast_forces", KeyType::boolean, "",
+                     "report the force into the ballast under every sleeper (soil_forces.csv)");
+  v.push_back(forces.fallback(0.0));
+}
+
+// [coupling]: what `master run` takes unless its flag is given; the
+// defaults and ranges are those of the flags (master/cli_run.cpp).
+void coupling_keys(std::vector<Entry>& v) {
+  Entry method = key("coupling", "implicit", KeyType::boolean, "",
+                     "repeat each macro step from a checkpoint until the exchanged values "
+                     "converge (--coupling implicit); false: one pass (--coupling explicit)");
+  v.push_back(method.fallback(0.0));
+  v.push_back(choice("coupling", "inputs",
+                     {"hold", "linear", "extrapolate1", "extrapolate2", "waveform0", "waveform1",
+                      "waveform2", "waveform3"},
+                     "input mode", "what an input does over the macro step (--inputs)"));
+  v.push_back(
+      choice("coupling", "accelerator", {"constant", "aitken", "iqn-ils"}, "accelerator",
+             "implicit coupling: how the iterations of a step are accelerated (--accelerator)")
+          .word("iqn-ils"));
+  v.push_back(
+      number("coupling", "relaxation", "",
+             "implicit coupling: the constant factor, the first factor of aitken and iqn-ils "
+             "(--relaxation)")
+          .range(closed(1e-6, 1.0, "must lie between 1e-6 and 1"))
+          .fallback(0.5));
+  v.push_back(integer("coupling", "max_iterations",
+                      "implicit coupling: iterations per macro step (--max-iterations)")
+                  .range(closed(1, 10000, "must lie between 1 and 10000"))
+                  .fallback(50));
+  v.push_back(number("coupling", "convergence", "",
+                     "implicit coupling: the relative residual every exchanged quantity must reach "
+                     "(--convergence)")
+                  .range(closed(1e-15, 0.5, "must lie between 1e-15 and 0.5"))
+                  .fallback(1e-8));
+  v.push_back(integer("coupling", "reused_windows",
+                      "implicit coupling, iqn-ils: past macro steps whose iterations it reuses "
+                      "(--reused-windows)")
+                  .range(closed(0, 100, "must lie between 0 and 100"))
+                  .fallback(8));
+  v.push_back(choice("coupling", "feedthrough", {"lagged", "resolved"}, "feedthrough",
+                     "Jacobi with an xt cut: when a force output is read (--feedthrough)"));
+  v.push_back(choice("coupling", "data_plane", {"direct", "relay"}, "data plane",
+                     "over TCP: the nodes send each other their coupling data, or every value "
+                     "goes through the master (--data-plane)"));
+  v.push_back(
+      integer("coupling", "window_steps",
+              "direct data plane: macro steps per window, 0: the whole run (--window-steps)")
+          .range(closed(0, 1e9, "must lie between 0 and 1000000000"))
+          .fallback(0));
+}
+
+void track_keys(std::vector<Entry>& v) {
+  v.push_back(number("rail", "young_modulus", "Pa", "E").range(positive()));
+  v.push_back(
+      number("rail", "second_moment", "m⁴", "I, about the horizontal axis").range(positive()));
+  v.push_back(number("rail", "area", "m²", "the cross-section A").range(positive()));
+  v.push_back(number("rail", "density", "kg/m³", "ρ").range(positive()));
+  v.push_back(integer("rail", "elements_per_span", "beam elements between two sleepers")
+                  .note("even, 2 … " + std::to_string(kMaxElementsPerSpan)));
+  v.push_back(number("railpad", "stiffness", "N/m", "k_p, one pad").range(positive()));
+  v.push_back(number("railpad", "damping", "N s/m", "d_p, one pad").range(non_negative()));
+  v.push_back(
+      number("sleepers", "mass", "kg", "m_s: one rail's share of a sleeper").range(positive()));
+  v.push_back(number("sleepers", "spacing", "m", "l, between sleeper centres").range(positive()));
+  v.push_back(integer("sleepers", "count",
+                      "the sleepers (the rail spans [0, count × spacing]), or \"auto\": the "
+                      "wheels' path and a margin on each side")
+                  .words({"auto"})
+                  .note("1 … " + std::to_string(kMaxSleepers)));
+  v.push_back(number("sleepers", "margin_tolerance", "",
+                     "how much the free ends may change the deflection under the wheel "
+                     "(relative); sets the margin")
+                  .range({0.0, 1.0, true, true, "must lie strictly between 0 and 1"})
+                  .fallback(1e-4)
+                  .when("count = \"auto\""));
+  v.push_back(number("sleepers", "length", "m",
+                     "across the track: with the spacing, the footprint of a coupling point at "
+                     "the ss cut")
+                  .range({0.0, 10.0, true, false, "must lie in (0, 10] m", KeyRange::Got::fixed})
+                  .fallback(2.6));
+  v.push_back(number("ballast", "stiffness", "N/m", "k_b, under one sleeper").range(positive()));
+  v.push_back(
+      number("ballast", "damping", "N s/m", "d_b, under one sleeper").range(non_negative()));
+  soil_keys(v);
+  simulation_keys(v);
+}
+}  // namespace
+
+const std::vector<SceneKey>& scene_keys() {
+  static const std::vector<SceneKey> table = [] {
+    std::vector<Entry> v;
+    v.push_back(key("scene", "name", KeyType::string, "", "the scene's name, in reports")
+                    .fallback_text("unnamed"));
+    vehicle_keys(v);
+    irregularity_keys(v);
+    wheel_flat_keys(v);
+    track_keys(v);
+    coupling_keys(v);
+    std::vector<SceneKey> keys;
+    for (Entry& e : v) keys.push_back(std::move(e.k));
+    return keys;
+  }();
+  return table;
+}
+
+}  // namespace railcosim
