@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "raw_pingpong.hpp"
-#include "step_frames.hpp"
 
 namespace railcosim {
 namespace {
@@ -47,15 +47,7 @@ Timed run(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
   o.coupling.inputs = InputMode::kLinear;
   o.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
   const RunRecord r = run_cosim(scene, spec, o, f, transport);
-  if (r.status == "failed" || r.macro_steps == 0) {
-    std::fprintf(stderr, "implicit_bench: %s failed: %s\n", spec.name().c_str(), r.message.c_str());
-    std::exit(1);
-  }
-  if (transport == "tcp" && r.data_plane != to_string(plane)) {
-    std::fprintf(stderr, "implicit_bench: %s ran on the %s data plane, not the %s one\n",
-                 spec.name().c_str(), r.data_plane.c_str(), to_string(plane).c_str());
-    std::exit(1);
-  }
+  require_ran("implicit_bench", r, spec, transport, plane);
   const double steps = static_cast<double>(r.macro_steps);
   return {r.wall_s / steps, static_cast<double>(r.convergence.size()) / steps};
 }
@@ -136,13 +128,7 @@ int main(int argc, char** argv) {
         std::tie(row.request, row.reply) = step_frame_bytes(scene, spec, kMacroStep, true);
         for (int k = 0; k < repeats; ++k) {
           std::fprintf(stderr, "%s: repeat %d of %d\n", row.name.c_str(), k + 1, repeats);
-          RawRoundTrip raw;
-          raw.median_us = 1e30;
-          for (int f = 0; f < kRawForks; ++f) {
-            const RawRoundTrip r = raw_round_trip(row.request, row.reply, kRawSamples);
-            if (r.median_us < raw.median_us) raw = r;
-          }
-          row.raw.push_back(raw);
+          row.raw.push_back(lowest_raw_round_trip(row.request, row.reply, kRawSamples, kRawForks));
           const Timed local = run(scene, spec, inproc, "inproc", DataPlane::kRelay);
           row.inproc = std::min(row.inproc, local.per_step);
           row.iterations = local.iterations;

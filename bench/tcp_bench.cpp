@@ -21,11 +21,11 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "coupled_statics.hpp"
 #include "raw_pingpong.hpp"
 #include "runner.hpp"
 #include "scene.hpp"
-#include "step_frames.hpp"
 #include "transport.hpp"
 #include "wire.hpp"
 
@@ -67,15 +67,7 @@ double wall_per_step(const Scene& scene, const CaseSpec& spec, const Participant
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
   const RunRecord r = run_cosim(scene, spec, o, f, transport);
-  if (r.status == "failed") {
-    std::fprintf(stderr, "tcp_bench: %s failed: %s\n", spec.name().c_str(), r.message.c_str());
-    std::exit(1);
-  }
-  if (transport == "tcp" && r.data_plane != to_string(plane)) {
-    std::fprintf(stderr, "tcp_bench: %s ran on the %s data plane, not the %s one\n",
-                 spec.name().c_str(), r.data_plane.c_str(), to_string(plane).c_str());
-    std::exit(1);
-  }
+  require_ran("tcp_bench", r, spec, transport, plane);
   return r.wall_s / static_cast<double>(r.macro_steps);
 }
 
@@ -204,13 +196,7 @@ int main(int argc, char** argv) {
       // the machine touches all of them alike.
       for (int k = 0; k < repeats; ++k) {
         std::fprintf(stderr, "%s: repeat %d of %d\n", name.c_str(), k + 1, repeats);
-        RawRoundTrip raw;
-        raw.median_us = 1e30;
-        for (int f = 0; f < kRawForks; ++f) {
-          const RawRoundTrip r = raw_round_trip(row.request, row.reply, kRawSamples);
-          if (r.median_us < raw.median_us) raw = r;
-        }
-        row.raw.push_back(raw);
+        row.raw.push_back(lowest_raw_round_trip(row.request, row.reply, kRawSamples, kRawForks));
         row.inproc =
             std::min(row.inproc, wall_per_step(scene, spec, inproc, "inproc", DataPlane::kRelay));
         for (DataPlane d : data_planes()) {

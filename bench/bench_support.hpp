@@ -1,9 +1,15 @@
-// The frames a macro step sends and receives, as the master and the nodes
-// encode them: the sizes a benchmark's raw socket baseline carries.
+// What the network benchmarks share: the frames a macro step sends and
+// receives, as the master and the nodes encode them (the sizes the raw
+// socket baseline carries), the baseline itself, and the check of a run.
 #pragma once
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <utility>
+
+#include "raw_pingpong.hpp"
 
 #include "coupled_statics.hpp"
 #include "runner.hpp"
@@ -42,6 +48,35 @@ inline std::pair<std::size_t, std::size_t> step_frame_bytes(const Scene& scene,
     reply = std::max(reply, encode_frame(report).size());
   }
   return {request, reply};
+}
+
+// The lowest median of `forks` raw measurements of `samples` round trips,
+// each with a new child: the fastest plain sockets go, never one the
+// product beats by luck of placement.
+inline RawRoundTrip lowest_raw_round_trip(std::size_t request, std::size_t reply, int samples,
+                                          int forks) {
+  RawRoundTrip raw;
+  raw.median_us = 1e30;
+  for (int f = 0; f < forks; ++f) {
+    const RawRoundTrip r = raw_round_trip(request, reply, samples);
+    if (r.median_us < raw.median_us) raw = r;
+  }
+  return raw;
+}
+
+// Exits with status 1, naming `program` and the case, when a run failed or
+// did not take the data plane asked for.
+inline void require_ran(const char* program, const RunRecord& r, const CaseSpec& spec,
+                        const std::string& transport, DataPlane plane) {
+  if (r.status == "failed" || r.macro_steps == 0) {
+    std::fprintf(stderr, "%s: %s failed: %s\n", program, spec.name().c_str(), r.message.c_str());
+    std::exit(1);
+  }
+  if (transport == "tcp" && r.data_plane != to_string(plane)) {
+    std::fprintf(stderr, "%s: %s ran on the %s data plane, not the %s one\n", program,
+                 spec.name().c_str(), r.data_plane.c_str(), to_string(plane).c_str());
+    std::exit(1);
+  }
 }
 
 }  // namespace railcosim
