@@ -11,10 +11,10 @@
 
 #include "raw_pingpong.hpp"
 
-#include "coupled_statics.hpp"
-#include "runner.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "scene.hpp"
-#include "transport.hpp"
 #include "wire.hpp"
 
 namespace railcosim {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "runner.hpp"
+#include "run/runner.hpp"
 #include "scene.hpp"
 
 namespace railcosim {

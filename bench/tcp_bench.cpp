@@ -22,11 +22,11 @@
 #include <vector>
 
 #include "bench_support.hpp"
-#include "coupled_statics.hpp"
+#include "engine/coupled_statics.hpp"
 #include "raw_pingpong.hpp"
-#include "runner.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "scene.hpp"
-#include "transport.hpp"
 #include "wire.hpp"
 
 namespace railcosim {

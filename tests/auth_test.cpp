@@ -12,8 +12,8 @@
 #include <fstream>
 #include <thread>
 
-#include "coupled_statics.hpp"
-#include "remote_participant.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/remote_participant.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
 

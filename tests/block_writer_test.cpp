@@ -10,9 +10,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "block_writer.hpp"
 #include "process_support.hpp"
-#include "run_output.hpp"
+#include "run/block_writer.hpp"
+#include "run/run_output.hpp"
 
 namespace railcosim {
 namespace {

@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "coupled_statics.hpp"
-#include "evaluation.hpp"
-#include "runner.hpp"
-#include "schedule.hpp"
-#include "stability.hpp"
+#include "engine/coupled_statics.hpp"
+#include "engine/schedule.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
 #include "subsystem.hpp"
-#include "transport.hpp"
 
 namespace railcosim::test {
 

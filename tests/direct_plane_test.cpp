@@ -16,13 +16,13 @@
 #include "auth.hpp"
 #include "connection.hpp"
 #include "cosim_support.hpp"
-#include "node_launcher.hpp"
 #include "process_support.hpp"
-#include "remote_participant.hpp"
-#include "runner.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/remote_participant.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

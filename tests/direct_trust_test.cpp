@@ -11,10 +11,10 @@
 #include <thread>
 
 #include "fake_node.hpp"
-#include "node_launcher.hpp"
 #include "process_support.hpp"
-#include "remote_participant.hpp"
-#include "runner.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/remote_participant.hpp"
+#include "run/runner.hpp"
 #include "test_support.hpp"
 
 extern char** environ;

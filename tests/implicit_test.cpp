@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "cosim_support.hpp"
-#include "evaluation.hpp"
-#include "runner.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

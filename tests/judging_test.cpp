@@ -3,10 +3,10 @@
 // paper's number, ours and the tolerance.
 #include <gtest/gtest.h>
 
-#include "evaluation.hpp"
-#include "report.hpp"
-#include "runner.hpp"
-#include "stability.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
+#include "study/report.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

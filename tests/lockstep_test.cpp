@@ -12,12 +12,12 @@
 
 #include "connection.hpp"
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
-#include "node_launcher.hpp"
-#include "runner.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

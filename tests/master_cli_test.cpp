@@ -13,8 +13,8 @@
 #include <chrono>
 #include <thread>
 
-#include "node_launcher.hpp"
 #include "process_support.hpp"
+#include "remote/node_launcher.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "evaluation.hpp"
-#include "runner.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

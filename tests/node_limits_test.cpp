@@ -10,8 +10,8 @@
 
 #include "auth.hpp"
 #include "connection.hpp"
-#include "coupled_statics.hpp"
-#include "remote_participant.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/remote_participant.hpp"
 #include "server.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"

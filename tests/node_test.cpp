@@ -7,8 +7,8 @@
 
 #include "connection.hpp"
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
-#include "remote_participant.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/remote_participant.hpp"
 #include "server.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"

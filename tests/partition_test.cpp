@@ -6,11 +6,11 @@
 #include <memory>
 
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
+#include "engine/coupled_statics.hpp"
+#include "engine/schedule.hpp"
 #include "model.hpp"
 #include "process_support.hpp"
-#include "runner.hpp"
-#include "schedule.hpp"
+#include "run/runner.hpp"
 #include "statics.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"

@@ -18,10 +18,10 @@
 #include "connection.hpp"
 #include "cosim_support.hpp"
 #include "peer_handshake.hpp"
-#include "runner.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

@@ -14,8 +14,8 @@
 #include <sstream>
 
 #include "fake_node.hpp"
-#include "remote_participant.hpp"
-#include "runner.hpp"
+#include "remote/remote_participant.hpp"
+#include "run/runner.hpp"
 #include "test_support.hpp"
 
 extern char** environ;

@@ -1,7 +1,7 @@
 // A scene's [coupling] table under `master run`'s flags: its defaults and
 // ranges are the flags', its keys stand in for the flags not given, a flag
 // given wins, and a study refuses such a scene.
-#include "scene_coupling.hpp"
+#include "cli/scene_coupling.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "cli_run.hpp"
+#include "cli/cli_run.hpp"
 #include "process_support.hpp"
 #include "scene.hpp"
 #include "scene_keys.hpp"

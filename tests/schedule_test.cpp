@@ -1,6 +1,6 @@
 // The schedules' exchange order, checked with fake participants that record
 // every call.
-#include "schedule.hpp"
+#include "engine/schedule.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,9 +9,9 @@
 #include <memory>
 #include <sstream>
 
-#include "node_launcher.hpp"
-#include "remote_participant.hpp"
-#include "runner.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/remote_participant.hpp"
+#include "run/runner.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include "evaluation.hpp"
-#include "runner.hpp"
-#include "stability.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

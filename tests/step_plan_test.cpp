@@ -1,7 +1,7 @@
 // The step plan: the one place that decides the participants' order,
 // printed for the paper's cases and for three participants and compared
 // with plans written out by hand.
-#include "step_plan.hpp"
+#include "engine/step_plan.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "report_front.hpp"
-#include "report_slopes.hpp"
-#include "study_plan.hpp"
+#include "study/report_front.hpp"
+#include "study/report_slopes.hpp"
+#include "study/study_plan.hpp"
 
 namespace railcosim {
 namespace {

@@ -18,8 +18,8 @@
 
 #include "process_support.hpp"
 #include "scene.hpp"
-#include "study.hpp"
-#include "study_plan.hpp"
+#include "study/study.hpp"
+#include "study/study_plan.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

@@ -12,10 +12,10 @@
 #include <regex>
 #include <sstream>
 
-#include "evaluation.hpp"
 #include "process_support.hpp"
-#include "runner.hpp"
-#include "stability.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

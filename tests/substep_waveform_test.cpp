@@ -9,12 +9,12 @@
 #include <cstdio>
 
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
-#include "evaluation.hpp"
-#include "runner.hpp"
+#include "engine/coupled_statics.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
-#include "schedule.hpp"
+#include "engine/coupled_statics.hpp"
+#include "engine/schedule.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {

@@ -11,12 +11,12 @@
 #include <thread>
 
 #include "cosim_support.hpp"
-#include "remote_participant.hpp"
-#include "runner.hpp"
+#include "remote/remote_participant.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
 #include "server.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

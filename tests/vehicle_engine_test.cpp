@@ -11,16 +11,16 @@
 #include <sstream>
 
 #include "cosim_support.hpp"
-#include "coupled_statics.hpp"
-#include "evaluation.hpp"
+#include "engine/coupled_statics.hpp"
 #include "hertz.hpp"
 #include "monolithic.hpp"
-#include "runner.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/runner.hpp"
 #include "spectra.hpp"
 #include "statics.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
-#include "transport.hpp"
 
 namespace railcosim {
 namespace {

@@ -1,7 +1,7 @@
 // The accelerators on fixed-point problems with known solutions, and the
 // window schedule's inputs (ramps, extrapolation, checkpoints) with scalar
 // fake participants whose coupled step has a closed form.
-#include "window_schedule.hpp"
+#include "engine/window_schedule.hpp"
 
 #include <gtest/gtest.h>
 

@@ -12,9 +12,9 @@
 #include <memory>
 
 #include "../cosim_support.hpp"
-#include "coupled_statics.hpp"
+#include "engine/coupled_statics.hpp"
+#include "engine/schedule.hpp"
 #include "scene.hpp"
-#include "schedule.hpp"
 #include "subsystem.hpp"
 #include "wire.hpp"
 

@@ -1,0 +1,82 @@
+#include "cli/cli.hpp"
+
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cstdio>
+#include <stdexcept>
+
+#include "cli/cli_keys.hpp"
+#include "cli/cli_run.hpp"
+#include "cli/cli_study.hpp"
+#include "cli/conform.hpp"
+#include "remote/remote_participant.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+namespace {
+
+// Set by SIGINT/SIGTERM: runs stop at the next macro step and leave a
+// summary saying so.
+std::atomic<int> g_stop{0};
+
+void on_signal(int sig) {
+  g_stop.store(sig);
+}
+
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  set_interrupt_flag(&g_stop);  // a wait on a node ends too
+}
+
+}  // namespace
+
+const std::atomic<int>* stop_flag() {
+  return &g_stop;
+}
+
+int master_main(int argc, char** argv) {
+  CLI::App app{
+      "Vehicle/track co-simulation master: runs the monolithic reference or a "
+      "co-simulation case of a scene."};
+  app.require_subcommand(1);
+  RunArgs ra;
+  add_run_command(app, ra);
+  StudyArgs sa;
+  add_study_command(app, sa);
+  ConformArgs ca;
+  add_conform_command(app, ca);
+  KeysArgs ka;
+  add_keys_command(app, ka);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    catch_stop_signals();
+    if (*ra.command) return do_run(ra);
+    if (*sa.command) return do_study(sa);
+    if (*ca.command) return do_conform(ca);
+    if (*ka.command) return do_keys(ka);
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "master: scene error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "master: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "master: run failed: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace railcosim

@@ -1,0 +1,350 @@
+#include "cli/cli_run.hpp"
+
+#include "cli/cli.hpp"
+
+#include "engine/coupling_options.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "auth.hpp"
+#include "cli/conform.hpp"
+#include "cli/scene_coupling.hpp"
+#include "cosim_case.hpp"
+#include "log.hpp"
+#include "model.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/remote_participant.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/run_output.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
+#include "scene.hpp"
+#include "study/report.hpp"
+#include "study/study.hpp"
+#include "study/study_plan.hpp"
+
+namespace railcosim {
+namespace {
+
+void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
+  std::printf("%s: %s", r.case_name.c_str(), r.status.c_str());
+  if (r.rel_l2_error && r.case_name != "monolithic")
+    std::printf(", rel. L2 error %.3e, max |error| %.3e m", *r.rel_l2_error, *r.max_abs_error_m);
+  std::printf(", %ld macro steps,", r.macro_steps);
+  for (const auto& [k, v] : r.micro_steps) std::printf(" %s %ld micro steps,", k.c_str(), v);
+  std::printf(" wall %.3f s\n", r.wall_s);
+  if (!r.message.empty()) std::printf("  %s\n", r.message.c_str());
+  std::printf("  results in %s\n", dir.string().c_str());
+}
+
+// The addresses the user gave for the participants of a case: --node
+// ROLE=HOST:PORT, and --vehicle/--track for the vehicle and track roles.
+std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
+                                           const CaseSpec& spec) {
+  std::map<std::string, Address> given;
+  if (!a.vehicle.empty()) given["vehicle"] = parse_address(a.vehicle, "--vehicle");
+  if (!a.track.empty()) given["track"] = parse_address(a.track, "--track");
+  for (const std::string& n : a.nodes) {
+    const auto eq = n.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--node " + n +
+                                  ": expected ROLE=HOST:PORT, e.g. soil=127.0.0.1:7003");
+    given[n.substr(0, eq)] = parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
+  }
+  // An external soil is a program the master cannot start: its address must be given.
+  if (scene.soil_model == "external" && !spec.monolithic)
+    for (const auto& p : partition(scene, spec))
+      if (p.parts.has(Component::kSoil) && given.count(p.role) == 0)
+        throw std::invalid_argument(
+            "the scene's soil is external (soil.model = \"external\"): start its program and "
+            "give its address with --node " +
+            p.role + "=HOST:PORT" + (a.transport == "inproc" ? " (and --transport tcp)" : ""));
+  // The FE soil is a program of its own too, which the master starts over TCP.
+  if (scene.soil_model == "fe" && !spec.monolithic && a.transport == "inproc")
+    throw std::invalid_argument(
+        "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
+        "master starts over TCP: use --transport tcp (the default), not --transport inproc");
+  if (given.empty()) return given;
+  if (spec.monolithic)
+    throw std::invalid_argument(
+        "the monolithic case runs inside the master: it uses no nodes, so --node, --vehicle and "
+        "--track do not apply");
+  if (a.transport == "inproc")
+    throw std::invalid_argument("--node, --vehicle and --track need --transport tcp");
+  std::string roles;
+  const auto parts = partition(scene, spec);
+  for (const auto& p : parts) roles += (roles.empty() ? "" : ", ") + p.role;
+  for (const auto& [role, address] : given) {
+    bool found = false;
+    for (const auto& p : parts) found = found || p.role == role;
+    if (!found)
+      throw std::invalid_argument("a node was given for the " + role + " participant (" +
+                                  address.str() + "), but case " + spec.name() +
+                                  " has none (its participants: " + roles + ")");
+  }
+  return given;
+}
+
+// A progress line on stderr, redrawn at most five times a second, when stderr
+// is a terminal; nothing otherwise.
+class Progress {
+ public:
+  Progress(std::string label, double macro_step)
+      : label_(std::move(label)), H_(macro_step), enabled_(::isatty(STDERR_FILENO) != 0) {}
+  // Ends the line, if one was drawn.
+  void end() {
+    if (drawn_) std::fputs("\n", stderr);
+    drawn_ = false;
+  }
+  void operator()(long done, long total) {
+    if (!enabled_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (done != total && now - last_ < std::chrono::milliseconds(200)) return;
+    last_ = now;
+    const double wall = std::chrono::duration<double>(now - start_).count();
+    const double t = static_cast<double>(done) * H_;
+    std::fprintf(stderr, "\r%s: step %ld/%ld, t = %.4f s, real-time factor %.3g   ", label_.c_str(),
+                 done, total, t, wall > 0 ? t / wall : 0.0);
+    drawn_ = true;
+  }
+
+ private:
+  std::string label_;
+  double H_;
+  bool enabled_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
+};
+
+// Parses a case name; an unknown one is an error that lists this scene's cases.
+CaseSpec parse_case_of(const std::string& name, const Scene& scene) {
+  try {
+    return parse_case(name);
+  } catch (const std::invalid_argument& e) {
+    std::string msg = e.what();
+    msg += "; the cases of ";
+    msg += scene.source;
+    msg += " are:";
+    for (const std::string& c : case_names(scene)) {
+      msg += ' ';
+      msg += c;
+    }
+    throw std::invalid_argument(msg);
+  }
+}
+
+// The options of the run from the command line and the scene; checks that
+// they fit each other and the case.
+RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spec) {
+  RunOptions o;
+  o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
+  o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
+  o.feedthrough = *parse_feedthrough(a.feedthrough);
+  o.coupling = a.c;
+  o.coupling.method = parse_coupling_method(a.coupling, "--coupling");
+  o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
+  o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
+  check(o.coupling);
+  o.data_plane = parse_data_plane(a.data_plane);
+  o.direct.window_steps = a.window_steps;
+  if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
+    throw std::invalid_argument(
+        "--feedthrough resolved applies to explicit coupling with held inputs only");
+  if (a.macro_step > 0) {
+    const double steps = scene.end_time / o.macro_step;
+    if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+      throw std::invalid_argument("--macro-step " + std::to_string(o.macro_step) +
+                                  " does not divide the end time " +
+                                  std::to_string(scene.end_time) + " s of " + scene.source);
+  }
+  check_case_for_scene(spec, scene);
+  if (!spec.monolithic) check_transport(o.coupling, a.transport);
+  if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
+      o.feedthrough == Feedthrough::kResolved)
+    throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
+  return o;
+}
+
+// The coupling options of `master run`: explicit or implicit, the inputs,
+// the accelerator and its numbers.
+void add_coupling_options(CLI::App& run_command, RunArgs& a) {
+  CLI::App* run = &run_command;
+  run->add_option("--coupling", a.coupling,
+                  "explicit (one pass per macro step, the paper) or implicit (each macro step "
+                  "repeated from a checkpoint until the exchanged values converge)")
+      ->check(CLI::IsMember({"explicit", "implicit"}))
+      ->capture_default_str();
+  run->add_option("--inputs", a.inputs,
+                  "Inputs over a macro step: hold (zero-order hold), linear (ramp to the value "
+                  "at the step's end where it is known), extrapolate1 or extrapolate2 (ramp to "
+                  "a value extrapolated from past communication points; explicit only), "
+                  "waveform0 to waveform3 (the sender's outputs at each of its micro steps, "
+                  "interpolated with degree 0 to 3, where they are known: implicit iterations, "
+                  "Gauss-Seidel's later participants; over tcp on the relayed data plane)")
+      ->check(CLI::IsMember({"hold", "linear", "extrapolate1", "extrapolate2", "waveform0",
+                             "waveform1", "waveform2", "waveform3"}))
+      ->capture_default_str();
+  run->add_option("--accelerator", a.accelerator,
+                  "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")
+      ->check(CLI::IsMember(accelerator_names()))
+      ->capture_default_str();
+  run->add_option("--relaxation", a.c.accelerator.relaxation,
+                  "Implicit: the constant factor, and the first factor of aitken and iqn-ils")
+      ->check(CLI::Range(1e-6, 1.0))
+      ->capture_default_str();
+  run->add_option("--max-iterations", a.c.max_iterations, "Implicit: iterations per macro step")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  run->add_option("--convergence", a.c.convergence,
+                  "Implicit: converged when ||G(x) - x|| <= this x ||G(x)|| for every exchanged "
+                  "quantity")
+      ->check(CLI::Range(1e-15, 0.5))
+      ->capture_default_str();
+  run->add_option("--reused-windows", a.c.accelerator.windows_reused,
+                  "Implicit, iqn-ils: past macro steps whose iterations are reused")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, RunArgs& a) {
+  CLI::App* run = app.add_subcommand("run",
+                                     "Run one case and write DIR/CASE/{deflection.csv, "
+                                     "history.csv, summary.json}");
+  run->add_option("--scene", a.scene_path, "Scene file (TOML), e.g. scenes/paper.toml")
+      ->required()
+      ->check(CLI::ExistingFile);
+  run->add_option("--case", a.case_name,
+                  "Case to run: monolithic, or CUT-TYPE[+CUT-TYPE...]-SCHEME with CUT wr "
+                  "(wheel/rail), rs (rail/sleepers) or ss (sleepers/soil), TYPE xx or xt, SCHEME "
+                  "jacobi or gauss-seidel; e.g. rs-xx-jacobi, wr-xt+ss-xx-gauss-seidel")
+      ->required();
+  run->add_option("--macro-step", a.macro_step,
+                  "Macro step H in seconds (default: simulation.macro_step of the scene)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--tolerance", a.tolerance,
+                  "Local error bound of a micro step in metres (default: "
+                  "simulation.tolerance of the scene)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--feedthrough", a.feedthrough,
+                  "When S1's force output is read in Jacobi X-T: lagged (end of its last step) "
+                  "or resolved (after it received the fresh displacement)")
+      ->check(CLI::IsMember({"lagged", "resolved"}))
+      ->capture_default_str();
+  run->add_option("--restart", a.restart,
+                  "At communication points: consistent (restart from the acceleration the new "
+                  "inputs imply) or carry (keep the integrator's); default: simulation.restart "
+                  "of the scene, else consistent")
+      ->check(CLI::IsMember({"consistent", "carry"}));
+  add_coupling_options(*run, a);
+  run->add_option("--transport", a.transport,
+                  "inproc: both subsystems inside the master; tcp: each in its own node process")
+      ->check(CLI::IsMember({"inproc", "tcp"}))
+      ->capture_default_str();
+  run->add_option("--data-plane", a.data_plane,
+                  "tcp: direct (explicit coupling with held inputs: the nodes send each other "
+                  "their data, the master grants windows of macro steps and takes their "
+                  "reports; implicit coupling and ramped inputs: lock step, one frame per node "
+                  "and iteration, checkpoints kept by the nodes; when every node offers it) or "
+                  "relay (every value and checkpoint through the master's event-driven relay)")
+      ->check(CLI::IsMember({"direct", "relay"}))
+      ->capture_default_str();
+  run->add_option("--window-steps", a.window_steps,
+                  "Direct data plane: macro steps per window (0: the whole run in one window)")
+      ->check(CLI::Range(0L, 1000000000L))
+      ->capture_default_str();
+  run->add_option("--node", a.nodes,
+                  "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "
+                  "rail, soil); repeatable. Participants without one get a node started here")
+      ->take_all();
+  run->add_option("--vehicle", a.vehicle,
+                  "HOST:PORT of a running vehicle_node (= --node vehicle=...)");
+  run->add_option("--track", a.track, "HOST:PORT of a running track_node (= --node track=...)");
+  run->add_option("--out", a.out, "Output folder; the run writes OUT/CASE/")->capture_default_str();
+  run->add_option("--token-file", a.token_file, "Shared secret of nodes started with --token-file")
+      ->check(CLI::ExistingFile);
+  run->footer(
+      "A scene's [coupling] table (docs/scene-keys.md) stands in for --coupling, --inputs, "
+      "--accelerator, --relaxation, --max-iterations, --convergence, --reused-windows, "
+      "--feedthrough, --data-plane and --window-steps; a flag given wins.");
+  a.command = run;
+}
+
+int do_run(const RunArgs& command_line) {
+  auto log = logger("master");
+  Scene scene = load_scene(command_line.scene_path);
+  // The scene's [coupling] stands in for the flags not given.
+  const RunArgs a = with_scene_coupling(command_line, scene);
+  if (!a.restart.empty()) scene.restart = a.restart;
+  const CaseSpec spec = parse_case_of(a.case_name, scene);
+  RunOptions o;
+  try {
+    o = run_options(a, scene, spec);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(e.what() + scene_coupling_note(command_line, scene));
+  }
+  const std::map<std::string, Address> given = given_nodes(a, scene, spec);
+
+  RunRecord reference;
+  if (!spec.monolithic && !scene.outside_soil()) {
+    log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
+              o.macro_step, o.tolerance);
+    reference = run_monolithic(scene, o);
+  }
+
+  RunWriter writer(a.out, spec.name());
+  o.stop = stop_flag();
+  o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
+  o.on_channels = [&writer](const std::vector<std::string>& extra) { writer.channels(extra); };
+  auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
+  long steps_done = 0;  // for the summary of a run that fails
+  o.on_progress = [progress, &steps_done](long done, long total) {
+    steps_done = done;
+    (*progress)(done, total);
+  };
+  RunRecord record;
+  try {
+    if (spec.monolithic) {
+      record = run_monolithic(scene, o);
+    } else {
+      NodePool pool(a.token_file);   // nodes it starts share the secret of the given ones
+      if (scene.soil_model == "fe")  // writes its measures next to the run's files
+        pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(writer.dir()).string()});
+      std::optional<std::string> token;
+      if (!a.token_file.empty()) token = read_token_file(a.token_file);
+      const Transport transport = a.transport == "inproc"
+                                      ? inproc_transport(scene)
+                                      : tcp_transport(scene, given, pool, token);
+      record = run_cosim(scene, spec, o, transport.factory, transport.name);
+      if (!scene.outside_soil()) assess(record, reference, scene, spec, o);
+    }
+  } catch (const std::exception& e) {
+    RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
+    failed.macro_steps = steps_done;
+    writer.finish(failed);
+    progress->end();
+    std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
+                 spec.name().c_str(), e.what(), writer.dir().string().c_str());
+    return 1;
+  }
+  writer.finish(record);
+  progress->end();
+  print_summary(record, writer.dir());
+  return 0;
+}
+
+}  // namespace railcosim

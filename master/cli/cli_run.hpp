@@ -1,0 +1,39 @@
+// `master run`: its options and the run of one case.
+#pragma once
+
+#include "engine/coupling_options.hpp"
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace railcosim {
+
+struct RunArgs {
+  CLI::App* command = nullptr;
+  std::string scene_path;
+  std::string case_name;
+  double macro_step = 0;  // 0: from the scene
+  double tolerance = 0;   // 0: from the scene
+  std::string feedthrough = "lagged";
+  std::string restart;  // empty: from the scene
+  std::string transport = "tcp";
+  std::string vehicle, track;
+  std::vector<std::string> nodes;  // ROLE=HOST:PORT
+  std::string out = "results";
+  std::string token_file;
+  std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
+  std::string data_plane = "direct";
+  long window_steps = 0;
+  CouplingOptions c;  // the numbers; the names above are parsed into it
+};
+
+// Adds `run` to the master's command line, filling `a`.
+void add_run_command(CLI::App& app, RunArgs& a);
+// Runs the case; the exit status (0 finished, 1 failed; usage errors throw).
+int do_run(const RunArgs& a);
+
+}  // namespace railcosim

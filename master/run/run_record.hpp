@@ -1,0 +1,72 @@
+// Everything one run produces: what summary.json, deflection.csv and
+// history.csv hold.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/convergence.hpp"
+#include "participant.hpp"
+
+namespace railcosim {
+
+struct RunRecord {
+  std::string case_name;
+  std::optional<std::string> split, coupling, scheme, feedthrough;  // none for monolithic
+  double macro_step = 0;
+  double t_end = 0;  // the end time asked for
+  double wall_s = 0;
+  long macro_steps = 0;  // done
+  // Data rows history.csv holds, when it was written as the run went (a
+  // failed run's may be fewer than `history`); else history.size().
+  std::optional<long> history_rows;
+  std::map<std::string, long>
+      micro_steps;  // per subsystem ("monolithic", or "s1", "s2", ... in load order)
+  // ok; inaccurate (stable, error over the scene's bounds); amplified (the
+  // coupling makes a perturbation grow: stability.hpp); diverged;
+  // not_converged; failed.
+  std::string status = "ok";
+  std::string message;                                  // why, when not ok
+  std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
+  std::optional<double> history_error;
+  // The stability probe (stability.hpp): "stable" or "unstable", empty when
+  // it did not run; the growth factor of a perturbation of the static state,
+  // its rate (1/s) and the probe's length (s).
+  std::string stability;
+  std::optional<double> error_growth, error_growth_rate, probe_time;
+  std::string transport = "inproc";
+  std::string data_plane;              // over TCP: "direct" or "relay"
+  std::string data_plane_mode;         // direct: "windows" or "lock step"
+  std::string restart = "consistent";  // at communication points: consistent or carry
+  // How the macro step was coupled (coupling_options.hpp): explicit or
+  // implicit, hold/linear/extrapolate1/extrapolate2, and the accelerator.
+  std::string method = "explicit", inputs = "hold";
+  std::optional<std::string> accelerator;  // implicit only
+  // Implicit runs: iterations per macro step and the convergence log.
+  std::optional<double> iterations_mean;
+  std::optional<long> iterations_max, not_converged_steps;
+  std::vector<std::string> convergence_quantities;
+  using ConvergenceRow = railcosim::ConvergenceRow;  // engine/convergence.hpp
+  std::vector<ConvergenceRow> convergence;
+
+  std::vector<double> x;           // rail node positions
+  std::vector<double> deflection;  // rail node displacements at the last time
+  std::vector<HistoryRow> history;
+  // Per linear cut ("rs", "ss"): the largest displacement of its lower side
+  // over the coupling points, one value per history row (evaluation.hpp).
+  std::map<std::string, std::vector<double>> coupling_history;
+  std::vector<std::string> extra_channels;  // names of HistoryRow::extra, e.g. "soil_peak_m"
+  std::vector<double> soil;                 // soil mass displacements at the last time, if any
+  std::vector<double> soil_x;               // their positions (under the sleepers)
+  std::vector<double> sleeper_x;            // positions of the ballast_force_* channels, if any
+};
+
+// A run that ran to its end and was judged: its errors against the
+// monolithic run are comparable (ok, inaccurate or amplified).
+inline bool ran_to_end(const RunRecord& r) {
+  return r.status == "ok" || r.status == "inaccurate" || r.status == "amplified";
+}
+
+}  // namespace railcosim

@@ -1,0 +1,336 @@
+#include "run/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "engine/coupled_statics.hpp"
+#include "engine/schedule.hpp"
+#include "engine/window_schedule.hpp"
+#include "log.hpp"
+#include "monolithic.hpp"
+#include "remote/direct_exchange.hpp"
+#include "remote/reply_check.hpp"
+#include "run/evaluation.hpp"
+
+namespace railcosim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::vector<double> rail_positions(const Scene& scene) {
+  std::vector<double> x(static_cast<std::size_t>(scene.rail_nodes()));
+  for (std::size_t k = 0; k < x.size(); ++k)
+    x[k] = scene.rail_start + static_cast<double>(k) * scene.element_length();
+  return x;
+}
+
+std::vector<double> sleeper_positions(const Scene& scene) {
+  std::vector<double> x;
+  for (double p : coupling_points(scene, find_cut("rs"))) x.push_back(scene.rail_start + p);
+  return x;
+}
+
+long steps_to(const Scene& scene, double H) {
+  return std::lround(scene.end_time / H);
+}
+
+void check_stop(const RunOptions& o, long n) {
+  if (o.stop && o.stop->load() != 0) {
+    std::ostringstream s;
+    s << "interrupted by signal " << o.stop->load() << " at macro step " << n
+      << " (t = " << static_cast<double>(n) * o.macro_step << " s)";
+    throw std::runtime_error(s.str());
+  }
+}
+
+// The iterations of an implicit run into its record; a run with macro steps
+// that did not converge is not ok.
+void record_convergence(RunRecord& r, const ConvergenceLog& log, const RunOptions& o) {
+  r.convergence_quantities = log.quantities;
+  r.convergence = log.rows;
+  long sum = 0, most = 0;
+  for (int k : log.iterations) {
+    sum += k;
+    most = std::max<long>(most, k);
+  }
+  r.iterations_mean = log.iterations.empty()
+                          ? 0.0
+                          : static_cast<double>(sum) / static_cast<double>(log.iterations.size());
+  r.iterations_max = most;
+  r.not_converged_steps = log.not_converged;
+  if (log.not_converged > 0 && r.status == "ok") {
+    std::ostringstream s;
+    s << log.not_converged << " of " << log.iterations.size()
+      << " macro steps did not converge within " << o.coupling.max_iterations
+      << " iterations (to a relative residual of " << o.coupling.convergence
+      << "); the first at macro step " << log.first_not_converged + 1
+      << " (t = " << static_cast<double>(log.first_not_converged + 1) * o.macro_step << " s)";
+    r.status = "not_converged";
+    r.message = s.str();
+  }
+}
+
+}  // namespace
+
+RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                        const std::string& transport, const std::string& why) {
+  RunRecord r;
+  r.case_name = spec.name();
+  if (!spec.monolithic) {
+    r.split = spec.split_name();
+    r.coupling = spec.coupling_name();
+    r.scheme = to_string(spec.scheme);
+    r.feedthrough = to_string(o.feedthrough);
+    r.transport = transport;
+    r.method = to_string(o.coupling.method);
+    r.inputs = to_string(o.coupling.inputs);
+    if (o.coupling.method == CouplingMethod::kImplicit)
+      r.accelerator = to_string(o.coupling.accelerator.kind);
+  }
+  r.macro_step = o.macro_step;
+  r.t_end = scene.end_time;
+  r.status = "failed";
+  r.message = why;
+  return r;
+}
+
+RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
+  const auto t0 = Clock::now();
+  MonolithicModel model(scene, o.macro_step, o.tolerance);
+  RunRecord r;
+  r.case_name = "monolithic";
+  r.macro_step = o.macro_step;
+  r.t_end = scene.end_time;
+  r.extra_channels = model.extra_channels();
+  if (o.on_channels) o.on_channels(r.extra_channels);
+  const long N = steps_to(scene, o.macro_step);
+  r.history.reserve(static_cast<std::size_t>(N + 1));
+  auto record_row = [&](const HistoryRow& row) {
+    r.history.push_back(row);
+    record_coupling(r, model);  // evaluation.hpp: judged with the history
+    if (o.on_row) o.on_row(row);
+  };
+  record_row(model.history_row(0));
+  for (long n = 0; n < N; ++n) {
+    check_stop(o, n);
+    model.advance(n);
+    record_row(model.history_row(n + 1));
+    if (o.on_progress) o.on_progress(n + 1, N);
+  }
+  r.macro_steps = N;
+  r.micro_steps["monolithic"] = model.integrator().state().micro_steps;
+  r.x = rail_positions(scene);
+  r.deflection = model.rail_deflection();
+  r.soil = model.soil_deflection();
+  if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
+  if (scene.ballast_forces) r.sleeper_x = sleeper_positions(scene);
+  r.max_abs_error_m = 0.0;
+  r.rel_l2_error = 0.0;
+  r.history_error = 0.0;
+  r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+namespace {
+
+// Maps the participants' declared history channels onto the history rows:
+// the wheel's two channels into their fields, every other one into extra.
+class HistoryAssembler {
+ public:
+  explicit HistoryAssembler(const std::vector<Participant*>& ps) {
+    for (std::size_t p = 0; p < ps.size(); ++p) {
+      const Channels c = ps[p]->channels();
+      for (std::size_t k = 0; k < c.history.size(); ++k) {
+        const std::string& name = c.history[k];
+        int slot = -1;
+        if (name == "wheel_m")
+          slot = -2;
+        else if (name == "contact_force_N")
+          slot = -3;
+        else {
+          slot = static_cast<int>(extra_.size());
+          extra_.push_back(name);
+        }
+        map_.push_back({p, k, slot});
+      }
+    }
+  }
+  const std::vector<std::string>& extra_names() const { return extra_; }
+
+  HistoryRow row(double t, const std::vector<StepResult>& r,
+                 const std::vector<Participant*>& ps) const {
+    HistoryRow row;
+    row.t = t;
+    row.extra.assign(extra_.size(), 0.0);
+    for (const auto& m : map_) {
+      const auto& h = r[m.participant].history;
+      if (m.index >= h.size())
+        throw std::runtime_error(ps[m.participant]->name() + " reported " +
+                                 std::to_string(h.size()) + " history value(s), fewer than the " +
+                                 "channels it declared");
+      const double v = h[m.index];
+      if (m.slot == -2)
+        row.wheel = v;
+      else if (m.slot == -3)
+        row.contact_force = v;
+      else
+        row.extra[static_cast<std::size_t>(m.slot)] = v;
+    }
+    return row;
+  }
+
+ private:
+  struct Map {
+    std::size_t participant, index;
+    int slot;
+  };
+  std::vector<Map> map_;
+  std::vector<std::string> extra_;
+};
+
+}  // namespace
+
+RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                    const ParticipantFactory& make, const std::string& transport) {
+  const auto t0 = Clock::now();
+  auto log = logger("master");
+  check_transport(o.coupling, transport);  // before any node is started
+  RunRecord r = failed_record(scene, spec, o, transport, "");
+  r.status = "ok";
+  r.restart = scene.restart;
+
+  const std::vector<ParticipantSpec> specs = partition(scene, spec);
+  std::vector<std::unique_ptr<Participant>> owned;
+  std::vector<Participant*> ps;
+  for (const ParticipantSpec& p : specs) {
+    SubsystemConfig c;
+    c.participant = p;
+    c.macro_step = o.macro_step;
+    c.tolerance = o.tolerance;
+    c.micro_steps = scene.micro_steps;
+    c.carry_acceleration = scene.restart == "carry";
+    owned.push_back(make(c));
+    ps.push_back(owned.back().get());
+  }
+  Routing routing = make_routing(specs);
+  std::vector<CouplingData> zero;
+  for (const ParticipantSpec& p : specs) zero.push_back(zero_inputs(scene, p));
+  const StaticsOutcome statics = find_static_state(ps, routing, zero);
+  log->debug("{}: static state after {} interface iterations (residual {})", r.case_name,
+             statics.iterations, statics.residual);
+
+  require_distinct_channels(ps);  // reply_check.hpp
+  HistoryAssembler history(ps);
+  r.extra_channels = history.extra_names();
+  if (o.on_channels) o.on_channels(r.extra_channels);
+  std::vector<std::string> roles;
+  for (const ParticipantSpec& p : specs) roles.push_back(p.role);
+  auto schedule =
+      make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles, o.macro_step);
+  auto record_row = [&](long n, const std::vector<StepResult>& m) {
+    HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
+    r.history.push_back(row);
+    record_coupling(r, specs, m);  // evaluation.hpp: judged with the history
+    if (o.on_row) o.on_row(row);
+  };
+  const std::vector<StepResult> initial = schedule->initialize(statics.inputs);
+  record_row(0, initial);
+  double static_max = 0;
+  for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
+  const double bound = divergence_bound(scene, static_max);
+  const long N = steps_to(scene, o.macro_step);
+  std::unique_ptr<DirectExchange> direct;
+  bool lockstep = false;
+  if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
+    // Explicit coupling with held inputs runs in windows over peer links;
+    // the couplings the master decides step by step (implicit, ramped) in
+    // lock step. A node that offers neither is worth a word.
+    const bool windows =
+        o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
+    if (windows)
+      direct = DirectExchange::make(ps, schedule->plan(), bound, N, o.direct);
+    else
+      lockstep = enter_lockstep(ps, 0, N);
+    if (!direct && !lockstep)
+      log->info("{}: relayed data plane (a node does not offer the direct one)", r.case_name);
+    else if (lockstep)
+      log->debug("{}: direct data plane in lock step (the master decides every macro step)",
+                 r.case_name);
+  }
+  if (transport == "tcp") {
+    r.data_plane = to_string(direct || lockstep ? DataPlane::kDirect : DataPlane::kRelay);
+    if (direct || lockstep) r.data_plane_mode = direct ? "windows" : "lock step";
+  }
+  // The same plan either way: run by the master (in process or relayed), or
+  // by the nodes over their peer links.
+  MacroSteps* steps = schedule.get();
+  if (direct) steps = direct.get();
+  long n = 0;
+  for (; n < N; ++n) {
+    check_stop(o, n);
+    std::vector<StepResult> m;
+    try {
+      m = steps->advance(n);
+    } catch (const StepFailure& e) {
+      // A subsystem whose micro steps run away: the co-simulation diverges.
+      std::ostringstream s;
+      s << "diverged at macro step " << n + 1
+        << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): " << e.what();
+      r.status = "diverged";
+      r.message = s.str();
+      log->warn("{}: {}", r.case_name, r.message);
+      ++n;
+      break;
+    }
+    record_row(n + 1, m);
+    if (o.on_progress) o.on_progress(n + 1, N);
+    bool finite = true;
+    double umax = 0;
+    for (const StepResult& x : m) {
+      finite = finite && x.finite;
+      umax = std::max(umax, x.max_abs_displacement);
+    }
+    if (!finite || umax > bound) {
+      std::ostringstream s;
+      s << "diverged at macro step " << n + 1
+        << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): ";
+      if (!finite)
+        s << "a state value is not finite";
+      else
+        s << "|u| = " << umax << " m exceeds " << scene.divergence_factor
+          << " x the largest static displacement (" << bound << " m)";
+      r.status = "diverged";
+      r.message = s.str();
+      log->warn("{}: {}", r.case_name, r.message);
+      ++n;
+      break;
+    }
+  }
+  r.macro_steps = n;
+  if (direct) direct->drain();
+  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
+  for (std::size_t p = 0; p < ps.size(); ++p) {
+    ParticipantResults res;
+    try {
+      res = ps[p]->results();
+    } catch (const std::exception& e) {
+      // A node that gave up on a diverging step has ended its session.
+      if (r.status != "diverged") throw;
+      log->warn("{}: no final results after the divergence: {}", r.case_name, e.what());
+    }
+    r.micro_steps["s" + std::to_string(p + 1)] = res.micro_steps;
+    const Channels c = ps[p]->channels();
+    for (std::size_t k = 0; k < c.results.size() && k < res.fields.size(); ++k) {
+      if (c.results[k] == "rail_w_m") r.deflection = res.fields[k];
+      if (c.results[k] == "soil_m") r.soil = res.fields[k];
+    }
+  }
+  r.x = rail_positions(scene);
+  if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
+  if (scene.ballast_forces) r.sleeper_x = sleeper_positions(scene);
+  r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace railcosim

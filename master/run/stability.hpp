@@ -1,0 +1,65 @@
+// Whether a coupling is stable, told apart from whether it is accurate.
+//
+// The size of a run's error against the monolithic run says how accurate a
+// coupling is, not whether it is stable: a consistent first-order coupling at
+// a large macro step can be far off and perfectly stable. Stability is a
+// growth rate. The probe runs the same case, in process, with the vehicle
+// parked at its start (speed 0) from the coupled static state, where the
+// monolithic solution stays at rest: every deviation from that state is the
+// coupling's own error, seeded by round-off. A stable coupling keeps it at
+// round-off; an unstable one multiplies it by orders of magnitude.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cosim_case.hpp"
+#include "run/run_record.hpp"
+#include "run/runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+
+struct Stability {
+  bool unstable = false;
+  double growth = 1;      // largest deviation over the last quarter / over the first
+  double rate_per_s = 0;  // ln(growth) per second between the two quarters
+  double duration_s = 0;  // the probe's length
+  long steps = 0;         // its macro steps
+};
+
+// Deviations are relative to the static state; the first quarter's largest
+// is taken as at least this round-off floor (explicit coupling), or as at
+// least the convergence criterion of an implicit one, whose accepted
+// iterates stand that far from the exact coupled step.
+inline constexpr double kProbeFloor = 1e-13;
+// Unstable: the deviation grows by more than this over the probe. A stable
+// coupling stays within a factor of about 10 of round-off (measured on the
+// paper scene), an unstable one grows by 1e5 to 1e17.
+inline constexpr double kUnstableGrowth = 1e3;
+// The probe lasts at least this long and at least kProbeMinSteps macro
+// steps, at most the scene's end time.
+inline constexpr double kProbeTime = 0.05;
+inline constexpr long kProbeMinSteps = 100;
+
+// Growth of a series of relative deviations sampled every dt seconds.
+Stability classify_growth(const std::vector<double>& deviation, double dt,
+                          double floor = kProbeFloor);
+
+// The relative deviation from the first row of every channel of a run: the
+// wheel, the contact force, the extra history channels and the coupling
+// history; per row the largest over the channels that are non-zero at rest.
+std::vector<double> deviation_from_rest(const RunRecord& run);
+
+// The scene with the vehicle parked at its start and the probe's end time.
+Scene parked_scene(const Scene& scene, double macro_step);
+
+// Runs the probe for a co-simulation case with the run's options.
+Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
+
+// Probes the case and judges the run (evaluation.hpp): what `master run`
+// and the study do for a co-simulation whose soil runs in the master.
+void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
+            const RunOptions& options);
+
+}  // namespace railcosim

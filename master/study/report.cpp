@@ -1,0 +1,261 @@
+#include "study/report.hpp"
+#include "study/report_front.hpp"
+#include "study/report_methods.hpp"
+#include "study/report_slopes.hpp"
+#include "study/report_spectra.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "log.hpp"
+#include "run/run_output.hpp"
+#include "scene.hpp"
+#include "study/study_plan.hpp"
+
+namespace railcosim {
+namespace {
+
+// Runs a shell command; true on exit status 0.
+bool shell(const std::string& cmd) {
+  return std::system(cmd.c_str()) == 0;
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The interpreter that has matplotlib: Debian's first, then whatever is on PATH.
+std::string find_python() {
+  for (const char* py : {"/usr/bin/python3", "python3"})
+    if (shell(std::string(py) + " -c 'import matplotlib' >/dev/null 2>&1")) return py;
+  return "";
+}
+
+std::string figure_script(const std::string& given) {
+  if (!given.empty()) return given;
+  if (const char* env = std::getenv("RAILCOSIM_FIGURES")) return env;
+  return std::string(RAILCOSIM_SOURCE_DIR) + "/scripts/figures.py";
+}
+
+// Draws FOLDER/figures/*.png from FOLDER/summary.csv. Returns "" when drawn,
+// otherwise the sentence saying why not.
+std::string draw_figures(const std::filesystem::path& folder, const std::string& script) {
+  auto log = logger("master");
+  std::string note;
+  const std::string py = find_python();
+  if (py.empty()) {
+    note =
+        "Figures were not drawn: no Python with matplotlib was found (install Debian's "
+        "python3-matplotlib). Every CSV is written; run `/usr/bin/python3 scripts/figures.py ";
+    note += folder.string();
+    note += "` once it is installed.";
+  } else if (!shell(py + " " + quote(script) + " " + quote(folder.string()))) {
+    note = "Figures were not drawn: ";
+    note += script;
+    note += " failed on ";
+    note += folder.string();
+    note += " (see the messages above).";
+  }
+  if (!note.empty()) log->warn("{}", note);
+  return note;
+}
+
+std::string scene_line(const Scene& s) {
+  std::ostringstream md;
+  md << s.sleeper_count << " sleepers (" << s.track_length() << " m of rail), " << s.speed * 3.6
+     << " km/h, t_end = " << s.end_time << " s, macro step H = " << s.macro_step
+     << " s, micro-step tolerance " << s.tolerance << " m";
+  return md.str();
+}
+
+// The sections of one scene (the study's, or one variant of a sweep), headed
+// at level H; FIGURES is the figures' folder relative to REPORT.md.
+void scene_sections(std::ostringstream& md, const std::string& h, const Scene& scene,
+                    const std::vector<StudyRun>& runs, const std::string& transport,
+                    const std::string& figures, const std::string& figures_note,
+                    const std::filesystem::path& dir) {
+  md << h
+     << " The paper's conclusions\n\n| conclusion | paper | ours | judged with | verdict "
+        "|\n|---|---|---|---|---|\n";
+  std::vector<StudyRun> there;  // a missing case leaves the comparison "not checked"
+  for (const StudyRun& r : runs)
+    if (r.record.status != "missing") there.push_back(r);
+  for (const Finding& f : check_findings(there))
+    md << "| " << f.claim << " | " << f.paper << " | " << f.evidence << " | " << f.judged << " | **"
+       << f.verdict << "** |\n";
+
+  md << "\n"
+     << h << " Runs at H = " << scene.macro_step << " s\n\n"
+     << "| method | status | rel. L2 error | max abs error (m) | history error | wall (s) | micro "
+        "steps |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const auto& r : runs) {
+    if (r.group != "case") continue;
+    const RunRecord& x = r.record;
+    std::string micro;
+    for (const auto& [k, v] : x.micro_steps)
+      micro += (micro.empty() ? "" : ", ") + k + " " + std::to_string(v);
+    md << "| " << r.method << " | " << x.status << " | "
+       << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–") << " | "
+       << (x.max_abs_error_m ? sci(*x.max_abs_error_m) : "–") << " | "
+       << (x.history_error ? sci(*x.history_error) : "–") << " | " << sci(x.wall_s) << " | "
+       << micro << " |\n";
+  }
+
+  md << "\n" << h << " Figures\n\n";
+  if (figures_note.empty()) {
+    md << "Rail deflection at t_end, every case over the monolithic one (the paper's Figure 5):\n\n"
+       << "![deflection](" << figures << "/deflection.png)\n\n"
+       << "Deflection error against the monolithic run, per cut and schedule (the paper's Figure "
+          "6):\n\n"
+       << "![errors](" << figures << "/errors.png)\n\n"
+       << "Speed against accuracy, one panel per cut: each point a macro step of the sweep, the "
+          "monolithic run across tolerances the reference in every panel; the runs of the "
+          "report's answer (the cheapest to reach each accuracy) drawn bold and labelled:\n\n"
+       << "![speed and accuracy](" << figures << "/speed_accuracy.png)\n\n"
+       << "Stability map: macro step against method:\n\n![stability](" << figures
+       << "/stability_map.png)\n\n"
+       << "Contact force: the monolithic run, the best and the worst co-simulation:\n\n"
+       << "![contact force](" << figures << "/contact_force.png)\n";
+  } else {
+    md << figures_note << "\n";
+  }
+
+  // The stability map as a table too (it is read without the figure).
+  std::set<double> hs;
+  std::map<std::string, std::map<double, std::string>> map;
+  std::vector<std::string> order;
+  for (const auto& r : runs) {
+    if (r.group == "tolerance" || r.group == "converged" || r.method == "monolithic") continue;
+    hs.insert(r.record.macro_step);
+    if (!map.count(r.method)) order.push_back(r.method);
+    map[r.method][r.record.macro_step] = r.record.status;
+  }
+  md << "\n" << h << " Stability map\n\n| method |";
+  for (double H : hs) md << " H = " << H << " s |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < hs.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& m : order) {
+    md << "| " << m << " |";
+    for (double H : hs) md << " " << (map[m].count(H) ? map[m][H] : "–") << " |";
+    md << "\n";
+  }
+
+  write_front_table(md, study_front(runs, transport), runs, transport, h);
+  write_method_sections(md, runs, h);
+  write_slopes_section(md, error_slopes(runs), h);
+  const bool spectra_figure =
+      figures_note.empty() && std::filesystem::exists(dir / "figures" / "spectra.png");
+  write_spectra_section(md, dir, spectra_figure ? figures + "/spectra.png" : "", h);
+}
+
+// Runs that are missing or failed, and a stage still to run.
+void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
+                        const std::vector<StudyRun>& runs) {
+  int missing = 0, failed = 0;
+  for (const auto& r : runs) {
+    missing += r.record.status == "missing";
+    failed += r.record.status == "failed";
+  }
+  if (missing + failed > 0) {
+    md << "## Incomplete study\n\n"
+       << missing << " of " << runs.size() << " runs are missing and " << failed
+       << " failed; the tables below are drawn from the runs there are.\n\n"
+       << "| folder | status | why |\n|---|---|---|\n";
+    for (const auto& r : runs)
+      if (r.record.status == "missing" || r.record.status == "failed")
+        md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
+    md << "\n";
+  }
+  const std::string other = info.transport == "tcp" ? "inproc" : "tcp";
+  if (info.stage2_pending)
+    md << "Stage 2 of the plan, the cheapest methods rerun over `" << other
+       << "`, is written to `plan-2.txt` and not run yet: run its commands like those of "
+          "`plan.txt`, then collect again.\n\n";
+  else if (!info.stage1_complete)
+    md << "Stage 2 of the plan (the cheapest methods rerun over `" << other
+       << "`) is planned once every run of stage 1 is there.\n\n";
+}
+
+}  // namespace
+
+void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs) {
+  const std::string script = figure_script(info.figure_script);
+  const bool swept = !info.sweeps.empty();
+  const Scene base = load_scene((info.dir / "scene.toml").string());
+
+  std::ostringstream md;
+  md << "# Study of the `" << base.name << "` scene\n\n";
+  md << "Scene file `" << info.source_scene << "` (copied to `scene.toml`): " << scene_line(base)
+     << ". Co-simulation runs over `" << info.transport << "`. Errors are relative L2 norms of the "
+     << "rail deflection at t_end against the monolithic run with the same H and tolerance; the "
+     << "speed/accuracy chart measures every run against a converged monolithic run (tolerance "
+     << info.converged_tolerance << " m) instead.\n\n";
+  if (swept) {
+    md << "Swept scene values:";
+    for (const SweepAxis& a : info.sweeps) {
+      md << " `" << a.key << "` =";
+      for (std::size_t i = 0; i < a.values.size(); ++i) md << (i ? ", " : " ") << a.values[i];
+      md << ";";
+    }
+    md << " each combination is a scene variant with its own folder, `scene.toml`, "
+          "`summary.csv`, figures and section below.\n\n";
+  }
+  if (swept) incomplete_section(md, info, runs);
+
+  for (const auto& [label, vdir] : info.variants) {
+    std::vector<StudyRun> vr;  // folders relative to the variant's, as figures.py reads them
+    for (const StudyRun& r : runs)
+      if (r.variant == label) {
+        vr.push_back(r);
+        if (!vdir.empty()) vr.back().folder = r.folder.substr(vdir.size() + 1);
+      }
+    // front.csv first: the figures draw the report's answer from it.
+    write_front_csv(info.dir / vdir / "front.csv", study_front(vr, info.transport));
+    if (const auto slopes = error_slopes(vr); !slopes.empty())
+      write_slopes_csv(info.dir / vdir / "error_slopes.csv", slopes);
+    if (swept) {
+      write_summary_csv(info.dir / vdir / "summary.csv", vr);
+      const std::string note = draw_figures(info.dir / vdir, script);
+      const Scene scene = load_scene((info.dir / vdir / "scene.toml").string());
+      md << "## " << label << "\n\nScene variant `" << vdir << "/scene.toml`: " << scene_line(scene)
+         << ".\n\n";
+      write_answer(md, study_front(vr, info.transport), info.transport);
+      scene_sections(md, "###", scene, vr, info.transport, vdir + "/figures", note,
+                     info.dir / vdir);
+      md << "\n";
+    } else {
+      const std::string note = draw_figures(info.dir, script);
+      write_answer(md, study_front(vr, info.transport), info.transport);
+      incomplete_section(md, info, runs);
+      scene_sections(md, "##", base, vr, info.transport, "figures", note, info.dir);
+    }
+  }
+
+  md << "\n## Every run\n\n| folder |" << (swept ? " variant |" : "")
+     << " case | feedthrough | H (s) | tolerance (m) | wall (s) | micro steps | rel. L2 error | "
+        "error vs converged | status |\n|---|"
+     << (swept ? "---|" : "") << "---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : runs) {
+    const RunRecord& x = r.record;
+    long micro = 0;
+    for (const auto& [k, v] : x.micro_steps) micro += v;
+    const bool has = ran_to_end(x);
+    md << "| " << r.folder << " | " << (swept ? r.variant + " | " : "") << x.case_name << " | "
+       << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
+       << sci(x.wall_s) << " | " << micro << " | " << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–")
+       << " | " << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
+       << (x.status == "failed" || x.status == "missing" ? " (" + x.message + ")" : "") << " |\n";
+  }
+  write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
+}
+
+}  // namespace railcosim

@@ -1,0 +1,271 @@
+#include "study/study.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+#include <tuple>
+
+#include "log.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/remote_participant.hpp"
+#include "remote/transport.hpp"
+#include "run/evaluation.hpp"
+#include "run/run_output.hpp"
+#include "run/runner.hpp"
+#include "run/stability.hpp"
+#include "study/report.hpp"
+#include "study/report_methods.hpp"
+#include "study/study_plan.hpp"
+
+namespace railcosim {
+namespace {}  // namespace
+
+std::string Method::label() const {
+  std::string s = spec.name();
+  if (feedthrough == Feedthrough::kResolved) s += "-resolved";
+  if (!coupling.is_plain()) {
+    s += '+';
+    s += coupling.label();
+  }
+  return s;
+}
+
+namespace {
+
+std::vector<Method> methods_of(const std::vector<std::string>& names) {
+  std::vector<Method> m;
+  for (const std::string& n : names) {
+    if (n == "monolithic") continue;
+    const CaseSpec c = parse_case(n);
+    m.push_back({c, Feedthrough::kLagged, {}});
+    if (c.scheme == Scheme::kJacobi && c.has_force_feedthrough())
+      m.push_back({c, Feedthrough::kResolved, {}});
+  }
+  return m;
+}
+
+}  // namespace
+
+std::vector<Method> all_methods() {
+  return methods_of(paper_case_names());
+}
+
+std::vector<Method> methods_for(const Scene& scene) {
+  std::vector<Method> m = methods_of(case_names(scene));
+  const std::size_t plain = m.size();
+  for (std::size_t k = 0; k < plain; ++k) {
+    const Method& base = m[k];
+    if (base.spec.cuts.size() != 1 || base.spec.scheme != Scheme::kJacobi ||
+        base.feedthrough != Feedthrough::kLagged)
+      continue;
+    Method implicit = base;
+    implicit.coupling.method = CouplingMethod::kImplicit;
+    implicit.coupling.inputs = InputMode::kLinear;
+    implicit.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
+    Method extrapolated = base;
+    extrapolated.coupling.inputs = InputMode::kExtrapolate1;
+    // The same implicit coupling with each sender's micro-step outputs as a
+    // cubic waveform (in process only: run_transport()).
+    Method waveform = implicit;
+    waveform.coupling.inputs = InputMode::kWaveform3;
+    m.push_back(implicit);
+    m.push_back(extrapolated);
+    m.push_back(waveform);
+  }
+  return m;
+}
+
+std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
+  return waveform_degree(coupling.inputs) >= 0 ? "inproc" : transport;
+}
+
+std::vector<double> default_macro_steps(const Scene& scene) {
+  std::vector<double> out;
+  for (double H : {1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3}) {
+    const double n = scene.end_time / H;
+    if (std::abs(n - std::round(n)) <= 1e-9 * n && n >= 1) out.push_back(H);
+  }
+  if (std::find(out.begin(), out.end(), scene.macro_step) == out.end()) {
+    out.push_back(scene.macro_step);
+    std::sort(out.begin(), out.end());
+  }
+  return out;
+}
+
+void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs) {
+  std::ostringstream f;  // written whole, checked, at the end
+  f << "group,folder,method,case,split,coupling,scheme,feedthrough,macro_step_s,tolerance_m,"
+       "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
+       "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
+       "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart,variant,"
+       "stability,error_growth\n";
+  auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
+  auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
+  auto steps = [](const RunRecord& r, const char* k) {
+    const auto it = r.micro_steps.find(k);
+    return it == r.micro_steps.end() ? std::string() : std::to_string(it->second);
+  };
+  auto quoted = [](std::string s) {
+    for (auto& c : s)
+      if (c == '"' || c == '\n') c = '\'';
+    return "\"" + s + "\"";
+  };
+  for (const StudyRun& s : runs) {
+    const RunRecord& r = s.record;
+    f << s.group << "," << s.folder << "," << s.method << "," << r.case_name << "," << opt(r.split)
+      << "," << opt(r.coupling) << "," << opt(r.scheme) << "," << opt(r.feedthrough) << ","
+      << format_double(r.macro_step) << "," << format_double(s.tolerance) << ","
+      << format_double(r.t_end) << "," << format_double(r.wall_s) << "," << r.macro_steps << ","
+      << steps(r, "monolithic") << "," << steps(r, "s1") << "," << steps(r, "s2") << "," << r.status
+      << "," << optd(r.max_abs_error_m) << "," << optd(r.rel_l2_error) << ","
+      << optd(r.history_error) << ","
+      << (ran_to_end(r) ? format_double(s.rel_l2_error_converged) : std::string()) << ","
+      << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
+      << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
+      << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
+      << "," << s.variant << "," << r.stability << "," << optd(r.error_growth) << "\n";
+  }
+  write_file_atomically(file, f.str());
+}
+
+namespace {
+
+// A monolithic reference, computed once by whichever worker needs it first.
+struct Reference {
+  std::once_flag once;
+  RunRecord record;
+};
+
+// Runs a plan here, JOBS at a time, each worker with its own nodes. Each run
+// writes what `master run` with the plan's command line writes: the same
+// options, the same reference (the monolithic run of its scene at its H and
+// tolerance), the same folder.
+void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
+  auto log = logger("master");
+  std::map<std::string, Scene> scenes;  // by scene file
+  for (const PlannedRun& r : plan.runs)
+    if (!scenes.count(r.scene)) scenes.emplace(r.scene, load_scene((plan.out / r.scene).string()));
+  std::map<std::tuple<std::string, double, double>, Reference> references;
+  for (const PlannedRun& r : plan.runs)
+    if (r.case_name != "monolithic") references[{r.scene, r.macro_step, r.tolerance}];
+
+  const std::size_t total = plan.runs.size();
+  const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(total)));
+  std::vector<NodePool> pools(static_cast<std::size_t>(workers));
+  log->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene, plan.stage, total,
+            workers);
+  std::atomic<std::size_t> next{0}, done{0};
+  std::mutex out_mutex;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  auto work = [&](int w) {
+    for (std::size_t j; (j = next++) < total;) {
+      const PlannedRun& run = plan.runs[j];
+      const Scene& scene = scenes.at(run.scene);
+      const CaseSpec spec = parse_case(run.case_name);
+      RunOptions o;
+      o.macro_step = run.macro_step;
+      o.tolerance = run.tolerance;
+      o.feedthrough = run.feedthrough;
+      o.coupling = run.coupling;
+      const std::filesystem::path prefix =
+          plan.out / std::filesystem::path(run.folder).parent_path();
+      // The writer outlives a failure, so that a failed run keeps its history.
+      std::optional<RunWriter> writer;
+      long steps_done = 0;  // for the summary of a run that fails
+      o.on_progress = [&steps_done](long d, long) { steps_done = d; };
+      try {
+        writer.emplace(prefix, run.case_name);
+        o.stop = opt.stop;
+        o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
+        o.on_channels = [&writer](const std::vector<std::string>& extra) {
+          writer->channels(extra);
+        };
+        RunRecord r;
+        if (spec.monolithic) {
+          r = run_monolithic(scene, o);
+        } else {
+          const Transport t = run.transport == "tcp"
+                                  ? tcp_transport(scene, {}, pools[static_cast<std::size_t>(w)])
+                                  : inproc_transport(scene);
+          r = run_cosim(scene, spec, o, t.factory, t.name);
+          if (!scene.outside_soil()) {
+            Reference& ref = references.at({run.scene, run.macro_step, run.tolerance});
+            std::call_once(ref.once, [&] {
+              RunOptions m;
+              m.macro_step = run.macro_step;
+              m.tolerance = run.tolerance;
+              ref.record = run_monolithic(scene, m);
+            });
+            assess(r, ref.record, scene, spec, o);
+          }
+        }
+        writer->finish(r);
+      } catch (const std::exception& e) {
+        log->error("{} failed: {}", run.folder, e.what());
+        try {
+          RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
+          failed.macro_steps = steps_done;
+          if (writer)
+            writer->finish(failed);
+          else
+            RunWriter(prefix, run.case_name).finish(failed);
+        } catch (const std::exception& e2) {
+          log->error("{}: no summary written: {}", run.folder, e2.what());
+        }
+      }
+      const std::size_t d = ++done;
+      if (tty) {
+        std::lock_guard lock(out_mutex);
+        std::fprintf(stderr, "\rstudy: %zu/%zu runs done   ", d, total);
+        if (d == total) std::fputs("\n", stderr);
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers; ++w) threads.emplace_back(work, w);
+  for (auto& t : threads) t.join();
+}
+
+}  // namespace
+
+CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt) {
+  // A study starts its own nodes: it cannot reach a soil that is a program of its own.
+  if (load_scene(scene_path).soil_model == "fe")
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene's soil is the FE soil (soil.model = \"fe\"): master study runs its cases by "
+        "the hundred, too many for a finite-element soil; study it with scripts/run-main.sh OUT " +
+        scene_path + " (python3 -m fe_soil.study --scene " + scene_path +
+        " --out OUT --master build/bin/master), or run each case with master run");
+  if (load_scene(scene_path).soil_model == "external")
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
+        "nodes and cannot reach that program; run each case with master run --node "
+        "soil=HOST:PORT");
+  std::error_code ec;
+  std::filesystem::remove(plan_file(opt.out, 2), ec);  // stage 2 follows from this stage 1
+  const StudyPlan plan = make_plan(scene_path, opt);
+  write_plan(plan);
+  execute_plan(plan, opt);
+  // Collecting stage 1 writes stage 2 (it needs stage 1's wall times).
+  const CollectedStudy first = collect_study(opt.out, opt.figure_script, false);
+  if (first.stage2_pending && !(opt.stop && opt.stop->load() != 0)) {
+    StudyPlan second = read_plan(plan_file(opt.out, 2));
+    second.out = opt.out;
+    StudyOptions one = opt;
+    one.jobs = 1;  // one at a time, so that their wall times compare with stage 1's
+    execute_plan(second, one);
+  }
+  return collect_study(opt.out, opt.figure_script);
+}
+
+}  // namespace railcosim

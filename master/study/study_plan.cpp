@@ -1,0 +1,326 @@
+#include "study/study_plan.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "run/run_output.hpp"
+#include "scene.hpp"
+#include "study/report_methods.hpp"
+
+namespace railcosim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string short_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string read_text(const std::string& p) {
+  std::ifstream in(p);
+  if (!in) throw std::invalid_argument(p + ": cannot open");
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A folder name for a value: characters a shell and a file system take as they are.
+std::string folder_word(const std::string& s) {
+  std::string out = s;
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return out;
+}
+
+// A value given on the command line, as TOML: a whole number, a number,
+// true/false, or else a string.
+void assign(toml::table& t, const std::string& leaf, const std::string& value,
+            const toml::node* old, const std::string& key) {
+  const char* begin = value.c_str();
+  char* end = nullptr;
+  auto bad = [&](const char* what) {
+    std::string m = "--sweep ";
+    m += key;
+    m += '=';
+    m += value;
+    m += ": the scene gives ";
+    m += key;
+    m += " as ";
+    m += what;
+    return std::invalid_argument(m);
+  };
+  errno = 0;
+  const long long i = std::strtoll(begin, &end, 10);
+  const bool is_int = !value.empty() && *end == '\0' && errno == 0;
+  const double d = std::strtod(begin, &end);
+  const bool is_num = !value.empty() && *end == '\0' && std::isfinite(d);
+  const bool is_bool = value == "true" || value == "false";
+  if (old && old->is_integer()) {
+    if (!is_int) throw bad("a whole number");
+    t.insert_or_assign(leaf, static_cast<int64_t>(i));
+  } else if (old && old->is_floating_point()) {
+    if (!is_num) throw bad("a number");
+    t.insert_or_assign(leaf, d);
+  } else if (old && old->is_boolean()) {
+    if (!is_bool) throw bad("true or false");
+    t.insert_or_assign(leaf, value == "true");
+  } else if (old && old->is_string()) {
+    t.insert_or_assign(leaf, value);
+  } else if (old) {
+    throw bad("a table or an array, which cannot be swept");
+  } else if (is_int) {
+    t.insert_or_assign(leaf, static_cast<int64_t>(i));
+  } else if (is_num) {
+    t.insert_or_assign(leaf, d);
+  } else if (is_bool) {
+    t.insert_or_assign(leaf, value == "true");
+  } else {
+    t.insert_or_assign(leaf, value);
+  }
+}
+
+// The scene text with each KEY set to VALUE (the scene's parser then
+// rejects keys it does not know, naming them).
+std::string with_values(const std::string& text, const std::string& source,
+                        const std::vector<std::pair<std::string, std::string>>& values) {
+  toml::table root = toml::parse(text, source);
+  for (const auto& [key, value] : values) {
+    toml::table* t = &root;
+    std::stringstream parts(key);
+    std::vector<std::string> path;
+    for (std::string p; std::getline(parts, p, '.');) path.push_back(p);
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+      if (!t->contains(path[k])) t->insert(path[k], toml::table{});
+      t = (*t)[path[k]].as_table();
+      if (!t) throw std::invalid_argument("--sweep " + key + ": " + path[k] + " is not a table");
+    }
+    assign(*t, path.back(), value, t->get(path.back()), key);
+  }
+  std::ostringstream s;
+  s << root << "\n";
+  return s.str();
+}
+
+struct Variant {
+  std::string label, dir;  // "key=v;key=v" and its folder ("" without a sweep)
+  std::vector<std::pair<std::string, std::string>> values;
+};
+
+std::vector<Variant> variants_of(const std::vector<SweepAxis>& axes) {
+  std::vector<Variant> out{{}};
+  for (const SweepAxis& a : axes) {
+    std::vector<Variant> next;
+    for (const Variant& v : out)
+      for (const std::string& value : a.values) {
+        Variant w = v;
+        w.values.emplace_back(a.key, value);
+        if (!w.label.empty()) w.label += ';';
+        w.label += a.key;
+        w.label += '=';
+        w.label += value;
+        if (!w.dir.empty()) w.dir += '+';
+        std::string word = a.key;
+        word += '_';
+        word += value;
+        w.dir += folder_word(word);
+        next.push_back(std::move(w));
+      }
+    out = std::move(next);
+  }
+  return out;
+}
+
+bool divides(double H, double t_end) {
+  const double n = t_end / H;
+  return std::abs(n - std::round(n)) <= 1e-9 * n && n >= 1;
+}
+
+// The folder of a method below its group's: CASE, resolved/CASE, or
+// COUPLING/CASE (e.g. implicit-linear-iqn-ils/wr-xx-jacobi).
+std::string method_folder(const Method& m) {
+  std::string f;
+  if (m.feedthrough == Feedthrough::kResolved) f = "resolved/";
+  if (!m.coupling.is_plain()) f = m.coupling.label() + "/";
+  return f + m.spec.name();
+}
+
+// The words of a command line as a POSIX shell splits them (single quotes
+}  // namespace
+
+SweepAxis parse_sweep(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw std::invalid_argument("--sweep " + text +
+                                ": expected KEY=V1,V2,..., e.g. vehicle.speed_kmh=160,200");
+  SweepAxis a;
+  a.key = text.substr(0, eq);
+  std::stringstream values(text.substr(eq + 1));
+  for (std::string v; std::getline(values, v, ',');) {
+    if (v.empty() || v.find_first_of(" \t\n;'\"") != std::string::npos)
+      throw std::invalid_argument("--sweep " + text + ": value '" + v +
+                                  "' is empty or holds a space, quote or ';'");
+    a.values.push_back(v);
+  }
+  return a;
+}
+
+StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
+  StudyPlan plan;
+  plan.out = o.out;
+  plan.source_scene = scene_path;
+  plan.master = o.master_program.empty() ? "master" : o.master_program;
+  plan.transport = o.transport;
+  plan.macro_steps = o.macro_steps;
+  plan.tolerances = o.tolerances;
+  plan.converged_tolerance = o.converged_tolerance;
+  plan.sweeps = o.sweeps;
+
+  const std::string base = read_text(scene_path);
+  // The user's scene must be sound before anything else.
+  if (parse_scene(base, scene_path).coupling.given)
+    throw std::invalid_argument(
+        scene_path +
+        ": the scene has a [coupling] table, which sets how master run couples one case; a "
+        "study runs every coupling method itself and would have its runs take the table's "
+        "values: study a copy of the scene without it");
+  plan.scene_files.emplace_back("scene.toml", base);
+
+  for (const Variant& v : variants_of(o.sweeps)) {
+    const std::string prefix = v.dir.empty() ? "" : v.dir + "/";
+    const std::string scene_rel = prefix + "scene.toml";
+    Scene scene;
+    if (v.dir.empty()) {
+      scene = parse_scene(base, scene_path);
+    } else {
+      const std::string text = with_values(base, scene_path, v.values);
+      try {
+        scene = parse_scene(text, (o.out / scene_rel).string());
+      } catch (const SceneError& e) {
+        std::string m = "--sweep ";
+        m += v.label;
+        m += ": ";
+        m += e.what();
+        throw SceneError(m);
+      }
+      plan.scene_files.emplace_back(scene_rel,
+                                    "# " + scene_path + " with " + v.label + " (--sweep)\n" + text);
+    }
+    const std::vector<double> sweep =
+        o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
+    for (double H : sweep)
+      if (!divides(H, scene.end_time))
+        throw std::invalid_argument(
+            "--macro-steps: " + short_number(H) + " s does not divide the end time " +
+            short_number(scene.end_time) + " s of " + (v.dir.empty() ? scene_path : v.label));
+    const std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
+    auto add = [&](const std::string& group, const std::string& where, const Method* m, double H,
+                   double tol, const std::string& scene_file) {
+      PlannedRun r;
+      r.variant = v.label;
+      r.variant_dir = v.dir;
+      r.group = group;
+      r.scene = scene_file;
+      r.method = m ? m->label() : "monolithic";
+      r.case_name = m ? m->spec.name() : "monolithic";
+      if (m) {
+        r.feedthrough = m->feedthrough;
+        r.coupling = m->coupling;
+      }
+      r.transport = m ? run_transport(m->coupling, o.transport) : o.transport;
+      r.folder = prefix + where + (m ? method_folder(*m) : "monolithic");
+      r.macro_step = H;
+      r.tolerance = tol;
+      plan.runs.push_back(std::move(r));
+    };
+    add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
+    for (const Method& m : methods)
+      add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
+    for (double H : sweep) {
+      if (H == scene.macro_step) continue;  // the cases are that column of the sweep
+      for (const Method& m : methods)
+        if (m.coupling.method != CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
+          add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
+    }
+    // The paper's "almost 10" at the rail/sleepers cut with X-X under both
+    // restart conventions, 10 fixed micro steps per macro step of 1e-4 s.
+    const auto names = case_names(scene);
+    if (o.restart_check && std::count(names.begin(), names.end(), "rs-xx-jacobi") &&
+        divides(1e-4, scene.end_time)) {
+      for (const char* restart : {"consistent", "carry"}) {
+        const std::string dir = prefix + "restart/" + restart + "/";
+        const std::string text = with_values(
+            base, scene_path,
+            v.values.empty() ? std::vector<std::pair<std::string, std::string>>{} : v.values);
+        std::vector<std::pair<std::string, std::string>> fixed{{"simulation.micro_steps", "10"},
+                                                               {"simulation.restart", restart}};
+        plan.scene_files.emplace_back(
+            dir + "scene.toml", "# " + scene_path + (v.label.empty() ? "" : " with " + v.label) +
+                                    ", 10 fixed micro steps, restart = " + restart + "\n" +
+                                    with_values(text, scene_path, fixed));
+        for (const char* c : {"rs-xx-jacobi", "rs-xx-gauss-seidel"}) {
+          Method m;
+          m.spec = parse_case(c);
+          add("restart", "restart/" + std::string(restart) + "/", &m, 1e-4, scene.tolerance,
+              dir + "scene.toml");
+        }
+      }
+    }
+    for (double tol : o.tolerances)
+      add("tolerance", "sweep/tol_" + short_number(tol) + "/", nullptr, scene.macro_step, tol,
+          scene_rel);
+    add("converged", "converged/", nullptr, scene.macro_step, o.converged_tolerance, scene_rel);
+  }
+  return plan;
+}
+
+StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyRun>& runs) {
+  StudyPlan p = stage1;
+  p.stage = 2;
+  p.runs.clear();
+  p.scene_files.clear();
+  const std::string other = stage1.transport == "tcp" ? "inproc" : "tcp";
+  std::map<std::string, std::vector<StudyRun>> by_variant;
+  std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
+  std::vector<std::string> order;
+  for (std::size_t i = 0; i < runs.size() && i < stage1.runs.size(); ++i) {
+    // Runs over another transport than the study's (substep waveforms, in
+    // process only) are neither compared in wall time with it nor rerun.
+    if (stage1.runs[i].transport != stage1.transport) continue;
+    const std::string& v = stage1.runs[i].variant;
+    if (!by_variant.count(v)) order.push_back(v);
+    by_variant[v].push_back(runs[i]);
+    index[v].push_back(i);
+  }
+  for (const std::string& v : order) {
+    std::set<std::size_t> done;
+    for (double level : accuracy_levels()) {
+      const std::vector<StudyRun>& vr = by_variant[v];
+      const StudyRun* best = cheapest_reaching(vr, level);
+      if (!best) continue;
+      const std::size_t i = index[v][static_cast<std::size_t>(best - vr.data())];
+      if (!done.insert(i).second) continue;
+      PlannedRun r = stage1.runs[i];
+      r.group = "other-transport";
+      r.transport = other;
+      const std::string prefix = r.variant_dir.empty() ? "" : r.variant_dir + "/";
+      std::string below = r.folder.substr(prefix.size());  // [sweep/H_x/]METHOD_FOLDER
+      if (below.rfind("sweep/", 0) == 0) below = below.substr(below.find('/', 6) + 1);
+      r.folder =
+          prefix + "other-transport/" + other + "/H_" + short_number(r.macro_step) + "/" + below;
+      p.runs.push_back(std::move(r));
+    }
+  }
+  return p;
+}
+
+}  // namespace railcosim
