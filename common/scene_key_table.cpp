@@ -10,7 +10,7 @@
 namespace railcosim {
 namespace {
 
-std::string text(double v) {
+std::string number_text(double v) {
   return key_number_text(v);
 }
 
@@ -148,7 +148,7 @@ void vehicle_keys(std::vector<Entry>& v) {
 
 void irregularity_keys(std::vector<Entry>& v) {
   const std::string random = "model = \"random\"";
-  const std::string depth = "|value| ≤ " + text(kMaxProfileDepth) + " m";
+  const std::string depth = "|value| ≤ " + number_text(kMaxProfileDepth) + " m";
   v.push_back(choice("irregularity", "model", {"none", "random", "csv", "dipped_joint", "sine"},
                      "irregularity model", "the rail's vertical profile (none: smooth)"));
   v.push_back(integer("irregularity", "fra_class", "the FRA track class of the spectrum")
@@ -180,13 +180,13 @@ void irregularity_keys(std::vector<Entry>& v) {
   v.push_back(integer("irregularity", "components", "the cosines the profile sums")
                   .range(closed(1, 1000000, "must lie between 1 and 1000000"))
                   .fallback(2048)
-                  .note("grid points × components ≤ " + text(kMaxProfileWork))
+                  .note("grid points × components ≤ " + number_text(kMaxProfileWork))
                   .when(random));
   v.push_back(number("irregularity", "grid_step", "m",
                      "the spacing of the table the profile is interpolated from")
                   .range(positive())
                   .fallback_text("wavelength_min / 20")
-                  .note("at most " + text(kMaxProfilePoints) + " grid points over the wheels' path")
+                  .note("at most " + number_text(kMaxProfilePoints) + " grid points over the wheels' path")
                   .when(random));
   v.push_back(key("irregularity", "file", KeyType::string, "",
                   "a CSV of rows x_m,r_m, relative to the scene file's folder")
@@ -270,12 +270,12 @@ void simulation_keys(std::vector<Entry>& v) {
                      "the bound on the local error of one micro step (rotations weighed by the "
                      "element length)")
                   .range(positive())
-                  .note("≥ " + text(kMinRelativeTolerance) + " × the static deflection"));
+                  .note("≥ " + number_text(kMinRelativeTolerance) + " × the static deflection"));
   v.push_back(
       integer("simulation", "micro_steps", "that many equal micro steps per macro step")
           .range(closed(1, 65536, "must lie between 1 and 65536, or be left out (adaptive)"))
           .fallback_text("adaptive")
-          .note("macro steps × micro_steps ≤ " + text(kMaxFixedMicroSteps)));
+          .note("macro steps × micro_steps ≤ " + number_text(kMaxFixedMicroSteps)));
   v.push_back(choice("simulation", "restart", {"consistent", "carry"}, "",
                      "at communication points: restart from the acceleration the new inputs imply, "
                      "or keep the integrator's"));

@@ -30,10 +30,6 @@ namespace {
 // Refusals kept word for word in the error of a link that never opens.
 constexpr std::size_t kRefusalsNamed = 5;
 
-std::string participant_text(const std::string& p) {
-  return "the " + p + " participant";
-}
-
 // Best effort: a short frame to a fresh connection, which has room for it.
 void send_quietly(int fd, const wire::Envelope& e) {
   try {

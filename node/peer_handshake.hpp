@@ -31,6 +31,11 @@ inline constexpr std::size_t kPeerHandshakeFrameBytes = 4096;
 // else the oldest (a connecting node tries again until its link deadline).
 inline constexpr std::size_t kMaxPeerHandshakes = 256;
 
+// "the vehicle participant": how peer-link errors name a participant.
+inline std::string participant_text(const std::string& p) {
+  return "the " + p + " participant";
+}
+
 class PeerHandshakes {
  public:
   // `open[k]`: link k of `plan` is open (or is one this node connects).

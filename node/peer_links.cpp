@@ -117,13 +117,6 @@ PeerInbox::Offered PeerInbox::take(Clock::time_point deadline) {
 
 namespace {
 
-std::string participant_text(const std::string& p) {
-  std::string s = "the ";
-  s += p;
-  s += " participant";
-  return s;
-}
-
 milliseconds left(Clock::time_point deadline) {
   return std::max(milliseconds(1),
                   std::chrono::duration_cast<milliseconds>(deadline - Clock::now()));

@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   cmake g++ make pkg-config
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-tidy
   libeigen3-dev
   libboost-dev
   libprotobuf-dev protobuf-compiler
