@@ -1,7 +1,5 @@
 #include "cli/conform.hpp"
 
-#include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -140,15 +138,9 @@ std::filesystem::path whole_run(const Subject& s, const std::string& plane,
   return out / plane / s.o.case_name;
 }
 
-}  // namespace
-
-std::string conform_case(const std::string& role, const std::string& soil_model) {
-  if (role == "soil") return soil_model == "fe" ? "ss-xt-jacobi" : "ss-xx-jacobi";
-  if (role == "rail") return "wr-xx+rs-xx-jacobi";
-  return "wr-xx-jacobi";
-}
-
-std::vector<ConformItem> run_conformance(const ConformOptions& options) {
+// The subject of the checks: the scene, and the role's participant in the
+// case with the scene's step options.
+Subject subject_of(const ConformOptions& options) {
   Subject s{options, load_scene(options.scene_path), {}};
   const std::vector<ParticipantSpec> parts = partition(s.scene, parse_case(options.case_name));
   for (const ParticipantSpec& p : parts)
@@ -160,12 +152,17 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
   s.config.tolerance = s.scene.tolerance;
   s.config.micro_steps = s.scene.micro_steps;
   s.config.carry_acceleration = s.scene.restart == "carry";
+  return s;
+}
 
+// The items run so far, and the subject they are run on.
+struct Checks {
+  const Subject& s;
   std::vector<ConformItem> items;
+
   // Runs one item: `check` returns "" when it holds, else why not; an
   // exception is a failure with its message.
-  auto item = [&](const char* section, const char* what,
-                  const std::function<std::string()>& check) {
+  bool item(const char* section, const char* what, const std::function<std::string()>& check) {
     ConformItem i{section, what, Verdict::kPass, ""};
     try {
       i.detail = check();
@@ -181,59 +178,75 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
     }
     items.push_back(i);
     return i.verdict == Verdict::kPass;
-  };
-  auto skip = [&](const char* section, const char* what, const std::string& why) {
+  }
+  void skip(const char* section, const char* what, const std::string& why) {
     items.push_back({section, what, Verdict::kSkipped, why});
-  };
-  const std::string& role = s.config.participant.role;
+  }
+};
 
-  item("§4", "hello: another protocol version is refused (VERSION_MISMATCH)", [&] {
+// §4: the hello and the challenge refuse what they must.
+void check_hello(Checks& checks) {
+  const Subject& s = checks.s;
+  const std::string& role = s.config.participant.role;
+  checks.item("§4", "hello: another protocol version is refused (VERSION_MISMATCH)", [&] {
     wire::Envelope reply;
     auto c = open(s, role, reply, kProtocolVersion + 1);
     return is_error(reply, wire::Error::VERSION_MISMATCH);
   });
-  item("§4", "hello: another participant is refused (WRONG_ROLE)", [&] {
+  checks.item("§4", "hello: another participant is refused (WRONG_ROLE)", [&] {
     wire::Envelope reply;
     auto c = open(s, role == "vehicle" ? "soil" : "vehicle", reply);
     return is_error(reply, wire::Error::WRONG_ROLE);
   });
-  if (options.token)
-    item("§4", "auth: a wrong answer to the challenge is refused (UNAUTHORIZED)", [&] {
-      auto c = Connection::connect(options.address, std::chrono::milliseconds(5000));
+  if (s.o.token)
+    checks.item("§4", "auth: a wrong answer to the challenge is refused (UNAUTHORIZED)", [&] {
+      auto c = Connection::connect(s.o.address, std::chrono::milliseconds(5000));
       c->send(hello_envelope(role, scene_fingerprint(s.scene)));
-      if (!c->receive(options.reply).has_challenge()) return std::string("no challenge");
+      if (!c->receive(s.o.reply).has_challenge()) return std::string("no challenge");
       wire::Envelope auth;
       auth.mutable_auth()->set_mac(std::string(32, 'x'));
       c->send(auth);
-      return is_error(c->receive(options.reply), wire::Error::UNAUTHORIZED);
+      return is_error(c->receive(s.o.reply), wire::Error::UNAUTHORIZED);
     });
   else
-    skip("§4", "auth: a wrong answer to the challenge is refused", "no --token-file given");
+    checks.skip("§4", "auth: a wrong answer to the challenge is refused", "no --token-file given");
+}
 
+// §5, §2, §7, §8: a session configured, held against a second master,
+// through its statics and initialized; none when the configure failed.
+std::unique_ptr<RemoteParticipant> start_session(Checks& checks) {
+  const Subject& s = checks.s;
   std::unique_ptr<RemoteParticipant> p;
   RemoteTimeouts t;
   t.reply = t.step_min = t.step_max = std::chrono::milliseconds(10000);
-  const bool configured = item("§5", "hello and configure accepted, outputs declared", [&] {
-    p = std::make_unique<RemoteParticipant>(options.address, s.scene, s.config, t, options.token);
+  const bool configured = checks.item("§5", "hello and configure accepted, outputs declared", [&] {
+    p = std::make_unique<RemoteParticipant>(s.o.address, s.scene, s.config, t, s.o.token);
     return std::string();
   });
-  if (!configured) return items;
-  item("§2", "a second master during the session is answered BUSY", [&] {
+  if (!configured) return nullptr;
+  checks.item("§2", "a second master during the session is answered BUSY", [&] {
     wire::Envelope reply;
-    auto c = open(s, role, reply);
+    auto c = open(s, s.config.participant.role, reply);
     return is_error(reply, wire::Error::BUSY);
   });
-  item("§7", "statics: outputs for held inputs, of the declared shape", [&] {
+  checks.item("§7", "statics: outputs for held inputs, of the declared shape", [&] {
     p->statics(inputs_for(s, 0));
     return std::string();
   });
-  item("§8", "initialize: the state at step 0", [&] {
+  checks.item("§8", "initialize: the state at step 0", [&] {
     p->initialize(inputs_for(s, 0));
     return std::string();
   });
+  return p;
+}
+
+// §9, §10, §14, §11: relayed macro steps, a save and restore, the reply
+// deadline, the results; ends the session.
+void check_steps(Checks& checks, std::unique_ptr<RemoteParticipant>& p) {
+  const Subject& s = checks.s;
   Clock::duration slowest{};
-  const long steps = options.steps;
-  item("§9", "macro steps, relayed: every report finite and of the declared shape", [&] {
+  const long steps = s.o.steps;
+  checks.item("§9", "macro steps, relayed: every report finite and of the declared shape", [&] {
     for (long n = 0; n < steps; ++n) {
       const auto t0 = Clock::now();
       p->set_inputs(n, inputs_for(s, n));
@@ -243,7 +256,7 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
     }
     return std::string();
   });
-  item("§10", "save and restore: the steps after a restore repeat bit for bit", [&] {
+  checks.item("§10", "save and restore: the steps after a restore repeat bit for bit", [&] {
     const ParticipantState saved = p->save();
     std::vector<StepResult> first, again;
     for (long n = steps; n < steps + 3; ++n) {
@@ -261,14 +274,13 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
                " differs after the restore";
     return std::string();
   });
-  item("§14", "every step answered within the reply deadline", [&] {
+  checks.item("§14", "every step answered within the reply deadline", [&] {
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(slowest);
-    return ms <= options.reply
-               ? std::string()
-               : "the slowest step took " + std::to_string(ms.count()) + " ms (--reply-ms " +
-                     std::to_string(options.reply.count()) + ")";
+    return ms <= s.o.reply ? std::string()
+                           : "the slowest step took " + std::to_string(ms.count()) +
+                                 " ms (--reply-ms " + std::to_string(s.o.reply.count()) + ")";
   });
-  item("§11", "results of the declared fields, then shutdown", [&] {
+  checks.item("§11", "results of the declared fields, then shutdown", [&] {
     const ParticipantResults r = p->results();
     const std::size_t declared = p->channels().results.size();
     p.reset();  // sends Shutdown and waits for its Ack
@@ -276,39 +288,70 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
                                        : std::to_string(r.fields.size()) + " result fields, " +
                                              std::to_string(declared) + " declared";
   });
-  item("§13", "a non-finite input is refused (BAD_REQUEST)", [&] {
+}
+
+// §13, §17: inputs and peer links a participant must refuse.
+void check_refusals(Checks& checks) {
+  const Subject& s = checks.s;
+  checks.item("§13", "a non-finite input is refused (BAD_REQUEST)", [&] {
     CouplingData bad = inputs_for(s, 0);
     for (InterfaceData& d : bad)
       for (auto* v : {&d.displacement, &d.velocity, &d.force})
         if (!v->empty()) (*v)[0] = std::nan("");
     return refuses(s, bad);
   });
-  item("§13", "an input of the wrong length is refused (BAD_REQUEST)", [&] {
+  checks.item("§13", "an input of the wrong length is refused (BAD_REQUEST)", [&] {
     CouplingData bad = inputs_for(s, 0);
     for (InterfaceData& d : bad)
       for (auto* v : {&d.displacement, &d.velocity, &d.force})
         if (!v->empty()) v->pop_back();
     return refuses(s, bad);
   });
-  item("§17", "peer links: a wrong session key and an unexpected peer are refused", [&] {
+  checks.item("§17", "peer links: a wrong session key and an unexpected peer are refused", [&] {
     auto c = initialized(s);
-    return check_peer_refusals(*c, s.config, options);
+    return check_peer_refusals(*c, s.config, s.o);
   });
-  item("§17", "a whole run on the direct data plane equals the relayed run bit for bit", [&] {
-    const auto out = std::filesystem::temp_directory_path() /
-                     ("railcosim-conform-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(out);
-    const auto relay = whole_run(s, "relay", out, options.token_file);
-    const auto direct = whole_run(s, "direct", out, options.token_file);
-    std::string why;
-    if (read_all(direct / "summary.json").find("\"data_plane\": \"direct\"") == std::string::npos)
-      why = std::string(kSkipped) + "the participant does not offer the direct plane";
-    else if (read_all(direct / "history.csv") != read_all(relay / "history.csv"))
-      why = "history.csv differs between the planes";
-    std::filesystem::remove_all(out);
-    return why;
-  });
-  return items;
+}
+
+// §17: the whole case on both data planes, bit for bit.
+void check_planes(Checks& checks) {
+  const Subject& s = checks.s;
+  checks.item("§17", "a whole run on the direct data plane equals the relayed run bit for bit",
+              [&] {
+                const auto out = std::filesystem::temp_directory_path() /
+                                 ("railcosim-conform-" + std::to_string(::getpid()));
+                std::filesystem::create_directories(out);
+                const auto relay = whole_run(s, "relay", out, s.o.token_file);
+                const auto direct = whole_run(s, "direct", out, s.o.token_file);
+                std::string why;
+                if (read_all(direct / "summary.json").find("\"data_plane\": \"direct\"") ==
+                    std::string::npos)
+                  why = std::string(kSkipped) + "the participant does not offer the direct plane";
+                else if (read_all(direct / "history.csv") != read_all(relay / "history.csv"))
+                  why = "history.csv differs between the planes";
+                std::filesystem::remove_all(out);
+                return why;
+              });
+}
+
+}  // namespace
+
+std::string conform_case(const std::string& role, const std::string& soil_model) {
+  if (role == "soil") return soil_model == "fe" ? "ss-xt-jacobi" : "ss-xx-jacobi";
+  if (role == "rail") return "wr-xx+rs-xx-jacobi";
+  return "wr-xx-jacobi";
+}
+
+std::vector<ConformItem> run_conformance(const ConformOptions& options) {
+  const Subject s = subject_of(options);
+  Checks checks{s, {}};
+  check_hello(checks);
+  std::unique_ptr<RemoteParticipant> p = start_session(checks);
+  if (!p) return checks.items;
+  check_steps(checks, p);
+  check_refusals(checks);
+  check_planes(checks);
+  return checks.items;
 }
 
 int report_conformance(const std::vector<ConformItem>& items, const ConformOptions& o) {
@@ -325,61 +368,6 @@ int report_conformance(const std::vector<ConformItem>& items, const ConformOptio
   }
   std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
   return failed == 0 ? 0 : 1;
-}
-
-}  // namespace railcosim
-
-namespace railcosim {
-
-void add_conform_command(CLI::App& app, ConformArgs& a) {
-  a.command = app.add_subcommand(
-      "conform",
-      "Check a participant that serves at HOST:PORT against the protocol's checklist "
-      "(docs/protocol.md §18): one line per item, PASS/FAIL/SKIP, with the section it tests");
-  a.command->add_option("--scene", a.scene_path, "Scene file the participant is checked with")
-      ->required()
-      ->check(CLI::ExistingFile);
-  a.command
-      ->add_option("--node", a.node,
-                   "ROLE=HOST:PORT of the participant (vehicle, track, "
-                   "rail, soil)")
-      ->required();
-  a.command->add_option("--case", a.case_name,
-                        "Case it is checked in (default: ss-xx-jacobi for soil, ss-xt-jacobi for "
-                        "the FE soil, "
-                        "wr-xx+rs-xx-jacobi for rail, wr-xx-jacobi otherwise)");
-  a.command->add_option("--token-file", a.token_file, "Its shared secret, if it has one")
-      ->check(CLI::ExistingFile);
-  a.command
-      ->add_option("--reply-ms", a.reply_ms,
-                   "The slowest reply a check allows, ms (a participant slower than this "
-                   "per macro step fails the deadline item)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  a.command->add_option("--steps", a.steps, "Macro steps of the relayed check")
-      ->check(CLI::Range(4, 100000))
-      ->capture_default_str();
-}
-
-int do_conform(const ConformArgs& a) {
-  ConformOptions o;
-  o.scene_path = a.scene_path;
-  const auto eq = a.node.find('=');
-  if (eq == std::string::npos)
-    throw std::invalid_argument("--node " + a.node + ": expected ROLE=HOST:PORT");
-  o.role = a.node.substr(0, eq);
-  o.address = parse_address(a.node.substr(eq + 1), "--node " + o.role);
-  o.case_name =
-      a.case_name.empty() ? conform_case(o.role, load_scene(a.scene_path).soil_model) : a.case_name;
-  if (!a.token_file.empty()) {
-    o.token = read_token_file(a.token_file);
-    o.token_file = a.token_file;
-  }
-  o.reply = std::chrono::milliseconds(a.reply_ms);
-  o.steps = a.steps;
-  std::error_code ec;
-  o.master_program = std::filesystem::read_symlink("/proc/self/exe", ec).string();
-  return report_conformance(run_conformance(o), o);
 }
 
 }  // namespace railcosim

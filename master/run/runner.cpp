@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "engine/coupled_statics.hpp"
@@ -189,99 +190,96 @@ class HistoryAssembler {
   std::vector<std::string> extra_;
 };
 
-}  // namespace
-
-RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
-                    const ParticipantFactory& make, const std::string& transport) {
-  const auto t0 = Clock::now();
-  auto log = logger("master");
-  check_transport(o.coupling, transport);  // before any node is started
-  RunRecord r = failed_record(scene, spec, o, transport, "");
-  r.status = "ok";
-  r.restart = scene.restart;
-
-  const std::vector<ParticipantSpec> specs = partition(scene, spec);
+// The participants of a co-simulation in load order, their routing and
+// their coupled static state (declared in the order they are torn down last).
+struct Participants {
+  std::vector<ParticipantSpec> specs;
   std::vector<std::unique_ptr<Participant>> owned;
   std::vector<Participant*> ps;
-  for (const ParticipantSpec& p : specs) {
+  Routing routing;
+  StaticsOutcome statics;
+};
+
+// Set-up: the case's participants, made by `make`, and their static state.
+Participants start_participants(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                                const ParticipantFactory& make, const std::string& case_name) {
+  Participants P;
+  P.specs = partition(scene, spec);
+  for (const ParticipantSpec& p : P.specs) {
     SubsystemConfig c;
     c.participant = p;
     c.macro_step = o.macro_step;
     c.tolerance = o.tolerance;
     c.micro_steps = scene.micro_steps;
     c.carry_acceleration = scene.restart == "carry";
-    owned.push_back(make(c));
-    ps.push_back(owned.back().get());
+    P.owned.push_back(make(c));
+    P.ps.push_back(P.owned.back().get());
   }
-  Routing routing = make_routing(specs);
+  P.routing = make_routing(P.specs);
   std::vector<CouplingData> zero;
-  for (const ParticipantSpec& p : specs) zero.push_back(zero_inputs(scene, p));
-  const StaticsOutcome statics = find_static_state(ps, routing, zero);
-  log->debug("{}: static state after {} interface iterations (residual {})", r.case_name,
-             statics.iterations, statics.residual);
+  for (const ParticipantSpec& p : P.specs) zero.push_back(zero_inputs(scene, p));
+  P.statics = find_static_state(P.ps, P.routing, zero);
+  logger("master")->debug("{}: static state after {} interface iterations (residual {})", case_name,
+                          P.statics.iterations, P.statics.residual);
+  return P;
+}
 
-  require_distinct_channels(ps);  // reply_check.hpp
-  HistoryAssembler history(ps);
-  r.extra_channels = history.extra_names();
-  if (o.on_channels) o.on_channels(r.extra_channels);
-  std::vector<std::string> roles;
-  for (const ParticipantSpec& p : specs) roles.push_back(p.role);
-  auto schedule =
-      make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles, o.macro_step);
-  auto record_row = [&](long n, const std::vector<StepResult>& m) {
-    HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, ps);
-    r.history.push_back(row);
-    record_coupling(r, specs, m);  // evaluation.hpp: judged with the history
-    if (o.on_row) o.on_row(row);
-  };
-  const std::vector<StepResult> initial = schedule->initialize(statics.inputs);
-  record_row(0, initial);
-  double static_max = 0;
-  for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
-  const double bound = divergence_bound(scene, static_max);
-  const long N = steps_to(scene, o.macro_step);
+// The direct data plane when the run asks for it on TCP: explicit coupling
+// with held inputs in windows over peer links (returned), the couplings the
+// master decides step by step (implicit, ramped) in lock step. Records the
+// plane the run took.
+std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions& o,
+                                                 const std::string& transport,
+                                                 const Participants& P, const Schedule& schedule,
+                                                 double bound, long N) {
   std::unique_ptr<DirectExchange> direct;
   bool lockstep = false;
   if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
-    // Explicit coupling with held inputs runs in windows over peer links;
-    // the couplings the master decides step by step (implicit, ramped) in
-    // lock step. A node that offers neither is worth a word.
+    // A node that offers neither is worth a word.
     const bool windows =
         o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
     if (windows)
-      direct = DirectExchange::make(ps, schedule->plan(), bound, N, o.direct);
+      direct = DirectExchange::make(P.ps, schedule.plan(), bound, N, o.direct);
     else
-      lockstep = enter_lockstep(ps, 0, N);
+      lockstep = enter_lockstep(P.ps, 0, N);
     if (!direct && !lockstep)
-      log->info("{}: relayed data plane (a node does not offer the direct one)", r.case_name);
+      logger("master")->info("{}: relayed data plane (a node does not offer the direct one)",
+                             r.case_name);
     else if (lockstep)
-      log->debug("{}: direct data plane in lock step (the master decides every macro step)",
-                 r.case_name);
+      logger("master")->debug(
+          "{}: direct data plane in lock step (the master decides every macro step)", r.case_name);
   }
   if (transport == "tcp") {
     r.data_plane = to_string(direct || lockstep ? DataPlane::kDirect : DataPlane::kRelay);
     if (direct || lockstep) r.data_plane_mode = direct ? "windows" : "lock step";
   }
-  // The same plan either way: run by the master (in process or relayed), or
-  // by the nodes over their peer links.
-  MacroSteps* steps = schedule.get();
-  if (direct) steps = direct.get();
-  long n = 0;
-  for (; n < N; ++n) {
+  return direct;
+}
+
+// Marks the run diverged at macro step n + 1 for `why`.
+void diverged(RunRecord& r, const RunOptions& o, long n, const std::string& why) {
+  std::ostringstream s;
+  s << "diverged at macro step " << n + 1 << " (t = " << static_cast<double>(n + 1) * o.macro_step
+    << " s): " << why;
+  r.status = "diverged";
+  r.message = s.str();
+  logger("master")->warn("{}: {}", r.case_name, r.message);
+}
+
+// The stepping loop: macro steps 0 .. N - 1, each recorded, until the end
+// or a divergence; returns the macro steps done.
+long step_through(RunRecord& r, MacroSteps& steps, const Scene& scene, const RunOptions& o, long N,
+                  double bound,
+                  const std::function<void(long, const std::vector<StepResult>&)>& record_row) {
+  for (long n = 0; n < N; ++n) {
     check_stop(o, n);
     std::vector<StepResult> m;
     try {
-      m = steps->advance(n);
+      m = steps.advance(n);
     } catch (const StepFailure& e) {
       // A subsystem whose micro steps run away: the co-simulation diverges.
-      std::ostringstream s;
-      s << "diverged at macro step " << n + 1
-        << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): " << e.what();
-      r.status = "diverged";
-      r.message = s.str();
-      log->warn("{}: {}", r.case_name, r.message);
-      ++n;
-      break;
+      diverged(r, o, n, e.what());
+      return n + 1;
     }
     record_row(n + 1, m);
     if (o.on_progress) o.on_progress(n + 1, N);
@@ -293,34 +291,35 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
     }
     if (!finite || umax > bound) {
       std::ostringstream s;
-      s << "diverged at macro step " << n + 1
-        << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): ";
       if (!finite)
         s << "a state value is not finite";
       else
         s << "|u| = " << umax << " m exceeds " << scene.divergence_factor
           << " x the largest static displacement (" << bound << " m)";
-      r.status = "diverged";
-      r.message = s.str();
-      log->warn("{}: {}", r.case_name, r.message);
-      ++n;
-      break;
+      diverged(r, o, n, s.str());
+      return n + 1;
     }
   }
-  r.macro_steps = n;
-  if (direct) direct->drain();
-  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
-  for (std::size_t p = 0; p < ps.size(); ++p) {
+  return N;
+}
+
+// The record's completion: the participants' final results (none from a
+// node that gave up on a diverging step) and the positions of the fields.
+void complete_record(RunRecord& r, const Scene& scene, const Participants& P) {
+  for (std::size_t p = 0; p < P.ps.size(); ++p) {
     ParticipantResults res;
     try {
-      res = ps[p]->results();
+      res = P.ps[p]->results();
     } catch (const std::exception& e) {
       // A node that gave up on a diverging step has ended its session.
       if (r.status != "diverged") throw;
-      log->warn("{}: no final results after the divergence: {}", r.case_name, e.what());
+      logger("master")->warn("{}: no final results after the divergence: {}", r.case_name,
+                             e.what());
     }
-    r.micro_steps["s" + std::to_string(p + 1)] = res.micro_steps;
-    const Channels c = ps[p]->channels();
+    std::string key = "s";  // s1, s2, ...: appended, which spares GCC 12 a false -Wrestrict
+    key += std::to_string(p + 1);
+    r.micro_steps[key] = res.micro_steps;
+    const Channels c = P.ps[p]->channels();
     for (std::size_t k = 0; k < c.results.size() && k < res.fields.size(); ++k) {
       if (c.results[k] == "rail_w_m") r.deflection = res.fields[k];
       if (c.results[k] == "soil_m") r.soil = res.fields[k];
@@ -329,6 +328,49 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   r.x = rail_positions(scene);
   if (!r.soil.empty()) r.soil_x = sleeper_positions(scene);
   if (scene.ballast_forces) r.sleeper_x = sleeper_positions(scene);
+}
+
+}  // namespace
+
+RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                    const ParticipantFactory& make, const std::string& transport) {
+  const auto t0 = Clock::now();
+  check_transport(o.coupling, transport);  // before any node is started
+  RunRecord r = failed_record(scene, spec, o, transport, "");
+  r.status = "ok";
+  r.restart = scene.restart;
+  const Participants P = start_participants(scene, spec, o, make, r.case_name);
+
+  require_distinct_channels(P.ps);  // reply_check.hpp
+  HistoryAssembler history(P.ps);
+  r.extra_channels = history.extra_names();
+  if (o.on_channels) o.on_channels(r.extra_channels);
+  std::vector<std::string> roles;
+  for (const ParticipantSpec& p : P.specs) roles.push_back(p.role);
+  auto schedule =
+      make_schedule(spec.scheme, o.feedthrough, o.coupling, P.ps, P.routing, roles, o.macro_step);
+  auto record_row = [&](long n, const std::vector<StepResult>& m) {
+    HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
+    r.history.push_back(row);
+    record_coupling(r, P.specs, m);  // evaluation.hpp: judged with the history
+    if (o.on_row) o.on_row(row);
+  };
+  const std::vector<StepResult> initial = schedule->initialize(P.statics.inputs);
+  record_row(0, initial);
+  double static_max = 0;
+  for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
+  const double bound = divergence_bound(scene, static_max);
+  const long N = steps_to(scene, o.macro_step);
+  const std::unique_ptr<DirectExchange> direct =
+      start_data_plane(r, o, transport, P, *schedule, bound, N);
+  // The same plan either way: run by the master (in process or relayed), or
+  // by the nodes over their peer links.
+  MacroSteps* steps = schedule.get();
+  if (direct) steps = direct.get();
+  r.macro_steps = step_through(r, *steps, scene, o, N, bound, record_row);
+  if (direct) direct->drain();
+  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
+  complete_record(r, scene, P);
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;
 }

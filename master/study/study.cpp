@@ -144,83 +144,96 @@ struct Reference {
   RunRecord record;
 };
 
+// What the workers of a plan share: its scenes by file, and the monolithic
+// references by scene file, H and tolerance.
+struct PlanScenes {
+  std::map<std::string, Scene> scenes;
+  std::map<std::tuple<std::string, double, double>, Reference> references;
+};
+
+// The record of one planned run: the monolithic model, or a co-simulation
+// judged against the monolithic reference of its scene (a soil outside
+// the master's models aside).
+RunRecord record_of(const PlannedRun& run, const Scene& scene, const CaseSpec& spec,
+                    const RunOptions& o, NodePool& pool, PlanScenes& shared) {
+  if (spec.monolithic) return run_monolithic(scene, o);
+  const Transport t =
+      run.transport == "tcp" ? tcp_transport(scene, {}, pool) : inproc_transport(scene);
+  RunRecord r = run_cosim(scene, spec, o, t.factory, t.name);
+  if (!scene.outside_soil()) {
+    Reference& ref = shared.references.at({run.scene, run.macro_step, run.tolerance});
+    std::call_once(ref.once, [&] {
+      RunOptions m;
+      m.macro_step = run.macro_step;
+      m.tolerance = run.tolerance;
+      ref.record = run_monolithic(scene, m);
+    });
+    assess(r, ref.record, scene, spec, o);
+  }
+  return r;
+}
+
+// Runs one planned run with the worker's nodes and writes its folder; a run
+// that fails leaves a failed record with the history it had.
+void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
+                 NodePool& pool, PlanScenes& shared) {
+  auto log = logger("master");
+  const Scene& scene = shared.scenes.at(run.scene);
+  const CaseSpec spec = parse_case(run.case_name);
+  RunOptions o;
+  o.macro_step = run.macro_step;
+  o.tolerance = run.tolerance;
+  o.feedthrough = run.feedthrough;
+  o.coupling = run.coupling;
+  const std::filesystem::path prefix = plan.out / std::filesystem::path(run.folder).parent_path();
+  // The writer outlives a failure, so that a failed run keeps its history.
+  std::optional<RunWriter> writer;
+  long steps_done = 0;  // for the summary of a run that fails
+  o.on_progress = [&steps_done](long d, long) { steps_done = d; };
+  try {
+    writer.emplace(prefix, run.case_name);
+    o.stop = opt.stop;
+    o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
+    o.on_channels = [&writer](const std::vector<std::string>& extra) { writer->channels(extra); };
+    writer->finish(record_of(run, scene, spec, o, pool, shared));
+  } catch (const std::exception& e) {
+    log->error("{} failed: {}", run.folder, e.what());
+    try {
+      RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
+      failed.macro_steps = steps_done;
+      if (writer)
+        writer->finish(failed);
+      else
+        RunWriter(prefix, run.case_name).finish(failed);
+    } catch (const std::exception& e2) {
+      log->error("{}: no summary written: {}", run.folder, e2.what());
+    }
+  }
+}
+
 // Runs a plan here, JOBS at a time, each worker with its own nodes. Each run
 // writes what `master run` with the plan's command line writes: the same
 // options, the same reference (the monolithic run of its scene at its H and
 // tolerance), the same folder.
 void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
-  auto log = logger("master");
-  std::map<std::string, Scene> scenes;  // by scene file
+  PlanScenes shared;
   for (const PlannedRun& r : plan.runs)
-    if (!scenes.count(r.scene)) scenes.emplace(r.scene, load_scene((plan.out / r.scene).string()));
-  std::map<std::tuple<std::string, double, double>, Reference> references;
+    if (!shared.scenes.count(r.scene))
+      shared.scenes.emplace(r.scene, load_scene((plan.out / r.scene).string()));
   for (const PlannedRun& r : plan.runs)
-    if (r.case_name != "monolithic") references[{r.scene, r.macro_step, r.tolerance}];
+    if (r.case_name != "monolithic") shared.references[{r.scene, r.macro_step, r.tolerance}];
 
   const std::size_t total = plan.runs.size();
   const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(total)));
   std::vector<NodePool> pools(static_cast<std::size_t>(workers));
-  log->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene, plan.stage, total,
-            workers);
+  logger("master")->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene,
+                         plan.stage, total, workers);
   std::atomic<std::size_t> next{0}, done{0};
   std::mutex out_mutex;
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   auto work = [&](int w) {
     for (std::size_t j; (j = next++) < total;) {
-      const PlannedRun& run = plan.runs[j];
-      const Scene& scene = scenes.at(run.scene);
-      const CaseSpec spec = parse_case(run.case_name);
-      RunOptions o;
-      o.macro_step = run.macro_step;
-      o.tolerance = run.tolerance;
-      o.feedthrough = run.feedthrough;
-      o.coupling = run.coupling;
-      const std::filesystem::path prefix =
-          plan.out / std::filesystem::path(run.folder).parent_path();
-      // The writer outlives a failure, so that a failed run keeps its history.
-      std::optional<RunWriter> writer;
-      long steps_done = 0;  // for the summary of a run that fails
-      o.on_progress = [&steps_done](long d, long) { steps_done = d; };
-      try {
-        writer.emplace(prefix, run.case_name);
-        o.stop = opt.stop;
-        o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
-        o.on_channels = [&writer](const std::vector<std::string>& extra) {
-          writer->channels(extra);
-        };
-        RunRecord r;
-        if (spec.monolithic) {
-          r = run_monolithic(scene, o);
-        } else {
-          const Transport t = run.transport == "tcp"
-                                  ? tcp_transport(scene, {}, pools[static_cast<std::size_t>(w)])
-                                  : inproc_transport(scene);
-          r = run_cosim(scene, spec, o, t.factory, t.name);
-          if (!scene.outside_soil()) {
-            Reference& ref = references.at({run.scene, run.macro_step, run.tolerance});
-            std::call_once(ref.once, [&] {
-              RunOptions m;
-              m.macro_step = run.macro_step;
-              m.tolerance = run.tolerance;
-              ref.record = run_monolithic(scene, m);
-            });
-            assess(r, ref.record, scene, spec, o);
-          }
-        }
-        writer->finish(r);
-      } catch (const std::exception& e) {
-        log->error("{} failed: {}", run.folder, e.what());
-        try {
-          RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
-          failed.macro_steps = steps_done;
-          if (writer)
-            writer->finish(failed);
-          else
-            RunWriter(prefix, run.case_name).finish(failed);
-        } catch (const std::exception& e2) {
-          log->error("{}: no summary written: {}", run.folder, e2.what());
-        }
-      }
+      execute_run(plan, opt, plan.runs[j], pools[static_cast<std::size_t>(w)], shared);
       const std::size_t d = ++done;
       if (tty) {
         std::lock_guard lock(out_mutex);

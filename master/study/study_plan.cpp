@@ -155,6 +155,117 @@ std::string method_folder(const Method& m) {
 }
 
 // The words of a command line as a POSIX shell splits them (single quotes
+// Adds the runs of one scene variant to a plan.
+struct VariantRuns {
+  StudyPlan& plan;
+  const StudyOptions& o;
+  const Variant& v;
+  std::string prefix;  // the variant's folder and '/' ("" without a sweep)
+
+  // One run of `group` in the folder `where` below the variant's; no method:
+  // the monolithic model.
+  void add(const std::string& group, const std::string& where, const Method* m, double H,
+           double tol, const std::string& scene_file) const {
+    PlannedRun r;
+    r.variant = v.label;
+    r.variant_dir = v.dir;
+    r.group = group;
+    r.scene = scene_file;
+    r.method = m ? m->label() : "monolithic";
+    r.case_name = m ? m->spec.name() : "monolithic";
+    if (m) {
+      r.feedthrough = m->feedthrough;
+      r.coupling = m->coupling;
+    }
+    r.transport = m ? run_transport(m->coupling, o.transport) : o.transport;
+    r.folder = prefix + where + (m ? method_folder(*m) : "monolithic");
+    r.macro_step = H;
+    r.tolerance = tol;
+    plan.runs.push_back(std::move(r));
+  }
+};
+
+// The variant's scene; the file of a variant that sets values goes into the
+// plan as `scene_rel`.
+Scene variant_scene(const VariantRuns& to, const std::string& base, const std::string& scene_path,
+                    const std::string& scene_rel) {
+  if (to.v.dir.empty()) return parse_scene(base, scene_path);
+  const std::string text = with_values(base, scene_path, to.v.values);
+  Scene scene;
+  try {
+    scene = parse_scene(text, (to.o.out / scene_rel).string());
+  } catch (const SceneError& e) {
+    std::string m = "--sweep ";
+    m += to.v.label;
+    m += ": ";
+    m += e.what();
+    throw SceneError(m);
+  }
+  to.plan.scene_files.emplace_back(
+      scene_rel, "# " + scene_path + " with " + to.v.label + " (--sweep)\n" + text);
+  return scene;
+}
+
+// The paper's "almost 10" at the rail/sleepers cut with X-X under both
+// restart conventions, 10 fixed micro steps per macro step of 1e-4 s.
+void add_restart_runs(const VariantRuns& to, const Scene& scene, const std::string& base,
+                      const std::string& scene_path) {
+  const auto names = case_names(scene);
+  if (!to.o.restart_check || !std::count(names.begin(), names.end(), "rs-xx-jacobi") ||
+      !divides(1e-4, scene.end_time))
+    return;
+  const Variant& v = to.v;
+  for (const char* restart : {"consistent", "carry"}) {
+    const std::string dir = to.prefix + "restart/" + restart + "/";
+    const std::string text = with_values(
+        base, scene_path,
+        v.values.empty() ? std::vector<std::pair<std::string, std::string>>{} : v.values);
+    std::vector<std::pair<std::string, std::string>> fixed{{"simulation.micro_steps", "10"},
+                                                           {"simulation.restart", restart}};
+    to.plan.scene_files.emplace_back(
+        dir + "scene.toml", "# " + scene_path + (v.label.empty() ? "" : " with " + v.label) +
+                                ", 10 fixed micro steps, restart = " + restart + "\n" +
+                                with_values(text, scene_path, fixed));
+    for (const char* c : {"rs-xx-jacobi", "rs-xx-gauss-seidel"}) {
+      Method m;
+      m.spec = parse_case(c);
+      to.add("restart", "restart/" + std::string(restart) + "/", &m, 1e-4, scene.tolerance,
+             dir + "scene.toml");
+    }
+  }
+}
+
+// One variant's runs, in plan order: the cases at the scene's H, the sweep
+// of H, the restart check, the tolerances and the converged reference.
+void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const std::string& base,
+                 const std::string& scene_path) {
+  const VariantRuns to{plan, o, v, v.dir.empty() ? "" : v.dir + "/"};
+  const std::string scene_rel = to.prefix + "scene.toml";
+  const Scene scene = variant_scene(to, base, scene_path, scene_rel);
+  const std::vector<double> sweep =
+      o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
+  for (double H : sweep)
+    if (!divides(H, scene.end_time))
+      throw std::invalid_argument(
+          "--macro-steps: " + short_number(H) + " s does not divide the end time " +
+          short_number(scene.end_time) + " s of " + (v.dir.empty() ? scene_path : v.label));
+  const std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
+  to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
+  for (const Method& m : methods)
+    to.add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
+  for (double H : sweep) {
+    if (H == scene.macro_step) continue;  // the cases are that column of the sweep
+    for (const Method& m : methods)
+      if (m.coupling.method != CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
+        to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
+  }
+  add_restart_runs(to, scene, base, scene_path);
+  for (double tol : o.tolerances)
+    to.add("tolerance", "sweep/tol_" + short_number(tol) + "/", nullptr, scene.macro_step, tol,
+           scene_rel);
+  to.add("converged", "converged/", nullptr, scene.macro_step, o.converged_tolerance, scene_rel);
+}
+
 }  // namespace
 
 SweepAxis parse_sweep(const std::string& text) {
@@ -194,92 +305,7 @@ StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
         "study runs every coupling method itself and would have its runs take the table's "
         "values: study a copy of the scene without it");
   plan.scene_files.emplace_back("scene.toml", base);
-
-  for (const Variant& v : variants_of(o.sweeps)) {
-    const std::string prefix = v.dir.empty() ? "" : v.dir + "/";
-    const std::string scene_rel = prefix + "scene.toml";
-    Scene scene;
-    if (v.dir.empty()) {
-      scene = parse_scene(base, scene_path);
-    } else {
-      const std::string text = with_values(base, scene_path, v.values);
-      try {
-        scene = parse_scene(text, (o.out / scene_rel).string());
-      } catch (const SceneError& e) {
-        std::string m = "--sweep ";
-        m += v.label;
-        m += ": ";
-        m += e.what();
-        throw SceneError(m);
-      }
-      plan.scene_files.emplace_back(scene_rel,
-                                    "# " + scene_path + " with " + v.label + " (--sweep)\n" + text);
-    }
-    const std::vector<double> sweep =
-        o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
-    for (double H : sweep)
-      if (!divides(H, scene.end_time))
-        throw std::invalid_argument(
-            "--macro-steps: " + short_number(H) + " s does not divide the end time " +
-            short_number(scene.end_time) + " s of " + (v.dir.empty() ? scene_path : v.label));
-    const std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
-    auto add = [&](const std::string& group, const std::string& where, const Method* m, double H,
-                   double tol, const std::string& scene_file) {
-      PlannedRun r;
-      r.variant = v.label;
-      r.variant_dir = v.dir;
-      r.group = group;
-      r.scene = scene_file;
-      r.method = m ? m->label() : "monolithic";
-      r.case_name = m ? m->spec.name() : "monolithic";
-      if (m) {
-        r.feedthrough = m->feedthrough;
-        r.coupling = m->coupling;
-      }
-      r.transport = m ? run_transport(m->coupling, o.transport) : o.transport;
-      r.folder = prefix + where + (m ? method_folder(*m) : "monolithic");
-      r.macro_step = H;
-      r.tolerance = tol;
-      plan.runs.push_back(std::move(r));
-    };
-    add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
-    for (const Method& m : methods)
-      add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
-    for (double H : sweep) {
-      if (H == scene.macro_step) continue;  // the cases are that column of the sweep
-      for (const Method& m : methods)
-        if (m.coupling.method != CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
-          add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
-    }
-    // The paper's "almost 10" at the rail/sleepers cut with X-X under both
-    // restart conventions, 10 fixed micro steps per macro step of 1e-4 s.
-    const auto names = case_names(scene);
-    if (o.restart_check && std::count(names.begin(), names.end(), "rs-xx-jacobi") &&
-        divides(1e-4, scene.end_time)) {
-      for (const char* restart : {"consistent", "carry"}) {
-        const std::string dir = prefix + "restart/" + restart + "/";
-        const std::string text = with_values(
-            base, scene_path,
-            v.values.empty() ? std::vector<std::pair<std::string, std::string>>{} : v.values);
-        std::vector<std::pair<std::string, std::string>> fixed{{"simulation.micro_steps", "10"},
-                                                               {"simulation.restart", restart}};
-        plan.scene_files.emplace_back(
-            dir + "scene.toml", "# " + scene_path + (v.label.empty() ? "" : " with " + v.label) +
-                                    ", 10 fixed micro steps, restart = " + restart + "\n" +
-                                    with_values(text, scene_path, fixed));
-        for (const char* c : {"rs-xx-jacobi", "rs-xx-gauss-seidel"}) {
-          Method m;
-          m.spec = parse_case(c);
-          add("restart", "restart/" + std::string(restart) + "/", &m, 1e-4, scene.tolerance,
-              dir + "scene.toml");
-        }
-      }
-    }
-    for (double tol : o.tolerances)
-      add("tolerance", "sweep/tol_" + short_number(tol) + "/", nullptr, scene.macro_step, tol,
-          scene_rel);
-    add("converged", "converged/", nullptr, scene.macro_step, o.converged_tolerance, scene_rel);
-  }
+  for (const Variant& v : variants_of(o.sweeps)) add_variant(plan, o, v, base, scene_path);
   return plan;
 }
 
