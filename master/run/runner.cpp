@@ -11,6 +11,7 @@
 #include "monolithic.hpp"
 #include "remote/direct_exchange.hpp"
 #include "remote/reply_check.hpp"
+#include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 
 namespace railcosim {
@@ -242,7 +243,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   const long N = steps_to(scene, o.macro_step);
   std::unique_ptr<DirectExchange> direct;
   bool lockstep = false;
-  if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
+  if (o.data_plane == DataPlane::kDirect && is_remote_transport(transport)) {
     // Explicit coupling with held inputs runs in windows over peer links;
     // the couplings the master decides step by step (implicit, ramped) in
     // lock step. A node that offers neither is worth a word.
@@ -258,7 +259,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
       log->debug("{}: direct data plane in lock step (the master decides every macro step)",
                  r.case_name);
   }
-  if (transport == "tcp") {
+  if (is_remote_transport(transport)) {
     r.data_plane = to_string(direct || lockstep ? DataPlane::kDirect : DataPlane::kRelay);
     if (direct || lockstep) r.data_plane_mode = direct ? "windows" : "lock step";
   }

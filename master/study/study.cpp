@@ -84,7 +84,7 @@ std::vector<Method> methods_for(const Scene& scene) {
 }
 
 std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
-  return waveform_degree(coupling.inputs) >= 0 ? "inproc" : transport;
+  return waveform_degree(coupling.inputs) >= 0 ? kInprocTransport : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {
@@ -192,9 +192,9 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
         if (spec.monolithic) {
           r = run_monolithic(scene, o);
         } else {
-          const Transport t = run.transport == "tcp"
-                                  ? tcp_transport(scene, {}, pools[static_cast<std::size_t>(w)])
-                                  : inproc_transport(scene);
+          const SceneTransport t =
+              make_transport(parse_transport(run.transport, "transport"), scene,
+                             {{}, &pools[static_cast<std::size_t>(w)], {}});
           r = run_cosim(scene, spec, o, t.factory, t.name);
           if (!scene.outside_soil()) {
             Reference& ref = references.at({run.scene, run.macro_step, run.tolerance});
