@@ -3,11 +3,14 @@
 // errors that name an unknown one.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "remote/transport.hpp"
+#include "study/study_plan.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -55,6 +58,23 @@ TEST(TransportTable, MakesTheParticipantsOfAScene) {
   }
   NodePool pool;
   EXPECT_EQ(tcp_transport(scene, {}, pool).name, "tcp");
+}
+
+TEST(TransportTable, AStudyPlanNamingNoTransportIsRefusedWithItsLine) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "railcosim_transport_test_plan.txt";
+  {
+    std::ofstream out(file);
+    out << "#% format = " << kPlanFormat << "\n#% transport = udp\n";
+  }
+  try {
+    read_plan(file);
+    FAIL() << "read a plan over transport udp";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ":2: transport: unknown transport 'udp' (inproc or tcp)");
+  }
+  std::filesystem::remove(file);
 }
 
 }  // namespace
