@@ -1,5 +1,6 @@
-// A framed TCP connection with deadlines, used by the master to talk to a
-// node (and by tests to talk to a node like any other client would). Asio
+// A framed TCP connection with deadlines (the FramedChannel over TCP), used
+// by the master to talk to a node (and by tests to talk to a node like any
+// other client would). Asio
 // connects; reads and writes are blocking recv()/send() calls on the socket
 // with a timeout of one kInterruptPoll, so that a message costs one system
 // call each way when the peer is ready (no read that must fail first).
@@ -16,21 +17,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "framed_channel.hpp"
 #include "wire.hpp"
 
 namespace railcosim {
-
-// A network failure: the peer closed the connection, did not answer in time,
-// or sent something that is not a frame.
-class NetError : public std::runtime_error {
- public:
-  enum class Kind { kConnect, kClosed, kTimeout, kIo, kProtocol, kInterrupted };
-  NetError(Kind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
-  Kind kind() const { return kind_; }
-
- private:
-  Kind kind_;
-};
 
 struct Address {
   std::string host = "127.0.0.1";
@@ -51,28 +41,28 @@ void set_interrupt_flag(const std::atomic<int>* flag);
 int interrupt_signal();
 inline constexpr std::chrono::milliseconds kInterruptPoll{100};
 
-class Connection {
+class Connection final : public FramedChannel {
  public:
-  using Duration = std::chrono::milliseconds;
-
   // Connects, retrying with back-off until `timeout` has passed (a node may
   // still be starting). Throws NetError(kConnect) naming the address.
   static std::unique_ptr<Connection> connect(const Address& address, Duration timeout);
 
-  ~Connection();
+  ~Connection() override;
   Connection(const Connection&) = delete;
   Connection& operator=(const Connection&) = delete;
 
   // Every timeout bounds a whole message: a peer that sends a reply one byte
   // at a time does not restart it.
   // Writes one frame. Throws NetError on failure or after `timeout`.
-  void send(const wire::Envelope& envelope, Duration timeout = Duration(10000));
+  void send(const wire::Envelope& envelope, Duration timeout = Duration(10000)) override;
   // Writes raw bytes (tests use it to send malformed frames).
   void send_raw(const std::string& bytes, Duration timeout = Duration(10000));
   // Reads one frame. Throws NetError if none arrives within `timeout`.
-  wire::Envelope receive(Duration timeout);
+  wire::Envelope receive(Duration timeout) override;
 
   const Address& peer() const { return peer_; }
+  std::string peer_name() const override { return peer_.str(); }
+  Connection* tcp() override { return this; }
 
   // For a caller that waits on several connections at once (poll on fd()):
   int fd() { return socket_.native_handle(); }
@@ -89,7 +79,7 @@ class Connection {
 
   // Stops sending (the peer sees end of stream) but keeps reading.
   void shutdown_send();
-  void close();
+  void close() override;
 
  private:
   explicit Connection(Address peer);

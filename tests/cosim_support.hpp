@@ -59,14 +59,14 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
 // monolithic run at the same H and the scene's tolerance; in process unless
 // a transport is given.
 inline RunRecord judged(const Scene& scene, const std::string& name, double H,
-                        const CouplingOptions& c, const Transport* transport = nullptr) {
+                        const CouplingOptions& c, const SceneTransport* transport = nullptr) {
   RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
   o.coupling = c;
   const RunRecord reference = run_monolithic(scene, o);
-  const Transport inproc = inproc_transport(scene);
-  const Transport& t = transport ? *transport : inproc;
+  const SceneTransport inproc = inproc_transport(scene);
+  const SceneTransport& t = transport ? *transport : inproc;
   RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
   assess(r, reference, scene, parse_case(name), o);
   return r;

@@ -334,7 +334,7 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   NodePool pool;
-  const Transport tcp =
+  const SceneTransport tcp =
       tcp_transport(scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}},
                     pool, secret);
   try {

@@ -111,7 +111,7 @@ TEST(ImplicitCoupling, OverTcpIsBitwiseTheInProcessRun) {
   // difference between the two transports shows in the last bit.
   const Scene scene = short_scene("scenes/soil.toml", 0.01);
   NodePool pool;
-  const Transport tcp = tcp_transport(scene, {}, pool);
+  const SceneTransport tcp = tcp_transport(scene, {}, pool);
   for (const char* name : {"rs-xt-gauss-seidel", "wr-xx+ss-xt-jacobi"}) {
     const CouplingOptions c = implicit(InputMode::kLinear);
     const RunRecord a = judged(scene, name, 1e-4, c);

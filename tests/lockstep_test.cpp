@@ -63,7 +63,7 @@ class LockStepPlanes : public ::testing::TestWithParam<LockStepCase> {
 TEST_P(LockStepPlanes, EveryCouplingIsBitwiseTheSameInProcessRelayedAndDirect) {
   const Scene scene = short_scene(GetParam().scene);
   const CaseSpec spec = parse_case(GetParam().name);
-  const Transport tcp = tcp_transport(scene, {}, *pool_);
+  const SceneTransport tcp = tcp_transport(scene, {}, *pool_);
   for (const Coupling& c : kCouplings) {
     RunOptions o;
     o.macro_step = scene.macro_step;

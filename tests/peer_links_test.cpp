@@ -334,7 +334,7 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
     std::this_thread::sleep_for(milliseconds(200));  // the flood is under way
   };
   NodePool pool;
-  const Transport tcp = tcp_transport(
+  const SceneTransport tcp = tcp_transport(
       scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool);
   const auto t0 = Clock::now();
   RunRecord r;
@@ -352,7 +352,7 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   EXPECT_GT(opened, 100) << "the flood did not happen";
   RunOptions inproc = o;
   inproc.on_channels = nullptr;
-  const Transport local = inproc_transport(scene);
+  const SceneTransport local = inproc_transport(scene);
   const RunRecord want =
       run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
   ASSERT_EQ(r.history.size(), want.history.size());

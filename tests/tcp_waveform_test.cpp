@@ -190,7 +190,7 @@ TEST(TcpWaveformRefused, ANodeThatTakesNoWaveformsIsNamed) {
   const std::string address = server.local_address().str();
   const Scene scene = short_paper();
   NodePool pool;
-  const Transport tcp = tcp_transport(scene, {{"track", server.local_address()}}, pool);
+  const SceneTransport tcp = tcp_transport(scene, {{"track", server.local_address()}}, pool);
   const RunOptions o =
       waveform_run(scene, InputMode::kWaveform1, CouplingMethod::kExplicit, Feedthrough::kLagged);
   std::string what;

@@ -372,7 +372,7 @@ TEST(CarCosim, FourWheelsOverTcpAreBitwiseEqualToInProcess) {
                  "wavelength_max = 30.0\nseed = 7\ncomponents = 256\n");
   const Scene s = scene_of(t);
   NodePool pool;
-  const Transport tcp = tcp_transport(s, {}, pool);
+  const SceneTransport tcp = tcp_transport(s, {}, pool);
   for (const char* name : {"wr-xx-jacobi", "wr-xt-gauss-seidel"}) {
     const RunOptions o = options(s, s.macro_step);
     const RunRecord local = run_cosim(s, parse_case(name), o, inproc_factory(s), "inproc");

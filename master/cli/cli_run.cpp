@@ -71,9 +71,10 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
         throw std::invalid_argument(
             "the scene's soil is external (soil.model = \"external\"): start its program and "
             "give its address with --node " +
-            p.role + "=HOST:PORT" + (a.transport == "inproc" ? " (and --transport tcp)" : ""));
+            p.role + "=HOST:PORT" +
+            (is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
   // The FE soil is a program of its own too, which the master starts over TCP.
-  if (scene.soil_model == "fe" && !spec.monolithic && a.transport == "inproc")
+  if (scene.soil_model == "fe" && !spec.monolithic && !is_remote_transport(a.transport))
     throw std::invalid_argument(
         "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
         "master starts over TCP: use --transport tcp (the default), not --transport inproc");
@@ -82,7 +83,7 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
     throw std::invalid_argument(
         "the monolithic case runs inside the master: it uses no nodes, so --node, --vehicle and "
         "--track do not apply");
-  if (a.transport == "inproc")
+  if (!is_remote_transport(a.transport))
     throw std::invalid_argument("--node, --vehicle and --track need --transport tcp");
   std::string roles;
   const auto parts = partition(scene, spec);
@@ -253,7 +254,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   add_coupling_options(*run, a);
   run->add_option("--transport", a.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
-      ->check(CLI::IsMember({"inproc", "tcp"}))
+      ->check(CLI::IsMember(transport_names()))
       ->capture_default_str();
   run->add_option("--data-plane", a.data_plane,
                   "tcp: direct (explicit coupling with held inputs: the nodes send each other "
@@ -326,9 +327,8 @@ int do_run(const RunArgs& command_line) {
         pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(writer.dir()).string()});
       std::optional<std::string> token;
       if (!a.token_file.empty()) token = read_token_file(a.token_file);
-      const Transport transport = a.transport == "inproc"
-                                      ? inproc_transport(scene)
-                                      : tcp_transport(scene, given, pool, token);
+      const SceneTransport transport =
+          make_transport(parse_transport(a.transport, "--transport"), scene, {given, &pool, token});
       record = run_cosim(scene, spec, o, transport.factory, transport.name);
       if (!scene.outside_soil()) assess(record, reference, scene, spec, o);
     }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "engine/coupling_options.hpp"
+#include "remote/transport_names.hpp"
 
 #include <string>
 #include <vector>
@@ -20,7 +21,7 @@ struct RunArgs {
   double tolerance = 0;   // 0: from the scene
   std::string feedthrough = "lagged";
   std::string restart;  // empty: from the scene
-  std::string transport = "tcp";
+  std::string transport = kTcpTransport;
   std::string vehicle, track;
   std::vector<std::string> nodes;  // ROLE=HOST:PORT
   std::string out = "results";

@@ -101,17 +101,3 @@ void check(const CouplingOptions& o) {
 }
 
 }  // namespace railcosim
-
-namespace railcosim {
-
-void check_transport(const CouplingOptions& o, const std::string& transport) {
-  // Over tcp the runner relays waveform couplings through the master (the
-  // direct data plane runs explicit coupling with held inputs only).
-  if (waveform_degree(o.inputs) >= 0 && transport != "inproc" && transport != "tcp")
-    throw std::invalid_argument("--inputs " + to_string(o.inputs) +
-                                ": substep waveforms travel in process or over tcp (relayed "
-                                "data plane), not over the " +
-                                transport + " transport (use --transport inproc or tcp)");
-}
-
-}  // namespace railcosim

@@ -68,8 +68,5 @@ struct CouplingOptions {
 
 // Throws std::invalid_argument for values out of range, naming the option.
 void check(const CouplingOptions& o);
-// Throws std::invalid_argument for a coupling the transport does not carry:
-// substep waveforms travel in process ("inproc") or relayed over "tcp".
-void check_transport(const CouplingOptions& o, const std::string& transport);
 
 }  // namespace railcosim

@@ -31,6 +31,11 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
   for (Participant* p : ps) {
     auto* r = dynamic_cast<RemoteParticipant*>(p);
     if (!r || !r->direct_capable()) return nullptr;
+    // Peer links and the polling of several nodes at once are TCP's.
+    if (!r->tcp())
+      throw NodeFailure(r->name() +
+                        ": the direct data plane needs a TCP connection to the node, and this "
+                        "one is another channel: use --data-plane relay");
     nodes.push_back(r);
   }
   const std::size_t P = nodes.size();
@@ -86,7 +91,7 @@ DirectExchange::DirectExchange(std::vector<RemoteParticipant*> nodes, double bou
 
 DirectExchange::~DirectExchange() {
   for (Node& node : nodes_)
-    if (node.in_window && !node.closed) node.p->connection().close();
+    if (node.in_window && !node.closed) node.p->tcp()->close();
 }
 
 void DirectExchange::grant(long n) {
@@ -164,7 +169,7 @@ bool DirectExchange::read(milliseconds timeout) {
   std::vector<Node*> who;
   for (Node& node : nodes_)
     if (node.in_window && !node.closed) {
-      fds.push_back(pollfd{node.p->connection().fd(), POLLIN, 0});
+      fds.push_back(pollfd{node.p->tcp()->fd(), POLLIN, 0});
       who.push_back(&node);
     }
   if (fds.empty()) return true;
@@ -185,7 +190,7 @@ bool DirectExchange::read(milliseconds timeout) {
   for (std::size_t k = 0; k < fds.size(); ++k) {
     if (fds[k].revents == 0) continue;
     Node& node = *who[k];
-    Connection& c = node.p->connection();
+    Connection& c = *node.p->tcp();
     bool open = true;
     try {
       open = c.read_now();
@@ -237,7 +242,7 @@ void DirectExchange::silence(long n, milliseconds waited) {
   // A node that keeps its stream busy without reporting a step.
   if (slow->idle_frames > 0)
     s << "; since then it sent " << slow->idle_frames << " report frame(s) without a step report";
-  if (const std::size_t part = slow->p->connection().partial_bytes(); part > 0)
+  if (const std::size_t part = slow->p->tcp()->partial_bytes(); part > 0)
     s << "; it has sent " << part << " byte(s) of a frame it has not finished";
   if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
   s << ")";

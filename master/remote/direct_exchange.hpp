@@ -35,7 +35,8 @@ bool enter_lockstep(const std::vector<Participant*>& participants, long first, l
 class DirectExchange final : public MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers
-  // the direct data plane. Otherwise sends every node its links, which say
+  // the direct data plane; throws NodeFailure naming a participant that
+  // offers it over another channel than TCP. Otherwise sends every node its links, which say
   // what the step plan says (the schedule's plan, compiled at initialize()):
   // which peer's data it waits for at n + 1, which peer sends twice.
   // `bound`: the divergence bound (m).

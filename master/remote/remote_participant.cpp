@@ -18,13 +18,35 @@ std::string node_label(const SubsystemConfig& c) {
 RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
                                      const SubsystemConfig& config, RemoteTimeouts timeouts,
                                      std::optional<std::string> token)
-    : address_(address), config_(config), timeouts_(timeouts), shape_(reply_shape(scene, config)) {
+    : open_([address](std::chrono::milliseconds timeout) -> std::unique_ptr<FramedChannel> {
+        return Connection::connect(address, timeout);
+      }),
+      peer_(address.str()),
+      address_(address),
+      config_(config),
+      timeouts_(timeouts),
+      shape_(reply_shape(scene, config)) {
+  start(scene, token);
+}
+
+RemoteParticipant::RemoteParticipant(ChannelOpener open, std::string peer, const Scene& scene,
+                                     const SubsystemConfig& config, RemoteTimeouts timeouts,
+                                     std::optional<std::string> token)
+    : open_(std::move(open)),
+      peer_(std::move(peer)),
+      config_(config),
+      timeouts_(timeouts),
+      shape_(reply_shape(scene, config)) {
+  start(scene, token);
+}
+
+void RemoteParticipant::start(const Scene& scene, const std::optional<std::string>& token) {
   const wire::Envelope reply = open_session(scene);
   if (reply.has_challenge()) {
     if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
     wire::Envelope auth;
     auth.mutable_auth()->set_mac(
-        auth_answer(*token, config.participant.role, reply.challenge().nonce()));
+        auth_answer(*token, config_.participant.role, reply.challenge().nonce()));
     send(auth, false);
     const wire::Envelope accepted = await(wire::Envelope::kHelloReply, "auth");
     for (const auto& c : accepted.hello_reply().capabilities()) {
@@ -43,7 +65,7 @@ RemoteParticipant::RemoteParticipant(const Address& address, const Scene& scene,
       lockstep_capable_ = lockstep_capable_ || c == "lockstep";
     }
 
-  send(configure_envelope(scene, config), false);
+  send(configure_envelope(scene, config_), false);
   const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
   channels_.history.assign(declared.history().begin(), declared.history().end());
   channels_.results.assign(declared.results().begin(), declared.results().end());
@@ -56,7 +78,7 @@ wire::Envelope RemoteParticipant::open_session(const Scene& scene) {
   auto pause = std::chrono::milliseconds(50);
   while (true) {
     try {
-      conn_ = Connection::connect(address_, timeouts_.connect);
+      conn_ = open_(timeouts_.connect);
     } catch (const NetError& e) {
       throw NodeFailure(node_label(config_) + ": " + e.what());
     }
@@ -101,7 +123,7 @@ RemoteParticipant::~RemoteParticipant() {
 }
 
 std::string RemoteParticipant::name() const {
-  return node_label(config_) + " at " + address_.str();
+  return node_label(config_) + " at " + peer_;
 }
 
 void RemoteParticipant::fail(const std::string& what) const {

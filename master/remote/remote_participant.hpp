@@ -5,10 +5,12 @@
 
 #include <chrono>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 
 #include "connection.hpp"
+#include "framed_channel.hpp"
 #include "participant.hpp"
 #include "remote/reply_check.hpp"
 #include "scene.hpp"
@@ -37,13 +39,22 @@ class NodeFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Opens a new channel to the node within the connect timeout (called again
+// while the node answers BUSY). Throws NetError(kConnect).
+using ChannelOpener = std::function<std::unique_ptr<FramedChannel>(std::chrono::milliseconds)>;
+
 class RemoteParticipant final : public Participant {
  public:
-  // Connects, says hello (checking the node's role and the scene) and
-  // configures the node's subsystem. Throws NodeFailure.
+  // Connects over TCP, says hello (checking the node's role and the scene)
+  // and configures the node's subsystem. Throws NodeFailure.
   // `token`: the shared secret, for nodes started with --token-file.
   RemoteParticipant(const Address& address, const Scene& scene, const SubsystemConfig& config,
                     RemoteTimeouts timeouts = {}, std::optional<std::string> token = std::nullopt);
+  // The same over the channels `open` makes; `peer` names the node's end in
+  // messages (where the TCP form gives its address).
+  RemoteParticipant(ChannelOpener open, std::string peer, const Scene& scene,
+                    const SubsystemConfig& config, RemoteTimeouts timeouts = {},
+                    std::optional<std::string> token = std::nullopt);
   ~RemoteParticipant() override;
 
   std::string name() const override;
@@ -74,10 +85,12 @@ class RemoteParticipant final : public Participant {
   const std::string& role() const { return config_.participant.role; }
   double macro_step() const { return config_.macro_step; }
   const RemoteTimeouts& timeouts() const { return timeouts_; }
-  Connection& connection() { return *conn_; }
+  // The TCP connection to the node, or nullptr over another channel (the
+  // direct data plane polls sockets: it needs TCP).
+  Connection* tcp() { return conn_ ? conn_->tcp() : nullptr; }
   // Sends the links and waits for the node's ack.
   void set_links(const wire::Links& links);
-  // Sends a window; its reports and its reply are read through connection().
+  // Sends a window; its reports and its reply are read through tcp().
   void grant(const wire::Window& window);
   // One report of the window, checked as a step's reply is.
   StepResult accept_report(const wire::StepReport& report);
@@ -118,11 +131,15 @@ class RemoteParticipant final : public Participant {
   // Connects and says hello, again while the node answers BUSY; returns its
   // reply to the hello. Throws NodeFailure.
   wire::Envelope open_session(const Scene& scene);
+  // Says hello, authenticates and configures (both constructors).
+  void start(const Scene& scene, const std::optional<std::string>& token);
 
-  Address address_;
+  ChannelOpener open_;
+  std::string peer_;  // for messages
+  Address address_;   // over TCP: for the peer links of the direct plane
   SubsystemConfig config_;
   RemoteTimeouts timeouts_;
-  std::unique_ptr<Connection> conn_;
+  std::unique_ptr<FramedChannel> conn_;
   std::uint64_t next_id_ = 1;
   int pending_acks_ = 0;
   long step_ = 0;  // the macro step being done, for messages

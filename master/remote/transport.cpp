@@ -1,6 +1,8 @@
 #include "remote/transport.hpp"
 
 #include <cstdlib>
+#include <iterator>
+#include <stdexcept>
 
 #include "log.hpp"
 #include "remote/remote_participant.hpp"
@@ -67,24 +69,110 @@ const Address& NodePool::address(const std::string& role) {
   return it->second->address();
 }
 
-Transport inproc_transport(const Scene& scene) {
-  return {"inproc", inproc_factory(scene)};
+namespace {
+
+// The participants inside the master: the scene's own subsystems.
+class InprocTransport final : public Transport {
+ public:
+  const char* name() const override { return kInprocTransport; }
+  bool remote() const override { return false; }
+  bool carries_waveforms() const override { return true; }
+  ParticipantFactory factory(const Scene& scene, const TransportSetup&) const override {
+    return inproc_factory(scene);
+  }
+};
+
+// Each participant in a node process, reached over TCP: the node given for
+// its role, or one the pool starts.
+class TcpTransport final : public Transport {
+ public:
+  const char* name() const override { return kTcpTransport; }
+  bool remote() const override { return true; }
+  // Relayed through the master (the direct data plane runs explicit
+  // coupling with held inputs only).
+  bool carries_waveforms() const override { return true; }
+  ParticipantFactory factory(const Scene& scene, const TransportSetup& setup) const override {
+    if (setup.pool == nullptr) throw std::logic_error("the tcp transport needs a node pool");
+    return [scene, given = setup.given, pool = setup.pool,
+            token = setup.token](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+      const auto it = given.find(c.participant.role);
+      const Address address = it != given.end() ? it->second : pool->address(c.participant.role);
+      RemoteTimeouts timeouts;
+      if (scene.soil_model == "fe" && c.participant.parts.has(Component::kSoil))
+        timeouts.reply = kFeSoilReply;  // a mesh to build, a static solver to set up
+      return std::make_unique<RemoteParticipant>(address, scene, c, timeouts, token);
+    };
+  }
+};
+
+const InprocTransport kInproc;
+const TcpTransport kTcp;
+
+// The transports, by name: a new one is a class above and a line here.
+const Transport* const kTransports[] = {&kInproc, &kTcp};
+
+// "inproc or tcp"
+std::string names_text() {
+  std::string text;
+  for (const Transport* t : kTransports) {
+    if (t != kTransports[0]) text += t == kTransports[std::size(kTransports) - 1] ? " or " : ", ";
+    text += t->name();
+  }
+  return text;
 }
 
-Transport tcp_transport(const Scene& scene, std::map<std::string, Address> given, NodePool& pool,
-                        std::optional<std::string> token) {
-  Transport t;
-  t.name = "tcp";
-  t.factory = [scene, given = std::move(given), &pool,
-               token](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    const auto it = given.find(c.participant.role);
-    const Address address = it != given.end() ? it->second : pool.address(c.participant.role);
-    RemoteTimeouts timeouts;
-    if (scene.soil_model == "fe" && c.participant.parts.has(Component::kSoil))
-      timeouts.reply = kFeSoilReply;  // a mesh to build, a static solver to set up
-    return std::make_unique<RemoteParticipant>(address, scene, c, timeouts, token);
-  };
-  return t;
+}  // namespace
+
+std::vector<std::string> transport_names() {
+  std::vector<std::string> names;
+  for (const Transport* t : kTransports) names.emplace_back(t->name());
+  return names;
+}
+
+const Transport* find_transport(const std::string& name) {
+  for (const Transport* t : kTransports)
+    if (name == t->name()) return t;
+  return nullptr;
+}
+
+const Transport& parse_transport(const std::string& name, const std::string& what) {
+  if (const Transport* t = find_transport(name)) return *t;
+  throw std::invalid_argument(what + ": unknown transport '" + name + "' (" + names_text() + ")");
+}
+
+bool is_remote_transport(const std::string& name) {
+  const Transport* t = find_transport(name);
+  return t != nullptr && t->remote();
+}
+
+std::string other_transport(const std::string& name) {
+  if (is_remote_transport(name)) return kInproc.name();
+  for (const Transport* t : kTransports)
+    if (t->remote()) return t->name();
+  throw std::logic_error("other_transport: no remote transport in the table");
+}
+
+void check_transport(const CouplingOptions& o, const std::string& transport) {
+  const Transport* t = find_transport(transport);
+  if (waveform_degree(o.inputs) >= 0 && (t == nullptr || !t->carries_waveforms()))
+    throw std::invalid_argument("--inputs " + to_string(o.inputs) +
+                                ": substep waveforms travel in process or over tcp (relayed "
+                                "data plane), not over the " +
+                                transport + " transport (use --transport " + names_text() + ")");
+}
+
+SceneTransport make_transport(const Transport& transport, const Scene& scene,
+                              const TransportSetup& setup) {
+  return {transport.name(), transport.factory(scene, setup)};
+}
+
+SceneTransport inproc_transport(const Scene& scene) {
+  return make_transport(kInproc, scene);
+}
+
+SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> given,
+                             NodePool& pool, std::optional<std::string> token) {
+  return make_transport(kTcp, scene, {std::move(given), &pool, std::move(token)});
 }
 
 }  // namespace railcosim

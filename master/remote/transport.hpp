@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "connection.hpp"
+#include "engine/coupling_options.hpp"
 #include "participant.hpp"
 #include "remote/node_launcher.hpp"
+#include "remote/transport_names.hpp"
 #include "scene.hpp"
 #include "subsystem.hpp"
 
@@ -63,15 +65,56 @@ using ParticipantFactory = std::function<std::unique_ptr<Participant>(const Subs
 
 ParticipantFactory inproc_factory(const Scene& scene);
 
-struct Transport {
-  std::string name;  // "inproc" or "tcp"
+// What a remote transport needs besides the scene.
+struct TransportSetup {
+  std::map<std::string, Address> given;  // nodes already running, by role
+  NodePool* pool = nullptr;              // starts a node for any other role; must outlive runs
+  std::optional<std::string> token;      // the shared secret of nodes that require one
+};
+
+// A transport: where the participants of a run live and how the master
+// reaches them. One class each (transport.cpp), named in its table.
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  // Its name (transport_names.hpp), as users give it and read it.
+  virtual const char* name() const = 0;
+  // Whether its participants live in node processes (the data plane applies).
+  virtual bool remote() const = 0;
+  // Whether it carries couplings with substep waveforms (--inputs waveformK).
+  virtual bool carries_waveforms() const = 0;
+  // Makes the participants of runs of `scene`.
+  virtual ParticipantFactory factory(const Scene& scene, const TransportSetup& setup) const = 0;
+};
+
+// The names of the table, in its order (for --transport and study plans).
+std::vector<std::string> transport_names();
+// The transport of that name, or nullptr.
+const Transport* find_transport(const std::string& name);
+// The transport of that name; throws std::invalid_argument naming `what`
+// (e.g. "--transport") and the names there are.
+const Transport& parse_transport(const std::string& name, const std::string& what);
+// Whether `name` is a transport whose participants live in node processes.
+bool is_remote_transport(const std::string& name);
+// A study's stage 2 runs its cheapest methods over the other transport: the
+// in-process one for a remote transport, else the first remote one.
+std::string other_transport(const std::string& name);
+// Throws std::invalid_argument for a coupling the transport does not carry:
+// substep waveforms travel in process or relayed over TCP.
+void check_transport(const CouplingOptions& o, const std::string& transport);
+
+// A transport made ready for one scene: its name and participant factory.
+struct SceneTransport {
+  std::string name;
   ParticipantFactory factory;
 };
 
-Transport inproc_transport(const Scene& scene);
+SceneTransport make_transport(const Transport& transport, const Scene& scene,
+                              const TransportSetup& setup = {});
+SceneTransport inproc_transport(const Scene& scene);
 // Over TCP: a participant whose role is in `given` connects there, any other
 // to a node of `pool` (which must outlive the transport).
-Transport tcp_transport(const Scene& scene, std::map<std::string, Address> given, NodePool& pool,
-                        std::optional<std::string> token = std::nullopt);
+SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> given,
+                             NodePool& pool, std::optional<std::string> token = std::nullopt);
 
 }  // namespace railcosim

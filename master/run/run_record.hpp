@@ -9,6 +9,7 @@
 
 #include "engine/convergence.hpp"
 #include "participant.hpp"
+#include "remote/transport_names.hpp"
 
 namespace railcosim {
 
@@ -36,7 +37,7 @@ struct RunRecord {
   // its rate (1/s) and the probe's length (s).
   std::string stability;
   std::optional<double> error_growth, error_growth_rate, probe_time;
-  std::string transport = "inproc";
+  std::string transport = kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string data_plane_mode;         // direct: "windows" or "lock step"
   std::string restart = "consistent";  // at communication points: consistent or carry

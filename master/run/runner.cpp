@@ -12,6 +12,7 @@
 #include "monolithic.hpp"
 #include "remote/direct_exchange.hpp"
 #include "remote/reply_check.hpp"
+#include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 
 namespace railcosim {
@@ -234,7 +235,7 @@ std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions&
                                                  double bound, long N) {
   std::unique_ptr<DirectExchange> direct;
   bool lockstep = false;
-  if (o.data_plane == DataPlane::kDirect && transport == "tcp") {
+  if (o.data_plane == DataPlane::kDirect && is_remote_transport(transport)) {
     // A node that offers neither is worth a word.
     const bool windows =
         o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
@@ -249,7 +250,7 @@ std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions&
       logger("master")->debug(
           "{}: direct data plane in lock step (the master decides every macro step)", r.case_name);
   }
-  if (transport == "tcp") {
+  if (is_remote_transport(transport)) {
     r.data_plane = to_string(direct || lockstep ? DataPlane::kDirect : DataPlane::kRelay);
     if (direct || lockstep) r.data_plane_mode = direct ? "windows" : "lock step";
   }

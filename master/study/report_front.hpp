@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "remote/transport_names.hpp"
 #include "study/study.hpp"
 
 namespace railcosim {
@@ -36,7 +37,7 @@ std::string cut_of(const std::string& method);
 // end `ok` with rel_l2_error_converged <= level, the one with the least wall
 // time (the first in plan order on a tie).
 std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs,
-                                  const std::string& transport = "tcp");
+                                  const std::string& transport = kTcpTransport);
 
 // The column of a front row in the report: "wr cut", "wr cut, in process"
 // (a row over another transport than the study's), "monolithic (no cut)".

@@ -84,7 +84,7 @@ std::vector<Method> methods_for(const Scene& scene) {
 }
 
 std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
-  return waveform_degree(coupling.inputs) >= 0 ? "inproc" : transport;
+  return waveform_degree(coupling.inputs) >= 0 ? kInprocTransport : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {
@@ -157,8 +157,8 @@ struct PlanScenes {
 RunRecord record_of(const PlannedRun& run, const Scene& scene, const CaseSpec& spec,
                     const RunOptions& o, NodePool& pool, PlanScenes& shared) {
   if (spec.monolithic) return run_monolithic(scene, o);
-  const Transport t =
-      run.transport == "tcp" ? tcp_transport(scene, {}, pool) : inproc_transport(scene);
+  const SceneTransport t =
+      make_transport(parse_transport(run.transport, "transport"), scene, {{}, &pool, {}});
   RunRecord r = run_cosim(scene, spec, o, t.factory, t.name);
   if (!scene.outside_soil()) {
     Reference& ref = shared.references.at({run.scene, run.macro_step, run.tolerance});

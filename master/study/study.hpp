@@ -12,6 +12,7 @@
 
 #include "cosim_case.hpp"
 #include "engine/coupling_options.hpp"
+#include "remote/transport_names.hpp"
 #include "run/run_record.hpp"
 #include "scene.hpp"
 
@@ -51,7 +52,8 @@ SweepAxis parse_sweep(const std::string& text);
 struct StudyOptions {
   std::filesystem::path out = "results";
   int jobs = 1;
-  std::string transport = "tcp";       // for the co-simulation runs
+  // The transport of the co-simulation runs.
+  std::string transport = kTcpTransport;
   std::vector<double> macro_steps;     // the sweep (each must divide t_end)
   std::vector<double> tolerances;      // of the monolithic reference curve
   double converged_tolerance = 1e-10;  // the reference all accuracies are measured against

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "remote/transport.hpp"
 #include "run/run_output.hpp"
 #include "scene.hpp"
 #include "study/report_methods.hpp"
@@ -314,7 +315,7 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   p.stage = 2;
   p.runs.clear();
   p.scene_files.clear();
-  const std::string other = stage1.transport == "tcp" ? "inproc" : "tcp";
+  const std::string other = other_transport(stage1.transport);
   std::map<std::string, std::vector<StudyRun>> by_variant;
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
   std::vector<std::string> order;

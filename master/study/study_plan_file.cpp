@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "remote/transport.hpp"
 #include "run/run_output.hpp"
 #include "study/study_plan.hpp"
 
@@ -102,7 +103,7 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
     } else if (k == "--tolerance") {
       r.tolerance = number(v, what);
     } else if (k == "--transport") {
-      r.transport = v;
+      r.transport = parse_transport(v, what).name();
     } else if (k == "--feedthrough") {
       r.feedthrough = parse_feedthrough(v).value_or(Feedthrough::kLagged);
     } else if (k == "--coupling") {
@@ -234,7 +235,7 @@ StudyPlan read_plan(const fs::path& file) {
       } else if (key == "out") {
         p.out = value;
       } else if (key == "transport") {
-        p.transport = value;
+        p.transport = parse_transport(value, where + ": transport").name();
       } else if (key == "macro_steps") {
         if (value != "default") p.macro_steps = numbers(value, where);
       } else if (key == "tolerances") {
