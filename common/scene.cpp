@@ -69,99 +69,139 @@ long Scene::macro_steps() const {
   return std::lround(end_time / macro_step);
 }
 
-void Scene::validate() const {
-  auto fail = [&](const std::string& key, const std::string& what) {
-    throw SceneError(source + ": key '" + key + "': " + what);
-  };
-  auto positive = [&](const std::string& key, double v) {
+namespace {
+
+// The checks of Scene::validate, in its order: the first failure names the
+// file and the key.
+class KeyCheck {
+ public:
+  explicit KeyCheck(const std::string& source) : source_(source) {}
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(source_ + ": key '" + key + "': " + what);
+  }
+  void positive(const std::string& key, double v) const {
     if (!(v > 0.0)) {
       std::ostringstream s;
       s << "must be positive (got " << v << ")";
       fail(key, s.str());
     }
-  };
+  }
   // A key's own range, from its entry of the scene key table (the parser
   // checks the same when it reads the file; a scene from the wire comes here).
-  auto in_range = [&](const char* table, const char* key, double v) {
+  void in_range(const char* table, const char* key, double v) const {
     const std::string why = scene_key(table, key).range.error(v);
     if (!why.empty()) fail(std::string(table) + "." + key, why);
-  };
-  check_scene_numbers(*this);  // scene_checks.hpp
-  positive("vehicle.mass", vehicle_mass);
-  in_range("vehicle", "hertz_constant", hertz_constant);
-  in_range("vehicle", "speed_kmh", speed);
-  in_range("rail", "young_modulus", young_modulus);
-  in_range("rail", "second_moment", second_moment);
-  in_range("rail", "area", area);
-  in_range("rail", "density", density);
-  if (elements_per_span < 2 || elements_per_span % 2 != 0)
-    fail("rail.elements_per_span",
-         "must be a positive even number, so that a rail node sits over each sleeper (got " +
-             std::to_string(elements_per_span) + ")");
-  in_range("railpad", "stiffness", pad_stiffness);
-  in_range("railpad", "damping", pad_damping);
-  in_range("sleepers", "mass", sleeper_mass);
-  in_range("sleepers", "spacing", sleeper_spacing);
-  in_range("sleepers", "length", sleeper_length);
-  if (sleeper_count < 1) fail("sleepers.count", "must be at least 1");
-  in_range("ballast", "stiffness", ballast_stiffness);
-  in_range("ballast", "damping", ballast_damping);
-  if (const std::string why = choice_error(scene_key("soil", "model"), soil_model); !why.empty())
-    fail("soil.model", why);
-  if (soil_model == "lumped") {
-    for (const auto& [key, v] : {std::pair{"mass", soil_mass},
-                                 {"stiffness", soil_stiffness},
-                                 {"damping", soil_damping},
-                                 {"coupling_stiffness", soil_coupling_stiffness},
-                                 {"coupling_damping", soil_coupling_damping}})
-      in_range("soil", key, v);
   }
-  if (!choice_error(scene_key("simulation", "restart"), restart).empty())
-    fail("simulation.restart", "must be \"consistent\" or \"carry\"");
-  if (micro_steps != 0) in_range("simulation", "micro_steps", micro_steps);
-  in_range("simulation", "gravity", gravity);
-  in_range("simulation", "end_time", end_time);
-  in_range("simulation", "macro_step", macro_step);
-  in_range("simulation", "tolerance", tolerance);
-  const double steps = end_time / macro_step;
+
+ private:
+  const std::string& source_;
+};
+
+void check_vehicle(const Scene& sc, const KeyCheck& c) {
+  c.positive("vehicle.mass", sc.vehicle_mass);
+  c.in_range("vehicle", "hertz_constant", sc.hertz_constant);
+  c.in_range("vehicle", "speed_kmh", sc.speed);
+}
+
+void check_track(const Scene& sc, const KeyCheck& c) {
+  c.in_range("rail", "young_modulus", sc.young_modulus);
+  c.in_range("rail", "second_moment", sc.second_moment);
+  c.in_range("rail", "area", sc.area);
+  c.in_range("rail", "density", sc.density);
+  if (sc.elements_per_span < 2 || sc.elements_per_span % 2 != 0)
+    c.fail("rail.elements_per_span",
+           "must be a positive even number, so that a rail node sits over each sleeper (got " +
+               std::to_string(sc.elements_per_span) + ")");
+  c.in_range("railpad", "stiffness", sc.pad_stiffness);
+  c.in_range("railpad", "damping", sc.pad_damping);
+  c.in_range("sleepers", "mass", sc.sleeper_mass);
+  c.in_range("sleepers", "spacing", sc.sleeper_spacing);
+  c.in_range("sleepers", "length", sc.sleeper_length);
+  if (sc.sleeper_count < 1) c.fail("sleepers.count", "must be at least 1");
+  c.in_range("ballast", "stiffness", sc.ballast_stiffness);
+  c.in_range("ballast", "damping", sc.ballast_damping);
+}
+
+void check_soil(const Scene& sc, const KeyCheck& c) {
+  if (const std::string why = choice_error(scene_key("soil", "model"), sc.soil_model); !why.empty())
+    c.fail("soil.model", why);
+  if (sc.soil_model == "lumped") {
+    for (const auto& [key, v] : {std::pair{"mass", sc.soil_mass},
+                                 {"stiffness", sc.soil_stiffness},
+                                 {"damping", sc.soil_damping},
+                                 {"coupling_stiffness", sc.soil_coupling_stiffness},
+                                 {"coupling_damping", sc.soil_coupling_damping}})
+      c.in_range("soil", key, v);
+  }
+}
+
+void check_simulation(const Scene& sc, const KeyCheck& c) {
+  if (!choice_error(scene_key("simulation", "restart"), sc.restart).empty())
+    c.fail("simulation.restart", "must be \"consistent\" or \"carry\"");
+  if (sc.micro_steps != 0) c.in_range("simulation", "micro_steps", sc.micro_steps);
+  c.in_range("simulation", "gravity", sc.gravity);
+  c.in_range("simulation", "end_time", sc.end_time);
+  c.in_range("simulation", "macro_step", sc.macro_step);
+  c.in_range("simulation", "tolerance", sc.tolerance);
+  const double steps = sc.end_time / sc.macro_step;
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
-    fail("simulation.end_time", "must be a whole number of macro steps (end_time / macro_step = " +
-                                    std::to_string(steps) + ")");
-  if (irregularity.model == "csv" && !irregularity.table_x.empty()) {
-    const auto [a, b] = wheel_path();
+    c.fail("simulation.end_time",
+           "must be a whole number of macro steps (end_time / macro_step = " +
+               std::to_string(steps) + ")");
+}
+
+void check_irregularity(const Scene& sc, const KeyCheck& c) {
+  if (sc.irregularity.model == "csv" && !sc.irregularity.table_x.empty()) {
+    const auto [a, b] = sc.wheel_path();
     try {
-      TableProfile(irregularity.table_x, irregularity.table_r, irregularity.csv_path)
+      TableProfile(sc.irregularity.table_x, sc.irregularity.table_r, sc.irregularity.csv_path)
           .check_covers(a, b);
     } catch (const SceneError& e) {
-      fail("irregularity.file", e.what());
+      c.fail("irregularity.file", e.what());
     }
   }
-  in_range("cosim", "divergence_factor", divergence_factor);
-  in_range("cosim", "amplification_threshold", amplification_threshold);
+}
 
-  const double length = track_length();
+// The vehicle on the rail from the start to the end of the run.
+void check_on_rail(const Scene& sc, const KeyCheck& c) {
+  const double length = sc.track_length();
   auto on_rail = [&](double x) { return x >= 0.0 && x <= length; };
-  if (!on_rail(initial_position)) {
+  if (!on_rail(sc.initial_position)) {
     std::ostringstream s;
-    s << "the load starts at x = " << initial_position << " m, outside the rail [0, " << length
+    s << "the load starts at x = " << sc.initial_position << " m, outside the rail [0, " << length
       << "] m";
-    fail("vehicle.initial_position", s.str());
+    c.fail("vehicle.initial_position", s.str());
   }
-  const double last_wheel = initial_position + wheel_offsets().back();
+  const double last_wheel = sc.initial_position + sc.wheel_offsets().back();
   if (!on_rail(last_wheel)) {
     std::ostringstream s;
     s << "the last wheel starts at x = " << last_wheel << " m, outside the rail [0, " << length
-      << "] m (the vehicle spans " << -wheel_offsets().back()
+      << "] m (the vehicle spans " << -sc.wheel_offsets().back()
       << " m behind its leading wheel: move it forward or lengthen the track)";
-    fail("vehicle.initial_position", s.str());
+    c.fail("vehicle.initial_position", s.str());
   }
-  const double x_end = initial_position + speed * end_time;
+  const double x_end = sc.initial_position + sc.speed * sc.end_time;
   if (!on_rail(x_end)) {
     std::ostringstream s;
-    s << "the load reaches x = " << x_end << " m at t_end = " << end_time
+    s << "the load reaches x = " << x_end << " m at t_end = " << sc.end_time
       << " s, beyond the rail end at " << length << " m (lengthen the track or shorten the run)";
-    fail("simulation.end_time", s.str());
+    c.fail("simulation.end_time", s.str());
   }
+}
+
+}  // namespace
+
+void Scene::validate() const {
+  const KeyCheck c(source);
+  check_scene_numbers(*this);  // scene_checks.hpp
+  check_vehicle(*this, c);
+  check_track(*this, c);
+  check_soil(*this, c);
+  check_simulation(*this, c);
+  check_irregularity(*this, c);
+  c.in_range("cosim", "divergence_factor", divergence_factor);
+  c.in_range("cosim", "amplification_threshold", amplification_threshold);
+  check_on_rail(*this, c);
   check_scene_derived(*this);  // scene_checks.hpp
 }
 

@@ -158,7 +158,10 @@ void check_scene_numbers(const Scene& s) {
   }
 }
 
-void check_scene_derived(const Scene& s) {
+namespace {
+
+// The sizes of the run against the nodes' and the master's limits.
+void check_run_size(const Scene& s) {
   // The mesh against the nodes' limits, before the master spends any time
   // on the monolithic reference.
   if (s.sleeper_count > kMaxSleepers)
@@ -181,7 +184,9 @@ void check_scene_derived(const Scene& s) {
              " micro steps = " + text(steps * s.micro_steps) + " micro steps, more than the " +
              text(kMaxFixedMicroSteps) +
              " a run may take with fixed micro steps (lower it, or leave it out to adapt)");
-  check_excitation(s);
+}
+
+void check_static_state(const Scene& s) {
   // The static load, its Hertz compression and the deflection of the track
   // under it (Winkler beam: w0 = F beta / 2k): finite and positive, or the
   // static state, and everything after it, is not a number.
@@ -211,6 +216,10 @@ void check_scene_derived(const Scene& s) {
          text(s.tolerance) + " m is below " + text(kMinRelativeTolerance) +
              " x the static deflection under the load (" + text(w0) +
              " m): the error estimate of a micro step is round-off there and no step meets it");
+}
+
+// What the matrices of the track sum: finite, and not too far apart.
+void check_matrix_spread(const Scene& s) {
   // The rail element's mass and bending stiffness, which the integrator
   // divides and multiplies by the square of its smallest step.
   const double le = s.element_length();
@@ -224,7 +233,7 @@ void check_scene_derived(const Scene& s) {
              " N/m: not finite positive numbers");
   // The stiffnesses and masses the same matrices sum, within kMaxSpread of
   // each other (the contact by its tangent stiffness at the static load).
-  const double contact = 1.5 * std::pow(s.hertz_constant, 2.0 / 3.0) * std::cbrt(load);
+  const double contact = 1.5 * std::pow(s.hertz_constant, 2.0 / 3.0) * std::cbrt(s.load());
   std::vector<std::pair<const char*, double>> k = {{"rail.second_moment", element_stiffness},
                                                    {"railpad.stiffness", s.pad_stiffness},
                                                    {"ballast.stiffness", s.ballast_stiffness},
@@ -251,6 +260,15 @@ void check_scene_derived(const Scene& s) {
                " N/m over one macro step, more than a factor " + text(kMaxSpread) +
                " above its layer's stiffness " + text(stiffness) +
                " N/m: the matrices cannot be solved in double precision");
+}
+
+}  // namespace
+
+void check_scene_derived(const Scene& s) {
+  check_run_size(s);
+  check_excitation(s);
+  check_static_state(s);
+  check_matrix_spread(s);
 }
 
 }  // namespace railcosim

@@ -25,57 +25,109 @@ constexpr int kNewtonIterations = 100;
 constexpr int kStallAfter = 10;
 constexpr double kStallTolerance = 1e-9;
 
-}  // namespace
-
-Vector solve_static(const Structure& s, const Vector& guess, double t) {
-  const int n = s.layout.size;
-  const bool hertz = !s.contacts.empty() && s.contacts.front().law == ContactTerm::Law::kHertz;
-  if (!hertz) {
-    Vector u = s.load;
-    for (const ContactTerm& c : s.contacts) {
-      ContactTerm::Entry g[5];
-      const int ng = c.entries(t, s.layout, g);
-      for (int i = 0; i < ng; ++i) u[g[i].dof] -= c.prescribed_force * g[i].weight;
-    }
-    try {
-      BandCholesky(s.K).solve_in_place(u);
-    } catch (const std::runtime_error&) {
-      throw std::runtime_error(
-          "no static equilibrium: the stiffness matrix is singular (a body is not supported)");
-    }
-    return u;
-  }
-
-  // Every contact's g vector at time t.
-  struct Contact {
+// Without the Hertz law (prescribed contact forces, or no contact): one
+// linear solve of K u = load - the contacts' forces.
+Vector solve_linear(const Structure& s, double t) {
+  Vector u = s.load;
+  for (const ContactTerm& c : s.contacts) {
     ContactTerm::Entry g[5];
-    int ng = 0;
-    double delta0 = 0;
-  };
+    const int ng = c.entries(t, s.layout, g);
+    for (int i = 0; i < ng; ++i) u[g[i].dof] -= c.prescribed_force * g[i].weight;
+  }
+  try {
+    BandCholesky(s.K).solve_in_place(u);
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error(
+        "no static equilibrium: the stiffness matrix is singular (a body is not supported)");
+  }
+  return u;
+}
+
+// A contact's g vector at time t.
+struct Contact {
+  ContactTerm::Entry g[5];
+  int ng = 0;
+  double delta0 = 0;
+};
+
+std::vector<Contact> contacts_at(const Structure& s, double t) {
   std::vector<Contact> cs(s.contacts.size());
   for (std::size_t k = 0; k < cs.size(); ++k) {
     cs[k].ng = s.contacts[k].entries(t, s.layout, cs[k].g);
     cs[k].delta0 = s.contacts[k].static_delta0(t);
   }
-  const double K_H = s.contacts.front().hertz_constant;
-  // The sparsity pattern: the band of K plus the dense block of g g^T.
+  return cs;
+}
+
+// The lower band of K as triplets: with the contacts' dense g g^T blocks,
+// the sparsity pattern of the tangent.
+std::vector<Eigen::Triplet<double>> stiffness_triplets(const SymmetricBandMatrix& K, int n) {
   std::vector<Eigen::Triplet<double>> base;
-  const int kd = s.K.half_bandwidth();
+  const int kd = K.half_bandwidth();
   for (int j = 0; j < n; ++j)
     for (int i = j; i <= std::min(n - 1, j + kd); ++i)
-      if (const double v = s.K(i, j); v != 0.0) base.emplace_back(i, j, v);
+      if (const double v = K(i, j); v != 0.0) base.emplace_back(i, j, v);
+  return base;
+}
+
+// The Hertz law as the Newton iteration uses it.
+struct ContactLaw {
+  double K_H = 0;
   // A tangent floor where a contact is open or barely closed: the slope of
-  // the Hertz law at the penetration that would carry the largest load. It
-  // only shapes the first iterations; the root is the same.
+  // the law at the penetration that would carry the largest load. It only
+  // shapes the first iterations; the root is the same.
+  double floor_delta = 0, floor_slope = 0;
+  // Open contacts linearised about the floor's penetration.
+  bool lift = false;
+};
+
+// Adds every contact's force to the residual r and its tangent to trip, at u.
+void add_contacts(const std::vector<Contact>& cs, const ContactLaw& law, const Vector& u, Vector& r,
+                  std::vector<Eigen::Triplet<double>>& trip) {
+  const double K_H = law.K_H;
+  for (const Contact& c : cs) {
+    double delta = c.delta0;
+    for (int i = 0; i < c.ng; ++i) delta += c.g[i].weight * u[c.g[i].dof];
+    double F = hertz_force(K_H, delta);
+    const double slope = std::max(delta > 0 ? 1.5 * K_H * std::sqrt(delta) : 0.0, law.floor_slope);
+    if (law.lift && delta < 0) {
+      // An open contact: linearise the law about the floor's penetration,
+      // so that one step closes a gap of any width (the plain floor slope
+      // crawls across it by load / slope per iteration).
+      F = hertz_force(K_H, law.floor_delta) + law.floor_slope * (delta - law.floor_delta);
+    }
+    for (int i = 0; i < c.ng; ++i) r[c.g[i].dof] -= F * c.g[i].weight;
+    for (int a = 0; a < c.ng; ++a)
+      for (int b = 0; b < c.ng; ++b)
+        if (c.g[a].dof >= c.g[b].dof)
+          trip.emplace_back(c.g[a].dof, c.g[b].dof, slope * c.g[a].weight * c.g[b].weight);
+  }
+}
+
+ContactLaw contact_law(const Structure& s, std::size_t contacts) {
+  ContactLaw law;
+  law.K_H = s.contacts.front().hertz_constant;
   const double load_scale = s.load.cwiseAbs().maxCoeff();
-  const double floor_delta = load_scale > 0 ? hertz_penetration(K_H, load_scale) : 0.0;
-  const double floor_slope = 1.5 * K_H * std::sqrt(floor_delta);
+  law.floor_delta = load_scale > 0 ? hertz_penetration(law.K_H, load_scale) : 0.0;
+  law.floor_slope = 1.5 * law.K_H * std::sqrt(law.floor_delta);
   // Several wheels, or a rail profile or flat, can open a contact by
   // millimetres at the first iterate; the single wheel on a smooth rail
   // keeps the plain floor (its static states are pinned by the regression
   // fixture of the paper's cases).
-  bool lift = cs.size() > 1;
-  for (const ContactTerm& c : s.contacts) lift = lift || c.excitation.any();
+  law.lift = contacts > 1;
+  for (const ContactTerm& c : s.contacts) law.lift = law.lift || c.excitation.any();
+  return law;
+}
+
+}  // namespace
+
+Vector solve_static(const Structure& s, const Vector& guess, double t) {
+  const int n = s.layout.size;
+  const bool hertz = !s.contacts.empty() && s.contacts.front().law == ContactTerm::Law::kHertz;
+  if (!hertz) return solve_linear(s, t);
+  const std::vector<Contact> cs = contacts_at(s, t);
+  const std::vector<Eigen::Triplet<double>> base = stiffness_triplets(s.K, n);
+  const ContactLaw law = contact_law(s, cs.size());
 
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
   Eigen::SparseMatrix<double> A(n, n);
@@ -86,23 +138,7 @@ Vector solve_static(const Structure& s, const Vector& guess, double t) {
     r = s.load;
     s.K.multiply_add(-1.0, u, r);
     std::vector<Eigen::Triplet<double>> trip = base;
-    for (const Contact& c : cs) {
-      double delta = c.delta0;
-      for (int i = 0; i < c.ng; ++i) delta += c.g[i].weight * u[c.g[i].dof];
-      double F = hertz_force(K_H, delta);
-      const double slope = std::max(delta > 0 ? 1.5 * K_H * std::sqrt(delta) : 0.0, floor_slope);
-      if (lift && delta < 0) {
-        // An open contact: linearise the law about the floor's penetration,
-        // so that one step closes a gap of any width (the plain floor slope
-        // crawls across it by load / slope per iteration).
-        F = hertz_force(K_H, floor_delta) + floor_slope * (delta - floor_delta);
-      }
-      for (int i = 0; i < c.ng; ++i) r[c.g[i].dof] -= F * c.g[i].weight;
-      for (int a = 0; a < c.ng; ++a)
-        for (int b = 0; b < c.ng; ++b)
-          if (c.g[a].dof >= c.g[b].dof)
-            trip.emplace_back(c.g[a].dof, c.g[b].dof, slope * c.g[a].weight * c.g[b].weight);
-    }
+    add_contacts(cs, law, u, r, trip);
     A.setFromTriplets(trip.begin(), trip.end());
     if (it == 0) ldlt.analyzePattern(A);
     ldlt.factorize(A);

@@ -120,66 +120,61 @@ struct Triplet {
   int i, j;
   double m, c, k;
 };
+// Lower or upper entries of the three matrices; add() mirrors them.
+using Triplets = std::vector<Triplet>;
 
-}  // namespace
-
-Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
-  const Parts& parts = participant.parts;
-  Structure s;
-  s.layout = make_layout(scene, parts);
-  const DofLayout& l = s.layout;
-  std::vector<Triplet> t;  // lower or upper; symmetric add
-
-  std::optional<VehicleModel> vehicle;
-  if (parts.has(Component::kVehicle)) {
-    vehicle.emplace(scene.vehicle_model());
-    const auto& M = vehicle->mass();
-    const auto& C = vehicle->damping();
-    const auto& K = vehicle->stiffness();
-    for (int a = 0; a < vehicle->dofs(); ++a)
-      for (int b = 0; b <= a; ++b) {
-        const int i = l.vehicle[static_cast<std::size_t>(a)],
-                  j = l.vehicle[static_cast<std::size_t>(b)];
-        if (a == b || M(a, b) != 0 || C(a, b) != 0 || K(a, b) != 0)
-          t.push_back({std::max(i, j), std::min(i, j), M(a, b), C(a, b), K(a, b)});
-      }
-  }
-
-  if (parts.has(Component::kRail)) {
-    const double L = scene.element_length();
-    const Matrix4 ke = beam_stiffness(scene.young_modulus * scene.second_moment, L);
-    const Matrix4 me = beam_consistent_mass(scene.density * scene.area, L);
-    for (std::size_t e = 0; e + 1 < l.rail_w.size(); ++e) {
-      const int dofs[4] = {l.rail_w[e], l.rail_theta[e], l.rail_w[e + 1], l.rail_theta[e + 1]};
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b <= a; ++b) t.push_back({dofs[a], dofs[b], me(a, b), 0, ke(a, b)});
+void add_vehicle(const VehicleModel& vehicle, const DofLayout& l, Triplets& t) {
+  const auto& M = vehicle.mass();
+  const auto& C = vehicle.damping();
+  const auto& K = vehicle.stiffness();
+  for (int a = 0; a < vehicle.dofs(); ++a)
+    for (int b = 0; b <= a; ++b) {
+      const int i = l.vehicle[static_cast<std::size_t>(a)],
+                j = l.vehicle[static_cast<std::size_t>(b)];
+      if (a == b || M(a, b) != 0 || C(a, b) != 0 || K(a, b) != 0)
+        t.push_back({std::max(i, j), std::min(i, j), M(a, b), C(a, b), K(a, b)});
     }
-  }
+}
 
+void add_rail(const Scene& scene, const DofLayout& l, Triplets& t) {
+  const double L = scene.element_length();
+  const Matrix4 ke = beam_stiffness(scene.young_modulus * scene.second_moment, L);
+  const Matrix4 me = beam_consistent_mass(scene.density * scene.area, L);
+  for (std::size_t e = 0; e + 1 < l.rail_w.size(); ++e) {
+    const int dofs[4] = {l.rail_w[e], l.rail_theta[e], l.rail_w[e + 1], l.rail_theta[e + 1]};
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b <= a; ++b) t.push_back({dofs[a], dofs[b], me(a, b), 0, ke(a, b)});
+  }
+}
+
+void add_sleepers(const Scene& scene, const DofLayout& l, Triplets& t) {
   const auto n = static_cast<std::size_t>(scene.sleeper_count);
-  if (parts.has(Component::kSleepers)) {
-    // With a fixed soil the ballast ties each sleeper to the ground.
-    const SpringDamper ground = scene.has_soil()
-                                    ? SpringDamper{}
-                                    : SpringDamper{scene.ballast_stiffness, scene.ballast_damping};
-    for (std::size_t i = 0; i < n; ++i)
-      t.push_back({l.sleeper[i], l.sleeper[i], scene.sleeper_mass, ground.c, ground.k});
-  }
-  if (parts.has(Component::kSoil)) {
-    for (std::size_t i = 0; i < n; ++i) {
-      t.push_back(
-          {l.soil[i], l.soil[i], scene.soil_mass, scene.soil_damping, scene.soil_stiffness});
-      if (i + 1 < n) {
-        const double kc = scene.soil_coupling_stiffness, cc = scene.soil_coupling_damping;
-        t.push_back({l.soil[i], l.soil[i], 0, cc, kc});
-        t.push_back({l.soil[i + 1], l.soil[i + 1], 0, cc, kc});
-        t.push_back({l.soil[i + 1], l.soil[i], 0, -cc, -kc});
-      }
+  // With a fixed soil the ballast ties each sleeper to the ground.
+  const SpringDamper ground = scene.has_soil()
+                                  ? SpringDamper{}
+                                  : SpringDamper{scene.ballast_stiffness, scene.ballast_damping};
+  for (std::size_t i = 0; i < n; ++i)
+    t.push_back({l.sleeper[i], l.sleeper[i], scene.sleeper_mass, ground.c, ground.k});
+}
+
+void add_soil(const Scene& scene, const DofLayout& l, Triplets& t) {
+  const auto n = static_cast<std::size_t>(scene.sleeper_count);
+  for (std::size_t i = 0; i < n; ++i) {
+    t.push_back({l.soil[i], l.soil[i], scene.soil_mass, scene.soil_damping, scene.soil_stiffness});
+    if (i + 1 < n) {
+      const double kc = scene.soil_coupling_stiffness, cc = scene.soil_coupling_damping;
+      t.push_back({l.soil[i], l.soil[i], 0, cc, kc});
+      t.push_back({l.soil[i + 1], l.soil[i + 1], 0, cc, kc});
+      t.push_back({l.soil[i + 1], l.soil[i], 0, -cc, -kc});
     }
   }
+}
 
-  // The linear layers: whole where both ends are held, a spring to held
-  // values on a side that receives displacements.
+// The linear layers: whole where both ends are held, a spring to held
+// values on a side that receives displacements.
+void add_layers(const Scene& scene, const ParticipantSpec& participant, const DofLayout& l,
+                Triplets& t) {
+  const Parts& parts = participant.parts;
   for (int cut = 0; cut < static_cast<int>(cut_kinds().size()); ++cut) {
     const CutKind& kind = cut_kinds()[static_cast<std::size_t>(cut)];
     if (kind.moving) continue;
@@ -199,12 +194,15 @@ Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
       if (i.cut == cut && !i.receives_force())
         for (int dof : layer_dofs(l, cut, i.side)) t.push_back({dof, dof, 0, e.c, e.k});
   }
+}
 
+// M, C and K as band matrices just wide enough for the entries.
+void fill_matrices(const Triplets& t, Structure& s) {
   int kd = 0;
   for (const auto& e : t) kd = std::max(kd, std::abs(e.i - e.j));
-  s.M = SymmetricBandMatrix(l.size, kd);
-  s.C = SymmetricBandMatrix(l.size, kd);
-  s.K = SymmetricBandMatrix(l.size, kd);
+  s.M = SymmetricBandMatrix(s.layout.size, kd);
+  s.C = SymmetricBandMatrix(s.layout.size, kd);
+  s.K = SymmetricBandMatrix(s.layout.size, kd);
   for (const auto& e : t) {
     // Entries pushed with i == j are added once; off-diagonal ones once per
     // pair (add() mirrors them).
@@ -212,38 +210,61 @@ Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
     s.C.add(e.i, e.j, e.c);
     s.K.add(e.i, e.j, e.k);
   }
+}
+
+// The wheel/rail contacts, one per wheel, where either of their ends is held.
+void add_contacts(const Scene& scene, const ParticipantSpec& participant, Structure& s) {
+  const Parts& parts = participant.parts;
+  const bool wheel = parts.has(Component::kVehicle), rail = parts.has(Component::kRail);
+  if (!wheel && !rail) return;
+  std::shared_ptr<const RailProfile> profile;
+  if (scene.irregularity.model != "none") {
+    // Over the wheels' path, in the scene's frame.
+    const auto [a, b] = scene.wheel_path();
+    profile = make_profile(scene.irregularity, a, b);
+  }
+  std::shared_ptr<const WheelFlat> flat;
+  if (scene.wheel_flat) flat = std::make_shared<const WheelFlat>(*scene.wheel_flat);
+  for (int k = 0; k < scene.wheel_count(); ++k) {
+    ContactTerm c;
+    c.hertz_constant = scene.hertz_constant;
+    c.has_wheel = wheel;
+    c.has_rail = rail;
+    c.wheel = k;
+    c.path = contact_path(scene, k);
+    c.excitation.profile = profile;
+    c.excitation.origin = scene.rail_start;
+    if (flat && scene.wheel_flat->wheel == k) c.excitation.flat = flat;
+    for (const InterfaceSpec& i : participant.interfaces)
+      if (i.kind().moving && i.receives_force()) c.law = ContactTerm::Law::kPrescribed;
+    s.contacts.push_back(std::move(c));
+  }
+}
+
+}  // namespace
+
+Structure assemble(const Scene& scene, const ParticipantSpec& participant) {
+  const Parts& parts = participant.parts;
+  Structure s;
+  s.layout = make_layout(scene, parts);
+  const DofLayout& l = s.layout;
+  Triplets t;
+  std::optional<VehicleModel> vehicle;
+  if (parts.has(Component::kVehicle)) {
+    vehicle.emplace(scene.vehicle_model());
+    add_vehicle(*vehicle, l, t);
+  }
+  if (parts.has(Component::kRail)) add_rail(scene, l, t);
+  if (parts.has(Component::kSleepers)) add_sleepers(scene, l, t);
+  if (parts.has(Component::kSoil)) add_soil(scene, l, t);
+  add_layers(scene, participant, l, t);
+  fill_matrices(t, s);
   s.load = Vector::Zero(l.size);
   if (vehicle) {
     const Eigen::VectorXd f = vehicle->gravity_load(scene.gravity);
     for (int a = 0; a < vehicle->dofs(); ++a) s.load[l.vehicle[static_cast<std::size_t>(a)]] = f[a];
   }
-
-  // The wheel/rail contacts, one per wheel, where either of their ends is held.
-  const bool wheel = parts.has(Component::kVehicle), rail = parts.has(Component::kRail);
-  if (wheel || rail) {
-    std::shared_ptr<const RailProfile> profile;
-    if (scene.irregularity.model != "none") {
-      // Over the wheels' path, in the scene's frame.
-      const auto [a, b] = scene.wheel_path();
-      profile = make_profile(scene.irregularity, a, b);
-    }
-    std::shared_ptr<const WheelFlat> flat;
-    if (scene.wheel_flat) flat = std::make_shared<const WheelFlat>(*scene.wheel_flat);
-    for (int k = 0; k < scene.wheel_count(); ++k) {
-      ContactTerm c;
-      c.hertz_constant = scene.hertz_constant;
-      c.has_wheel = wheel;
-      c.has_rail = rail;
-      c.wheel = k;
-      c.path = contact_path(scene, k);
-      c.excitation.profile = profile;
-      c.excitation.origin = scene.rail_start;
-      if (flat && scene.wheel_flat->wheel == k) c.excitation.flat = flat;
-      for (const InterfaceSpec& i : participant.interfaces)
-        if (i.kind().moving && i.receives_force()) c.law = ContactTerm::Law::kPrescribed;
-      s.contacts.push_back(std::move(c));
-    }
-  }
+  add_contacts(scene, participant, s);
   return s;
 }
 

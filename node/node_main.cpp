@@ -12,18 +12,12 @@ int node_main(const std::string& default_role, int argc, char** argv) {
   return node_main(NodeProgram{default_role + "_node", default_role, {}}, argc, argv);
 }
 
-int node_main(const NodeProgram& program, int argc, char** argv) {
-  const std::string& default_role = program.default_role;
-  std::string role = default_role;
-  CLI::App app{"Serves the " + default_role +
-               " participant of a vehicle/track/soil co-simulation to a master, one session at a "
-               "time."};
+namespace {
+
+// The values of the command line, at their defaults until parsed.
+struct NodeCommandLine {
+  std::string role;
   std::string listen = "127.0.0.1:0";
-  app.add_option("--role", role,
-                 "The participant this node serves: vehicle, track, rail, soil, or any (whatever "
-                 "the master asks for)")
-      ->check(CLI::IsMember({"vehicle", "track", "rail", "soil", "any"}))
-      ->capture_default_str();
   std::string scene_path;
   std::size_t max_frame = kDefaultMaxFrameBytes;
   std::string level = "info";
@@ -32,72 +26,99 @@ int node_main(const NodeProgram& program, int argc, char** argv) {
   double step_seconds = 30.0;
   long max_micro_steps = Newmark::kMaxStepsPerInterval;
   std::string token_file;
-  app.add_option("--listen", listen, "HOST:PORT to listen on (port 0: the system chooses)")
+};
+
+void declare_options(CLI::App& app, NodeCommandLine& o) {
+  app.add_option("--role", o.role,
+                 "The participant this node serves: vehicle, track, rail, soil, or any (whatever "
+                 "the master asks for)")
+      ->check(CLI::IsMember({"vehicle", "track", "rail", "soil", "any"}))
       ->capture_default_str();
-  app.add_option("--scene", scene_path,
+  app.add_option("--listen", o.listen, "HOST:PORT to listen on (port 0: the system chooses)")
+      ->capture_default_str();
+  app.add_option("--scene", o.scene_path,
                  "Scene file: when given, only a master running this very scene is accepted")
       ->check(CLI::ExistingFile);
-  app.add_option("--max-frame-bytes", max_frame, "Largest frame accepted")->capture_default_str();
-  app.add_option("--token-file", token_file,
+  app.add_option("--max-frame-bytes", o.max_frame, "Largest frame accepted")->capture_default_str();
+  app.add_option("--token-file", o.token_file,
                  "File holding a shared secret (16+ characters): a master must prove it knows it "
                  "before anything else. Required to listen on a non-loopback address")
       ->check(CLI::ExistingFile);
-  app.add_option("--max-micro-steps", max_micro_steps,
+  app.add_option("--max-micro-steps", o.max_micro_steps,
                  "Micro steps a subsystem may take in one macro step before it gives up "
                  "(STEP_FAILED: the run diverges)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--idle-timeout", idle_seconds,
+  app.add_option("--idle-timeout", o.idle_seconds,
                  "Seconds a session may stay silent before the node closes it")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--message-timeout", message_seconds,
+  app.add_option("--message-timeout", o.message_seconds,
                  "Seconds a request may take to arrive whole once begun, and a reply to be read "
                  "whole (also the hello's deadline, when shorter)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--max-step-seconds", step_seconds,
+  app.add_option("--max-step-seconds", o.step_seconds,
                  "Seconds of work one macro step may take before it fails (STEP_FAILED)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--log-level", level, "trace, debug, info, warn, error or off")
+  app.add_option("--log-level", o.level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
+}
+
+ServerLimits server_limits(const NodeCommandLine& o) {
+  ServerLimits limits;
+  limits.max_frame_bytes = o.max_frame;
+  limits.idle_timeout = std::chrono::milliseconds(static_cast<long>(o.idle_seconds * 1000));
+  limits.message_timeout = std::chrono::milliseconds(static_cast<long>(o.message_seconds * 1000));
+  limits.max_step_time = std::chrono::milliseconds(static_cast<long>(o.step_seconds * 1000));
+  limits.handshake_timeout =
+      std::min({limits.handshake_timeout, limits.idle_timeout, limits.message_timeout});
+  return limits;
+}
+
+// Checks the options, then serves sessions until the process is stopped.
+void serve(const NodeProgram& program, const NodeCommandLine& o) {
+  NodeOptions options;
+  options.role = o.role;
+  options.name = program.name;
+  options.make_participant = program.make_participant;
+  options.max_micro_steps = o.max_micro_steps;
+  if (!o.scene_path.empty()) options.pinned_scene = load_scene(o.scene_path);
+  const Address address = parse_address(o.listen, "--listen");
+  if (!o.token_file.empty()) options.token = read_token_file(o.token_file);
+  if (!options.token && !is_loopback(address.host))
+    throw std::runtime_error(
+        "refusing to listen on " + address.str() +
+        " without --token-file: any host that reaches this address could drive the node. "
+        "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
+  NodeServer server(options, address, server_limits(o));
+  std::printf("listening on %s\n", server.local_address().str().c_str());
+  std::fflush(stdout);
+  server.run(true);
+}
+
+}  // namespace
+
+int node_main(const NodeProgram& program, int argc, char** argv) {
+  CLI::App app{"Serves the " + program.default_role +
+               " participant of a vehicle/track/soil co-simulation to a master, one session at a "
+               "time."};
+  NodeCommandLine options;
+  options.role = program.default_role;
+  declare_options(app, options);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  spdlog::set_level(spdlog::level::from_str(level));
-  const std::string& who = program.name;
+  spdlog::set_level(spdlog::level::from_str(options.level));
   try {
-    NodeOptions options;
-    options.role = role;
-    options.name = who;
-    options.make_participant = program.make_participant;
-    options.max_micro_steps = max_micro_steps;
-    if (!scene_path.empty()) options.pinned_scene = load_scene(scene_path);
-    const Address address = parse_address(listen, "--listen");
-    if (!token_file.empty()) options.token = read_token_file(token_file);
-    if (!options.token && !is_loopback(address.host))
-      throw std::runtime_error(
-          "refusing to listen on " + address.str() +
-          " without --token-file: any host that reaches this address could drive the node. "
-          "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
-    ServerLimits limits;
-    limits.max_frame_bytes = max_frame;
-    limits.idle_timeout = std::chrono::milliseconds(static_cast<long>(idle_seconds * 1000));
-    limits.message_timeout = std::chrono::milliseconds(static_cast<long>(message_seconds * 1000));
-    limits.max_step_time = std::chrono::milliseconds(static_cast<long>(step_seconds * 1000));
-    limits.handshake_timeout =
-        std::min({limits.handshake_timeout, limits.idle_timeout, limits.message_timeout});
-    NodeServer server(options, address, limits);
-    std::printf("listening on %s\n", server.local_address().str().c_str());
-    std::fflush(stdout);
-    server.run(true);
+    serve(program, options);
     return 0;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: %s\n", who.c_str(), e.what());
+    std::fprintf(stderr, "%s: %s\n", program.name.c_str(), e.what());
     return 2;
   }
 }

@@ -136,222 +136,42 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
 
 wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
   using E = wire::Envelope;
-  wire::Envelope reply;
-  reply.set_id(req.id());
-  const std::string what = body_name(req);
-
   // Before a master has proved it knows the secret, nothing but the answer counts.
   if (req.body_case() == E::kShutdown && state_ != State::kAwaitAuth) {
     close = true;
+    wire::Envelope reply;
+    reply.set_id(req.id());
     reply.mutable_ack();
     return reply;
   }
-
   switch (state_) {
-    case State::kAwaitHello: {
-      if (req.body_case() != E::kHello)
-        throw ProtocolError(wire::Error::OUT_OF_ORDER,
-                            "expected hello as the first message of a session, got " + what);
-      const wire::Hello& h = req.hello();
-      if (h.protocol_version() != kProtocolVersion)
-        throw ProtocolError(wire::Error::VERSION_MISMATCH,
-                            "protocol version " + std::to_string(h.protocol_version()) +
-                                " is not supported; this node speaks version " +
-                                std::to_string(kProtocolVersion));
-      participant_ = h.participant();
-      peer_hello_ = h.role() == "peer";
-      peer_of_ = h.peer_of();
-      fingerprint_ = h.scene_fingerprint();
-      // Before a node with a secret has its answer, it says nothing but the
-      // challenge: not whom it serves, not its scene.
-      if (options_.token) {
-        nonce_ = random_nonce();
-        state_ = State::kAwaitAuth;
-        reply.mutable_challenge()->set_nonce(nonce_);
-        return reply;
-      }
-      check_hello_target();
-      check_pinned_scene();
-      state_ = State::kAwaitConfigure;
-      return hello_reply(req.id());
-    }
-    case State::kAwaitAuth: {
-      const std::string expected = auth_answer(*options_.token, participant_, nonce_);
-      nonce_.clear();  // one answer per challenge
-      if (req.body_case() != E::kAuth || !constant_time_equal(req.auth().mac(), expected))
-        throw ProtocolError(wire::Error::UNAUTHORIZED,
-                            "this node requires the shared secret of its --token-file; the answer "
-                            "to its challenge was missing or wrong");
-      check_hello_target();
-      check_pinned_scene();
-      state_ = State::kAwaitConfigure;
-      return hello_reply(req.id());
-    }
-    case State::kAwaitConfigure: {
-      if (req.body_case() != E::kConfigure)
-        throw ProtocolError(wire::Error::OUT_OF_ORDER,
-                            "expected configure after hello, got " + what);
-      const wire::Configure& c = req.configure();
-      if (c.participant() != participant_)
-        throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
-                                                         " participant, the hello the " +
-                                                         participant_);
-      if (!c.has_model())
-        throw ProtocolError(wire::Error::BAD_REQUEST,
-                            "configure: this built-in node needs the model section");
-      const Scene scene = from_wire(c.model(), "the master's scene");
-      if (scene_fingerprint(scene) != fingerprint_)
-        throw ProtocolError(wire::Error::SCENE_MISMATCH,
-                            "the configured scene does not match the fingerprint of the hello");
-      // Resource limits: a session cannot make the node allocate without bound.
-      if (scene.sleeper_count > kMaxSleepers || scene.elements_per_span > kMaxElementsPerSpan)
-        throw ProtocolError(wire::Error::BAD_REQUEST,
-                            "configure: the mesh exceeds this node's limits (" +
-                                std::to_string(scene.sleeper_count) + " sleepers, " +
-                                std::to_string(scene.elements_per_span) +
-                                " elements per span; at most " + std::to_string(kMaxSleepers) +
-                                " and " + std::to_string(kMaxElementsPerSpan) + ")");
-      if (!(c.macro_step() > 0) || !(c.tolerance() > 0) || c.micro_steps() < 0 ||
-          c.micro_steps() > 65536)
-        throw ProtocolError(wire::Error::BAD_REQUEST,
-                            "configure: macro_step and tolerance must be positive, micro_steps "
-                            "between 0 and 65536");
-      std::vector<InterfaceSpec> interfaces;
-      for (const auto& w : c.interfaces()) interfaces.push_back(from_wire(w));
-      SubsystemConfig cfg;
-      try {
-        cfg.participant = participant_from_interfaces(scene, participant_, interfaces);
-      } catch (const std::invalid_argument& e) {
-        throw ProtocolError(wire::Error::BAD_INTERFACE,
-                            "participant " + participant_ + ": " + e.what());
-      }
-      for (std::size_t k = 0; k < interfaces.size(); ++k)
-        if (c.interfaces(static_cast<int>(k)).x_size() != interface_points(scene, interfaces[k]))
-          throw ProtocolError(wire::Error::BAD_INTERFACE,
-                              "participant " + participant_ + ": interface " +
-                                  c.interfaces(static_cast<int>(k)).cut() + " has " +
-                                  std::to_string(c.interfaces(static_cast<int>(k)).x_size()) +
-                                  " coupling points, the model " +
-                                  std::to_string(interface_points(scene, interfaces[k])));
-      cfg.macro_step = c.macro_step();
-      cfg.tolerance = c.tolerance();
-      cfg.micro_steps = c.micro_steps();
-      cfg.carry_acceleration = c.carry_acceleration();
-      cfg.max_micro_steps = c.max_micro_steps() > 0
-                                ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
-                                : options_.max_micro_steps;
-      try {
-        served_ = options_.make_participant ? options_.make_participant(scene, cfg)
-                                            : std::make_unique<Subsystem>(scene, cfg);
-      } catch (const std::invalid_argument& e) {
-        throw ProtocolError(wire::Error::BAD_INTERFACE,
-                            "participant " + participant_ + ": " + e.what());
-      }
-      macro_step_ = c.macro_step();
-      description_ = served_->name();
-      state_ = State::kConfigured;
-      const Channels ch = served_->channels();
-      if (const std::string why = check_declared_channels({{"this node", ch}}); !why.empty())
-        throw ProtocolError(wire::Error::INTERNAL, why);
-      auto* w = reply.mutable_configured();
-      for (const auto& h : ch.history) w->add_history(h);
-      for (const auto& r : ch.results) w->add_results(r);
-      return reply;
-    }
+    case State::kAwaitHello:
+      return on_hello(req);
+    case State::kAwaitAuth:
+      return on_auth(req);
+    case State::kAwaitConfigure:
+      return on_configure(req);
     case State::kConfigured:
       break;
   }
-
-  Participant& sub = *served_;
+  const std::string what = body_name(req);
   switch (req.body_case()) {
-    case E::kStatics: {
-      auto* o = reply.mutable_outputs();
-      *o->mutable_data() = to_wire(sub.statics(from_wire(req.statics().inputs())));
-      o->set_step(0);
-      o->set_t(0.0);
-      return reply;
-    }
-    case E::kInitialize: {
-      const StepResult r = sub.initialize(from_wire(req.initialize().inputs()));
-      step_ = 0;
-      outputs_ = r.outputs;
-      *reply.mutable_step_report() = to_wire(r, 0, 0.0);
-      return reply;
-    }
-    case E::kSetInputs: {
-      const auto& s = req.set_inputs();
-      if (s.has_waveforms())
-        take_waveforms(static_cast<long>(s.step()), s.waveforms(), s.has_inputs());
-      else if (s.has_inputs_end())
-        sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()),
-                       from_wire(s.inputs_end()));
-      else
-        sub.set_inputs(static_cast<long>(s.step()), from_wire(s.inputs()));
-      reply.mutable_ack();
-      return reply;
-    }
-    case E::kGetOutputs: {
-      auto* o = reply.mutable_outputs();
-      *o->mutable_data() = to_wire(sub.outputs());
-      o->set_step(step_);
-      o->set_t(static_cast<double>(step_) * macro_step_);
-      return reply;
-    }
-    case E::kStep: {
-      const auto& s = req.step();
-      if (s.h() != macro_step_)
-        throw ProtocolError(
-            wire::Error::BAD_REQUEST,
-            "step " + std::to_string(s.step()) + " asks for h = " + std::to_string(s.h()) +
-                " s, but the session was configured with H = " + std::to_string(macro_step_) +
-                " s");
-      const long n = static_cast<long>(s.step());
-      if (s.has_inputs_end() && !s.has_inputs())
-        throw ProtocolError(wire::Error::BAD_REQUEST,
-                            "step " + std::to_string(n) + " carries inputs_end without inputs");
-      if (s.keep_checkpoint()) kept_ = sub.save();
-      if (s.restore_checkpoint()) restore_kept(sub);
-      if (s.has_waveforms())
-        take_waveforms(n, s.waveforms(), s.has_inputs());
-      else if (s.has_inputs_end())
-        sub.set_inputs(n, from_wire(s.inputs()), from_wire(s.inputs_end()));
-      else if (s.has_inputs())
-        sub.set_inputs(n, from_wire(s.inputs()));
-      const StepResult r = sub.step(n);
-      step_ = n + 1;
-      *reply.mutable_step_report() = to_wire(r, step_, static_cast<double>(step_) * macro_step_);
-      if (record_) to_wire(sub.step_samples(), reply.mutable_step_report());
-      return reply;
-    }
-    case E::kGetResults: {
-      const ParticipantResults r = sub.results();
-      auto* w = reply.mutable_results();
-      for (const auto& f : r.fields) w->add_fields()->mutable_values()->Add(f.begin(), f.end());
-      w->set_micro_steps(r.micro_steps);
-      return reply;
-    }
-    case E::kSave: {
-      if (req.save().keep()) {
-        kept_ = sub.save();
-        reply.mutable_ack();
-        return reply;
-      }
-      const ParticipantState st = sub.save();
-      auto* w = reply.mutable_state();
-      for (double v : st.values) w->add_values(v);
-      return reply;
-    }
-    case E::kRestore: {
-      if (req.restore().kept()) {
-        restore_kept(sub);
-        reply.mutable_ack();
-        return reply;
-      }
-      const auto& values = req.restore().state().values();
-      sub.restore(ParticipantState{{values.begin(), values.end()}});
-      reply.mutable_ack();
-      return reply;
-    }
+    case E::kStatics:
+      return on_statics(req);
+    case E::kInitialize:
+      return on_initialize(req);
+    case E::kSetInputs:
+      return on_set_inputs(req);
+    case E::kGetOutputs:
+      return on_get_outputs(req);
+    case E::kStep:
+      return on_step(req);
+    case E::kGetResults:
+      return on_get_results(req);
+    case E::kSave:
+      return on_save(req);
+    case E::kRestore:
+      return on_restore(req);
     case E::kRecordSamples:
       return record_samples(req);
     case E::kLinks:
@@ -365,6 +185,133 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
     default:
       throw ProtocolError(wire::Error::BAD_REQUEST, "a node does not accept " + what + " messages");
   }
+}
+
+wire::Envelope NodeSession::on_hello(const wire::Envelope& req) {
+  if (req.body_case() != wire::Envelope::kHello)
+    throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                        "expected hello as the first message of a session, got " + body_name(req));
+  const wire::Hello& h = req.hello();
+  if (h.protocol_version() != kProtocolVersion)
+    throw ProtocolError(wire::Error::VERSION_MISMATCH,
+                        "protocol version " + std::to_string(h.protocol_version()) +
+                            " is not supported; this node speaks version " +
+                            std::to_string(kProtocolVersion));
+  participant_ = h.participant();
+  peer_hello_ = h.role() == "peer";
+  peer_of_ = h.peer_of();
+  fingerprint_ = h.scene_fingerprint();
+  // Before a node with a secret has its answer, it says nothing but the
+  // challenge: not whom it serves, not its scene.
+  if (options_.token) {
+    nonce_ = random_nonce();
+    state_ = State::kAwaitAuth;
+    wire::Envelope reply;
+    reply.set_id(req.id());
+    reply.mutable_challenge()->set_nonce(nonce_);
+    return reply;
+  }
+  check_hello_target();
+  check_pinned_scene();
+  state_ = State::kAwaitConfigure;
+  return hello_reply(req.id());
+}
+
+wire::Envelope NodeSession::on_auth(const wire::Envelope& req) {
+  const std::string expected = auth_answer(*options_.token, participant_, nonce_);
+  nonce_.clear();  // one answer per challenge
+  if (req.body_case() != wire::Envelope::kAuth || !constant_time_equal(req.auth().mac(), expected))
+    throw ProtocolError(wire::Error::UNAUTHORIZED,
+                        "this node requires the shared secret of its --token-file; the answer "
+                        "to its challenge was missing or wrong");
+  check_hello_target();
+  check_pinned_scene();
+  state_ = State::kAwaitConfigure;
+  return hello_reply(req.id());
+}
+
+Scene NodeSession::configured_scene(const wire::Configure& c) const {
+  if (c.participant() != participant_)
+    throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
+                                                     " participant, the hello the " + participant_);
+  if (!c.has_model())
+    throw ProtocolError(wire::Error::BAD_REQUEST,
+                        "configure: this built-in node needs the model section");
+  Scene scene = from_wire(c.model(), "the master's scene");
+  if (scene_fingerprint(scene) != fingerprint_)
+    throw ProtocolError(wire::Error::SCENE_MISMATCH,
+                        "the configured scene does not match the fingerprint of the hello");
+  // Resource limits: a session cannot make the node allocate without bound.
+  if (scene.sleeper_count > kMaxSleepers || scene.elements_per_span > kMaxElementsPerSpan)
+    throw ProtocolError(wire::Error::BAD_REQUEST,
+                        "configure: the mesh exceeds this node's limits (" +
+                            std::to_string(scene.sleeper_count) + " sleepers, " +
+                            std::to_string(scene.elements_per_span) +
+                            " elements per span; at most " + std::to_string(kMaxSleepers) +
+                            " and " + std::to_string(kMaxElementsPerSpan) + ")");
+  if (!(c.macro_step() > 0) || !(c.tolerance() > 0) || c.micro_steps() < 0 ||
+      c.micro_steps() > 65536)
+    throw ProtocolError(wire::Error::BAD_REQUEST,
+                        "configure: macro_step and tolerance must be positive, micro_steps "
+                        "between 0 and 65536");
+  return scene;
+}
+
+SubsystemConfig NodeSession::configured_subsystem(const Scene& scene,
+                                                  const wire::Configure& c) const {
+  std::vector<InterfaceSpec> interfaces;
+  for (const auto& w : c.interfaces()) interfaces.push_back(from_wire(w));
+  SubsystemConfig cfg;
+  try {
+    cfg.participant = participant_from_interfaces(scene, participant_, interfaces);
+  } catch (const std::invalid_argument& e) {
+    throw ProtocolError(wire::Error::BAD_INTERFACE,
+                        "participant " + participant_ + ": " + e.what());
+  }
+  for (std::size_t k = 0; k < interfaces.size(); ++k)
+    if (c.interfaces(static_cast<int>(k)).x_size() != interface_points(scene, interfaces[k]))
+      throw ProtocolError(wire::Error::BAD_INTERFACE,
+                          "participant " + participant_ + ": interface " +
+                              c.interfaces(static_cast<int>(k)).cut() + " has " +
+                              std::to_string(c.interfaces(static_cast<int>(k)).x_size()) +
+                              " coupling points, the model " +
+                              std::to_string(interface_points(scene, interfaces[k])));
+  cfg.macro_step = c.macro_step();
+  cfg.tolerance = c.tolerance();
+  cfg.micro_steps = c.micro_steps();
+  cfg.carry_acceleration = c.carry_acceleration();
+  cfg.max_micro_steps = c.max_micro_steps() > 0
+                            ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
+                            : options_.max_micro_steps;
+  return cfg;
+}
+
+wire::Envelope NodeSession::on_configure(const wire::Envelope& req) {
+  if (req.body_case() != wire::Envelope::kConfigure)
+    throw ProtocolError(wire::Error::OUT_OF_ORDER,
+                        "expected configure after hello, got " + body_name(req));
+  const wire::Configure& c = req.configure();
+  const Scene scene = configured_scene(c);
+  const SubsystemConfig cfg = configured_subsystem(scene, c);
+  try {
+    served_ = options_.make_participant ? options_.make_participant(scene, cfg)
+                                        : std::make_unique<Subsystem>(scene, cfg);
+  } catch (const std::invalid_argument& e) {
+    throw ProtocolError(wire::Error::BAD_INTERFACE,
+                        "participant " + participant_ + ": " + e.what());
+  }
+  macro_step_ = c.macro_step();
+  description_ = served_->name();
+  state_ = State::kConfigured;
+  const Channels ch = served_->channels();
+  if (const std::string why = check_declared_channels({{"this node", ch}}); !why.empty())
+    throw ProtocolError(wire::Error::INTERNAL, why);
+  wire::Envelope reply;
+  reply.set_id(req.id());
+  auto* w = reply.mutable_configured();
+  for (const auto& h : ch.history) w->add_history(h);
+  for (const auto& r : ch.results) w->add_results(r);
+  return reply;
 }
 
 }  // namespace railcosim

@@ -78,7 +78,26 @@ class NodeSession {
   void check_pinned_scene() const;
   // WRONG_ROLE unless the hello asks for the participant this node serves.
   void check_hello_target() const;
+  // Picks the handler of a request by the session's state and the request's
+  // kind; each handler below throws ProtocolError for what breaks the protocol.
   wire::Envelope dispatch(const wire::Envelope& request, bool& close);
+  // Before configure: the hello, the answer to the challenge, configure.
+  wire::Envelope on_hello(const wire::Envelope& request);
+  wire::Envelope on_auth(const wire::Envelope& request);
+  wire::Envelope on_configure(const wire::Envelope& request);
+  // Configure's checks of the scene and the numbers (the scene it names), and
+  // of the interfaces (this participant's configuration from them).
+  Scene configured_scene(const wire::Configure& configure) const;
+  SubsystemConfig configured_subsystem(const Scene& scene, const wire::Configure& configure) const;
+  // Once configured (session_handlers.cpp): one handler per request kind.
+  wire::Envelope on_statics(const wire::Envelope& request);
+  wire::Envelope on_initialize(const wire::Envelope& request);
+  wire::Envelope on_set_inputs(const wire::Envelope& request);
+  wire::Envelope on_get_outputs(const wire::Envelope& request);
+  wire::Envelope on_step(const wire::Envelope& request);
+  wire::Envelope on_get_results(const wire::Envelope& request);
+  wire::Envelope on_save(const wire::Envelope& request);
+  wire::Envelope on_restore(const wire::Envelope& request);
   wire::Envelope links(const wire::Envelope& request);
   wire::Envelope window(const wire::Envelope& request);
   // Serves step requests read through the request source until one of

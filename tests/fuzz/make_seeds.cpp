@@ -35,6 +35,157 @@ CouplingData scaled(CouplingData in, double scale) {
   return in;
 }
 
+// Frames with ids counting up across every seed the program writes.
+class Frames {
+ public:
+  std::string of(wire::Envelope e) {
+    e.set_id(id_++);
+    return encode_frame(e);
+  }
+  template <class Fill>
+  std::string make(Fill fill) {
+    wire::Envelope e;
+    fill(e);
+    return of(e);
+  }
+
+ private:
+  std::uint64_t id_ = 1;
+};
+
+// A participant of a case: its configuration and its inputs at rest.
+struct Served {
+  SubsystemConfig cfg;
+  CouplingData in;
+};
+
+// Three macro steps, with held inputs (one step's on their own, in a
+// SetInputs), a Save and a Restore after the first; `local` runs the same.
+std::string step_frames(const Scene& scene, const CouplingData& in, Subsystem& local, Frames& f) {
+  std::string s;
+  for (long k = 0; k < 3; ++k) {
+    const CouplingData held = scaled(in, 1.0 + 0.01 * static_cast<double>(k));
+    if (k == 1) {  // inputs on their own, then the step without them
+      local.set_inputs(k, held);
+      s += f.make([&](wire::Envelope& e) {
+        auto* si = e.mutable_set_inputs();
+        si->set_step(k);
+        si->set_t(static_cast<double>(k) * scene.macro_step);
+        *si->mutable_inputs() = to_wire(held);
+      });
+      s += f.make([&](wire::Envelope& e) { e.mutable_get_outputs()->set_step(k); });
+    } else {
+      local.set_inputs(k, held);
+    }
+    local.step(k);
+    s += f.make([&](wire::Envelope& e) {
+      auto* st = e.mutable_step();
+      st->set_step(k);
+      st->set_t(static_cast<double>(k) * scene.macro_step);
+      st->set_h(scene.macro_step);
+      if (k != 1) *st->mutable_inputs() = to_wire(held);
+    });
+    if (k == 0) {
+      const ParticipantState saved = local.save();
+      s += f.make([](wire::Envelope& e) { e.mutable_save(); });
+      s += f.make([&](wire::Envelope& e) {
+        for (double v : saved.values) e.mutable_restore()->mutable_state()->add_values(v);
+      });
+    }
+  }
+  return s;
+}
+
+// A whole session of one participant: hello to shutdown.
+std::string session_frames(const Scene& scene, const Served& p, Frames& f) {
+  const std::string& role = p.cfg.participant.role;
+  // The same session in-process gives the state a Restore carries back.
+  Subsystem local(scene, p.cfg);
+  std::string s = f.of(hello_envelope(role, scene_fingerprint(scene)));
+  s += f.of(configure_envelope(scene, p.cfg));
+  // Two statics on the way to the static state, as the master iterates.
+  for (double scale : {0.9, 1.0}) {
+    const CouplingData guess = scaled(p.in, scale);
+    local.statics(guess);
+    s +=
+        f.make([&](wire::Envelope& e) { *e.mutable_statics()->mutable_inputs() = to_wire(guess); });
+  }
+  local.initialize(p.in);
+  s +=
+      f.make([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(p.in); });
+  s += step_frames(scene, p.in, local, f);
+  s += f.make([](wire::Envelope& e) { e.mutable_get_outputs()->set_step(3); });
+  s += f.make([](wire::Envelope& e) { e.mutable_get_results(); });
+  s += f.make([](wire::Envelope& e) { e.mutable_shutdown(); });
+  return s;
+}
+
+// session_0, session_1, ...: (case, participant) for every cut from both
+// sides, both coupling types, the rail alone between two cuts, a participant
+// with two interfaces. 1 when a case lacks its participant.
+int write_sessions(const Scene& scene, const std::filesystem::path& dir, Frames& f) {
+  const std::pair<const char*, const char*> sessions[] = {
+      {"wr-xt-jacobi", "vehicle"},    {"wr-xx+ss-xt-gauss-seidel", "track"},
+      {"rs-xx-jacobi", "track"},      {"rs-xt-gauss-seidel", "vehicle"},
+      {"ss-xt-jacobi", "soil"},       {"wr-xx+ss-xx-jacobi", "soil"},
+      {"wr-xt+rs-xx-jacobi", "rail"},
+  };
+  int n = 0;
+  for (const auto& [case_name, role] : sessions) {
+    const std::vector<ParticipantSpec> specs = partition(scene, parse_case(case_name));
+    const std::vector<CouplingData> at_rest = static_inputs(scene, case_name);
+    Served p;
+    for (std::size_t k = 0; k < specs.size(); ++k)
+      if (specs[k].role == role) {
+        p.cfg.participant = specs[k];
+        p.in = at_rest[k];
+      }
+    if (p.cfg.participant.role != role) {
+      std::fprintf(stderr, "make_fuzz_seeds: case %s has no %s participant\n", case_name, role);
+      return 1;
+    }
+    p.cfg.macro_step = scene.macro_step;
+    p.cfg.tolerance = scene.tolerance;
+    const std::string s = session_frames(scene, p, f);
+    std::ofstream(dir / ("session_" + std::to_string(n++)), std::ios::binary) << s;
+  }
+  return 0;
+}
+
+// session_waveform: substep waveforms, recording on, inputs as cubic
+// waveforms in a Step and in a SetInputs.
+void write_waveform_session(const Scene& scene, const std::filesystem::path& dir, Frames& f) {
+  SubsystemConfig cfg;
+  cfg.participant = partition(scene, parse_case("rs-xx-gauss-seidel"))[1];
+  cfg.macro_step = scene.macro_step;
+  cfg.tolerance = scene.tolerance;
+  const CouplingData in = static_inputs(scene, "rs-xx-gauss-seidel")[1];
+  std::string s = f.of(hello_envelope(cfg.participant.role, scene_fingerprint(scene)));
+  s += f.of(configure_envelope(scene, cfg));
+  s += f.make([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(in); });
+  s += f.make([](wire::Envelope& e) { e.mutable_record_samples()->set_on(true); });
+  for (long k = 0; k < 2; ++k) {
+    Waveform w(3, pack_values(in[0]).size());
+    for (int j = 0; j <= 3; ++j)
+      w.add((static_cast<double>(k) + j / 3.0) * scene.macro_step,
+            pack_values(scaled(in, 1.0 + 0.01 * j)[0]));
+    if (k == 1)
+      s += f.make([&](wire::Envelope& e) {
+        e.mutable_set_inputs()->set_step(k);
+        *e.mutable_set_inputs()->mutable_waveforms() = to_wire(InputWaveforms{w});
+      });
+    s += f.make([&](wire::Envelope& e) {
+      auto* st = e.mutable_step();
+      st->set_step(k);
+      st->set_t(static_cast<double>(k) * scene.macro_step);
+      st->set_h(scene.macro_step);
+      if (k == 0) *st->mutable_waveforms() = to_wire(InputWaveforms{w});
+    });
+  }
+  s += f.make([](wire::Envelope& e) { e.mutable_shutdown(); });
+  std::ofstream(dir / "session_waveform", std::ios::binary) << s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -50,123 +201,11 @@ int main(int argc, char** argv) {
   }
   const std::filesystem::path dir = argv[2];
   std::filesystem::create_directories(dir);
-  std::uint64_t id = 1;
-  auto frame_of = [&](wire::Envelope e) {
-    e.set_id(id++);
-    return encode_frame(e);
-  };
-  auto frame = [&](auto fill) {
-    wire::Envelope e;
-    fill(e);
-    return frame_of(e);
-  };
-  // (case, participant): every cut from both sides, both coupling types, the
-  // rail alone between two cuts, a participant with two interfaces.
-  const std::pair<const char*, const char*> sessions[] = {
-      {"wr-xt-jacobi", "vehicle"},    {"wr-xx+ss-xt-gauss-seidel", "track"},
-      {"rs-xx-jacobi", "track"},      {"rs-xt-gauss-seidel", "vehicle"},
-      {"ss-xt-jacobi", "soil"},       {"wr-xx+ss-xx-jacobi", "soil"},
-      {"wr-xt+rs-xx-jacobi", "rail"},
-  };
-  int n = 0;
-  for (const auto& [case_name, role] : sessions) {
-    const std::vector<ParticipantSpec> specs = partition(scene, parse_case(case_name));
-    const std::vector<CouplingData> at_rest = static_inputs(scene, case_name);
-    SubsystemConfig cfg;
-    CouplingData in;
-    for (std::size_t p = 0; p < specs.size(); ++p)
-      if (specs[p].role == role) {
-        cfg.participant = specs[p];
-        in = at_rest[p];
-      }
-    if (cfg.participant.role != role) {
-      std::fprintf(stderr, "make_fuzz_seeds: case %s has no %s participant\n", case_name, role);
-      return 1;
-    }
-    cfg.macro_step = scene.macro_step;
-    cfg.tolerance = scene.tolerance;
-    // The same session in-process gives the state a Restore carries back.
-    Subsystem local(scene, cfg);
-    std::string s = frame_of(hello_envelope(role, scene_fingerprint(scene)));
-    s += frame_of(configure_envelope(scene, cfg));
-    // Two statics on the way to the static state, as the master iterates.
-    for (double scale : {0.9, 1.0}) {
-      const CouplingData guess = scaled(in, scale);
-      local.statics(guess);
-      s += frame(
-          [&](wire::Envelope& e) { *e.mutable_statics()->mutable_inputs() = to_wire(guess); });
-    }
-    local.initialize(in);
-    s += frame([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(in); });
-    for (long k = 0; k < 3; ++k) {
-      const CouplingData held = scaled(in, 1.0 + 0.01 * static_cast<double>(k));
-      if (k == 1) {  // inputs on their own, then the step without them
-        local.set_inputs(k, held);
-        s += frame([&](wire::Envelope& e) {
-          auto* si = e.mutable_set_inputs();
-          si->set_step(k);
-          si->set_t(static_cast<double>(k) * scene.macro_step);
-          *si->mutable_inputs() = to_wire(held);
-        });
-        s += frame([&](wire::Envelope& e) { e.mutable_get_outputs()->set_step(k); });
-      } else {
-        local.set_inputs(k, held);
-      }
-      local.step(k);
-      s += frame([&](wire::Envelope& e) {
-        auto* st = e.mutable_step();
-        st->set_step(k);
-        st->set_t(static_cast<double>(k) * scene.macro_step);
-        st->set_h(scene.macro_step);
-        if (k != 1) *st->mutable_inputs() = to_wire(held);
-      });
-      if (k == 0) {
-        const ParticipantState saved = local.save();
-        s += frame([](wire::Envelope& e) { e.mutable_save(); });
-        s += frame([&](wire::Envelope& e) {
-          for (double v : saved.values) e.mutable_restore()->mutable_state()->add_values(v);
-        });
-      }
-    }
-    s += frame([](wire::Envelope& e) { e.mutable_get_outputs()->set_step(3); });
-    s += frame([](wire::Envelope& e) { e.mutable_get_results(); });
-    s += frame([](wire::Envelope& e) { e.mutable_shutdown(); });
-    std::ofstream(dir / ("session_" + std::to_string(n++)), std::ios::binary) << s;
-  }
-  // Substep waveforms: recording on, inputs as cubic waveforms in a Step
-  // and in a SetInputs.
-  {
-    SubsystemConfig cfg;
-    cfg.participant = partition(scene, parse_case("rs-xx-gauss-seidel"))[1];
-    cfg.macro_step = scene.macro_step;
-    cfg.tolerance = scene.tolerance;
-    const CouplingData in = static_inputs(scene, "rs-xx-gauss-seidel")[1];
-    std::string s = frame_of(hello_envelope(cfg.participant.role, scene_fingerprint(scene)));
-    s += frame_of(configure_envelope(scene, cfg));
-    s += frame([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(in); });
-    s += frame([](wire::Envelope& e) { e.mutable_record_samples()->set_on(true); });
-    for (long k = 0; k < 2; ++k) {
-      Waveform w(3, pack_values(in[0]).size());
-      for (int j = 0; j <= 3; ++j)
-        w.add((static_cast<double>(k) + j / 3.0) * scene.macro_step,
-              pack_values(scaled(in, 1.0 + 0.01 * j)[0]));
-      if (k == 1)
-        s += frame([&](wire::Envelope& e) {
-          e.mutable_set_inputs()->set_step(k);
-          *e.mutable_set_inputs()->mutable_waveforms() = to_wire(InputWaveforms{w});
-        });
-      s += frame([&](wire::Envelope& e) {
-        auto* st = e.mutable_step();
-        st->set_step(k);
-        st->set_t(static_cast<double>(k) * scene.macro_step);
-        st->set_h(scene.macro_step);
-        if (k == 0) *st->mutable_waveforms() = to_wire(InputWaveforms{w});
-      });
-    }
-    s += frame([](wire::Envelope& e) { e.mutable_shutdown(); });
-    std::ofstream(dir / "session_waveform", std::ios::binary) << s;
-  }
+  Frames f;
+  if (const int failed = write_sessions(scene, dir, f); failed != 0) return failed;
+  write_waveform_session(scene, dir, f);
+  // hello_only: a session that ends after its hello.
   std::ofstream(dir / "hello_only", std::ios::binary)
-      << frame_of(hello_envelope("track", scene_fingerprint(scene)));
+      << f.of(hello_envelope("track", scene_fingerprint(scene)));
   return 0;
 }
