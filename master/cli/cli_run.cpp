@@ -194,7 +194,8 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
                   "a value extrapolated from past communication points; explicit only), "
                   "waveform0 to waveform3 (the sender's outputs at each of its micro steps, "
                   "interpolated with degree 0 to 3, where they are known: implicit iterations, "
-                  "Gauss-Seidel's later participants; over tcp on the relayed data plane)")
+                  "Gauss-Seidel's later participants; in process or over tcp on either data "
+                  "plane, the direct one in lock step)")
       ->check(CLI::IsMember({"hold", "linear", "extrapolate1", "extrapolate2", "waveform0",
                              "waveform1", "waveform2", "waveform3"}))
       ->capture_default_str();
