@@ -23,6 +23,7 @@
 
 #include "bench_support.hpp"
 #include "raw_pingpong.hpp"
+#include "scene_text.hpp"
 
 namespace railcosim {
 namespace {
@@ -111,9 +112,9 @@ int main(int argc, char** argv) {
   using namespace railcosim;
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   const double end_time = argc > 2 ? std::atof(argv[2]) : 0.05;
-  Scene scene = load_scene(std::string(RAILCOSIM_SOURCE_DIR) + "/scenes/paper.toml");
-  scene.end_time = end_time;
-  scene.validate();
+  const Scene scene =
+      with_keys(load_scene(std::string(RAILCOSIM_SOURCE_DIR) + "/scenes/paper.toml"),
+                {{"simulation.end_time", end_time}});
   NodePool pool;  // one node process per participant role, kept for every run
   const ParticipantFactory tcp = tcp_transport(scene, {}, pool).factory;
   const ParticipantFactory inproc = inproc_factory(scene);

@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 
 from railcosim_sdk.direct import Link, Plane  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
-from railcosim_sdk.wire import pb  # noqa: E402
+from railcosim_sdk.wire import PROTOCOL_VERSION, pb  # noqa: E402
 
 SOIL = runpy.run_path(os.path.join(here, "..", "examples", "python_soil", "soil_participant.py"))
 CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
@@ -48,7 +48,7 @@ class NoPhysics(SOIL["LumpedSoil"]):
 
 def session(kind=SOIL["LumpedSoil"]):
     s = Session(kind(), None, "bench", CONFIG)
-    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=2, participant="soil")))
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION, participant="soil")))
     c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
     i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
     i.x.extend((np.arange(N_POINTS) + 0.5) * 0.6)

@@ -47,7 +47,8 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   return p;
 }
 
-IrregularitySpec parse_irregularity(const toml::table& t, const std::string& source) {
+IrregularitySpec parse_irregularity(const toml::table& t, const std::string& source,
+                                    const SceneFiles* given, SceneFiles& read) {
   SectionReader r(t, "irregularity", source);
   IrregularitySpec s;
   s.model = r.string("model");
@@ -75,7 +76,16 @@ IrregularitySpec parse_irregularity(const toml::table& t, const std::string& sou
     const std::filesystem::path base = std::filesystem::path(source).parent_path();
     s.csv_path = std::filesystem::path(file).is_absolute() ? file : (base / file).string();
     try {
-      const TableProfile table = TableProfile::load_csv(s.csv_path);
+      std::string text;
+      if (!given) {
+        text = read_profile_file(s.csv_path);
+      } else if (const auto it = given->find(file); it != given->end()) {
+        text = it->second;
+      } else {
+        throw SceneError(file + ": not among the files handed over with the scene");
+      }
+      const TableProfile table = TableProfile::parse_csv(text, s.csv_path);
+      read[file] = std::move(text);
       s.table_x = table.xs();
       s.table_r = table.heights();
     } catch (const SceneError& e) {

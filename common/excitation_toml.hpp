@@ -11,6 +11,7 @@
 #include <string>
 
 #include "irregularity.hpp"
+#include "scene.hpp"
 #include "vehicle_model.hpp"
 #include "wheel_flat.hpp"
 
@@ -20,8 +21,12 @@ namespace railcosim {
 // speed_kmh, initial_position), "quarter" or "car".
 VehicleParams parse_vehicle(const toml::table& vehicle, const std::string& source);
 
-// model = "none" (default), "random", "csv", "dipped_joint" or "sine".
-IrregularitySpec parse_irregularity(const toml::table& irregularity, const std::string& source);
+// model = "none" (default), "random", "csv", "dipped_joint" or "sine". A
+// csv profile's text comes from `given` (by the name the scene gives it) or,
+// when `given` is nullptr, from the file next to `source`; either way it is
+// added to `read`.
+IrregularitySpec parse_irregularity(const toml::table& irregularity, const std::string& source,
+                                    const SceneFiles* given, SceneFiles& read);
 
 // A flat on wheel `wheel` (1-based in the file) of a vehicle with
 // `wheel_count` wheels.

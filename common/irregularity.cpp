@@ -124,7 +124,7 @@ TableProfile::TableProfile(std::vector<double> x, std::vector<double> r, std::st
     throw SceneError(source_ + ": a measured profile needs at least two rows x_m,r_m");
 }
 
-TableProfile TableProfile::load_csv(const std::string& path) {
+std::string read_profile_file(const std::string& path) {
   // A profile is a regular file of bounded size: a device or a pipe (say
   // /dev/zero) would be read without end.
   std::error_code ec;
@@ -138,8 +138,22 @@ TableProfile TableProfile::load_csv(const std::string& path) {
   if (ec || bytes > static_cast<std::uintmax_t>(kMaxProfileFileBytes))
     throw SceneError(path + ": " + std::to_string(bytes) + " bytes, more than the " +
                      std::to_string(kMaxProfileFileBytes) + " a profile file may have");
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open the profile file");
+  std::ifstream file(path);
+  if (!file) throw SceneError(path + ": cannot open the profile file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+TableProfile TableProfile::load_csv(const std::string& path) {
+  return parse_csv(read_profile_file(path), path);
+}
+
+TableProfile TableProfile::parse_csv(const std::string& text, const std::string& path) {
+  if (text.size() > static_cast<std::size_t>(kMaxProfileFileBytes))
+    throw SceneError(path + ": " + std::to_string(text.size()) + " bytes, more than the " +
+                     std::to_string(kMaxProfileFileBytes) + " a profile file may have");
+  std::istringstream in(text);
   std::vector<double> xs, rs;
   std::string line;
   for (int lineno = 1; std::getline(in, line); ++lineno) {

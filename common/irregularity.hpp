@@ -68,6 +68,7 @@ struct FraPsd {
   double omega_c = 0;  // rad/m
   // S(Omega) in SI: m^2 / (rad/m).
   double operator()(double omega) const;
+  bool operator==(const FraPsd&) const = default;
 };
 // FRA track classes 1 (worst) to 6 (best). Throws std::out_of_range.
 FraPsd fra_class(int track_class);
@@ -81,6 +82,8 @@ struct RandomProfileSpec {
   int components = 2048;         // cosines, evenly spread in Omega
   double x_min = 0, x_max = 0;   // where the profile is tabulated, m
   double grid_step = 0;          // m; 0 = wavelength_min / 20
+
+  bool operator==(const RandomProfileSpec&) const = default;
 };
 
 // r(x) = scale * sum_k a_k cos(Omega_k x + phi_k): Omega_k drawn uniformly
@@ -116,6 +119,8 @@ class TableProfile : public RailProfile {
   TableProfile(std::vector<double> x, std::vector<double> r, std::string source);
   // Throws SceneError naming the file and line of a bad row.
   static TableProfile load_csv(const std::string& path);
+  // The same from the file's text (`path` names it in messages).
+  static TableProfile parse_csv(const std::string& text, const std::string& path);
   double height(double x) const override;
   double slope(double x) const override;
   // Throws SceneError (naming the file) unless [a, b] lies inside the table.
@@ -163,6 +168,10 @@ class SumProfile : public RailProfile {
   std::vector<std::unique_ptr<RailProfile>> parts_;
 };
 
+// A profile file's text: a regular file of bounded size (SceneError naming
+// it otherwise).
+std::string read_profile_file(const std::string& path);
+
 // What a scene's [irregularity] table asks for; make_profile builds it once
 // the track is sized.
 struct IrregularitySpec {
@@ -172,6 +181,8 @@ struct IrregularitySpec {
   std::vector<double> table_x, table_r;  // csv: its rows, read when the scene is read
   double position = 0, length = 0, depth = 0;       // dipped_joint, m
   double amplitude = 0, wavelength = 0, phase = 0;  // sine: m, m, rad
+
+  bool operator==(const IrregularitySpec&) const = default;
 };
 
 // The profile over [x_min, x_max] (m, the scene's frame); nullptr for

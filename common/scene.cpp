@@ -313,7 +313,8 @@ void read_simulation(SceneReader& r, Scene& sc) {
 
 }  // namespace
 
-Scene parse_scene(const std::string& toml_text, const std::string& source_name) {
+Scene parse_scene(const std::string& toml_text, const std::string& source_name,
+                  const SceneFiles* files) {
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
@@ -336,7 +337,7 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   sc.speed = sc.vehicle.speed;
   sc.initial_position = sc.vehicle.initial_position;
   if (const toml::table* irr = r.whole_table("irregularity"))
-    sc.irregularity = parse_irregularity(*irr, source_name);
+    sc.irregularity = parse_irregularity(*irr, source_name, files, sc.files);
   if (const toml::table* flat = r.whole_table("wheel_flat"))
     sc.wheel_flat = parse_wheel_flat(*flat, source_name, sc.wheel_count());
 
@@ -345,6 +346,9 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name) 
   read_simulation(r, sc);
   read_coupling(r, sc);
   r.reject_unknown();
+  std::ostringstream canonical;
+  canonical << root;
+  sc.text = canonical.str();
   // count = "auto": every value the sizing uses was checked as it was read.
   if (sc.auto_length) sc.size_track(sc.initial_position);
   sc.validate();

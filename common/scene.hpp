@@ -2,6 +2,7 @@
 // TOML file (see scenes/paper.toml). The physics never hard-codes a value.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -30,10 +31,24 @@ struct SceneCoupling {
   std::optional<std::string> data_plane;   // --data-plane
   std::optional<long> window_steps;        // --window-steps
   bool given = false;                      // the scene has the table
+
+  bool operator==(const SceneCoupling&) const = default;
 };
+
+// The files a scene names (an [irregularity] profile), by the name the scene
+// gives them, with their contents: read from disk next to the scene file, or
+// handed over with the scene's text (a node gets them from the master).
+using SceneFiles = std::map<std::string, std::string>;
 
 struct Scene {
   std::string source;  // the file it came from, for messages
+  // The scene as the parser read it, in canonical form (the TOML document
+  // re-written: comments and layout dropped, keys sorted, every number with
+  // the digits that give it back exactly), and the files it names. A node
+  // parses exactly this (scene_text.hpp): a scene changed after parsing is
+  // changed through with_keys(), which keeps the two in step.
+  std::string text;
+  SceneFiles files;
   std::string name;
 
   // [vehicle]: model = "wheel" (one wheel carrying the static load m_tot g,
@@ -149,11 +164,16 @@ struct Scene {
 
   // Checks every value; throws SceneError naming the key.
   void validate() const;
+
+  bool operator==(const Scene&) const = default;
 };
 
 // Reads and validates a scene file. Unknown keys, missing keys, wrong types
 // and out-of-range values throw SceneError naming the file and the key.
 Scene load_scene(const std::string& path);
-Scene parse_scene(const std::string& toml_text, const std::string& source_name);
+// `files`: the files the text names, by name (nullptr: read from disk, next
+// to `source_name`); a name missing from `files` is an error naming the key.
+Scene parse_scene(const std::string& toml_text, const std::string& source_name,
+                  const SceneFiles* files = nullptr);
 
 }  // namespace railcosim

@@ -48,6 +48,8 @@ struct VehicleParams {
   double body_pitch_inertia = 0, bogie_pitch_inertia = 0;  // kg m^2
   double bogie_semi_spacing = 0;                           // l_c, m
   double wheelset_semi_base = 0;                           // l_t, m
+
+  bool operator==(const VehicleParams&) const = default;
 };
 
 const char* to_string(VehicleType t);

@@ -27,6 +27,8 @@ struct WheelFlatSpec {
   double angle = 0;     // rad the wheel turns before the flat's centre meets the rail
   FlatShape shape = FlatShape::chord;
   int wheel = 0;  // which wheel of the vehicle (0 = leading)
+
+  bool operator==(const WheelFlatSpec&) const = default;
 };
 
 class WheelFlat {

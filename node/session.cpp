@@ -234,10 +234,10 @@ Scene NodeSession::configured_scene(const wire::Configure& c) const {
   if (c.participant() != participant_)
     throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
                                                      " participant, the hello the " + participant_);
-  if (!c.has_model())
+  if (c.scene().empty())
     throw ProtocolError(wire::Error::BAD_REQUEST,
-                        "configure: this built-in node needs the model section");
-  Scene scene = from_wire(c.model(), "the master's scene");
+                        "configure: this built-in node needs the scene (its text)");
+  Scene scene = scene_from_wire(c);
   if (scene_fingerprint(scene) != fingerprint_)
     throw ProtocolError(wire::Error::SCENE_MISMATCH,
                         "the configured scene does not match the fingerprint of the hello");

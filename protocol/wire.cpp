@@ -1,10 +1,8 @@
 #include "wire.hpp"
 
-#include <google/protobuf/io/coded_stream.h>
-#include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 #include <algorithm>
 
-#include "scene_numbers.hpp"
+#include "scene_text.hpp"
 
 namespace railcosim {
 
@@ -133,7 +131,15 @@ wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& con
   c->set_tolerance(config.tolerance);
   c->set_micro_steps(config.micro_steps);
   c->set_carry_acceleration(config.carry_acceleration);
-  if (with_model) *c->mutable_model() = to_wire(scene);
+  if (with_model) {
+    check_scene_text(scene);  // the node parses the text: it must be the scene run here
+    c->set_scene(scene.text);
+    for (const auto& [name, contents] : scene.files) {
+      wire::SceneFile* f = c->add_scene_files();
+      f->set_name(name);
+      f->set_contents(contents);
+    }
+  }
   if (config.participant.role == "soil") c->set_own_config(scene.soil_config);
   return e;
 }
@@ -150,117 +156,27 @@ wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const st
   return e;
 }
 
-wire::SceneParams to_wire(const Scene& s) {
-  wire::SceneParams p;
-  p.set_name(s.name);
-  p.set_vehicle_mass(s.vehicle_mass);
-  p.set_hertz_constant(s.hertz_constant);
-  p.set_speed(s.speed);
-  p.set_initial_position(s.initial_position);
-  p.set_young_modulus(s.young_modulus);
-  p.set_second_moment(s.second_moment);
-  p.set_area(s.area);
-  p.set_density(s.density);
-  p.set_elements_per_span(s.elements_per_span);
-  p.set_pad_stiffness(s.pad_stiffness);
-  p.set_pad_damping(s.pad_damping);
-  p.set_sleeper_mass(s.sleeper_mass);
-  p.set_sleeper_spacing(s.sleeper_spacing);
-  p.set_sleeper_count(s.sleeper_count);
-  p.set_ballast_stiffness(s.ballast_stiffness);
-  p.set_ballast_damping(s.ballast_damping);
-  p.set_soil_model(s.soil_model);
-  p.set_gravity(s.gravity);
-  p.set_end_time(s.end_time);
-  p.set_macro_step(s.macro_step);
-  p.set_tolerance(s.tolerance);
-  p.set_divergence_factor(s.divergence_factor);
-  p.set_amplification_threshold(s.amplification_threshold);
-  p.set_rail_start(s.rail_start);
-  p.set_soil_mass(s.soil_mass);
-  p.set_soil_stiffness(s.soil_stiffness);
-  p.set_soil_damping(s.soil_damping);
-  p.set_soil_coupling_stiffness(s.soil_coupling_stiffness);
-  p.set_soil_coupling_damping(s.soil_coupling_damping);
-  p.set_micro_steps(s.micro_steps);
-  p.set_restart(s.restart);
-  const ExcitationNumbers x = to_numbers(s);
-  p.set_vehicle_model(x.vehicle_model);
-  for (double v : x.vehicle) p.add_vehicle(v);
-  p.set_irregularity_model(x.irregularity_model);
-  for (double v : x.irregularity) p.add_irregularity(v);
-  for (double v : x.wheel_flat) p.add_wheel_flat(v);
-  p.set_ballast_forces(s.ballast_forces);
-  p.set_soil_config(s.soil_config);
-  if (s.sleeper_length_given) p.set_sleeper_length(s.sleeper_length);
-  return p;
-}
-
-Scene from_wire(const wire::SceneParams& p, const std::string& source) {
-  Scene s;
-  s.source = source;
-  s.name = p.name();
-  s.vehicle_mass = p.vehicle_mass();
-  s.hertz_constant = p.hertz_constant();
-  s.speed = p.speed();
-  s.initial_position = p.initial_position();
-  s.young_modulus = p.young_modulus();
-  s.second_moment = p.second_moment();
-  s.area = p.area();
-  s.density = p.density();
-  s.elements_per_span = p.elements_per_span();
-  s.pad_stiffness = p.pad_stiffness();
-  s.pad_damping = p.pad_damping();
-  s.sleeper_mass = p.sleeper_mass();
-  s.sleeper_spacing = p.sleeper_spacing();
-  s.sleeper_count = p.sleeper_count();
-  s.ballast_stiffness = p.ballast_stiffness();
-  s.ballast_damping = p.ballast_damping();
-  s.soil_model = p.soil_model();
-  s.gravity = p.gravity();
-  s.end_time = p.end_time();
-  s.macro_step = p.macro_step();
-  s.tolerance = p.tolerance();
-  s.divergence_factor = p.divergence_factor();
-  s.amplification_threshold = p.amplification_threshold();
-  s.rail_start = p.rail_start();
-  s.soil_mass = p.soil_mass();
-  s.soil_stiffness = p.soil_stiffness();
-  s.soil_damping = p.soil_damping();
-  s.soil_coupling_stiffness = p.soil_coupling_stiffness();
-  s.soil_coupling_damping = p.soil_coupling_damping();
-  s.micro_steps = p.micro_steps();
-  s.restart = p.restart().empty() ? "consistent" : p.restart();
-  s.ballast_forces = p.ballast_forces();
-  s.soil_config = p.soil_config();
-  if (p.has_sleeper_length()) {
-    s.sleeper_length = p.sleeper_length();
-    s.sleeper_length_given = true;
-  }
+Scene scene_from_wire(const wire::Configure& c) {
+  SceneFiles files;
+  for (const wire::SceneFile& f : c.scene_files()) files[f.name()] = f.contents();
   try {
-    ExcitationNumbers x;
-    x.vehicle_model = p.vehicle_model();
-    x.vehicle.assign(p.vehicle().begin(), p.vehicle().end());
-    x.irregularity_model = p.irregularity_model();
-    x.irregularity.assign(p.irregularity().begin(), p.irregularity().end());
-    x.wheel_flat.assign(p.wheel_flat().begin(), p.wheel_flat().end());
-    from_numbers(x, s, source);
-    s.validate();
+    Scene scene = parse_scene(c.scene(), "the master's scene", &files);
+    // The text as sent: its fingerprint is the master's whatever version of
+    // the TOML writer this node was built with.
+    scene.text = c.scene();
+    return scene;
   } catch (const SceneError& e) {
     throw ProtocolError(wire::Error::BAD_SCENE, e.what());
   }
-  return s;
 }
 
 std::uint64_t scene_fingerprint(const Scene& scene) {
-  // Deterministic serialisation, then 64-bit FNV-1a over the bytes.
-  const wire::SceneParams p = to_wire(scene);
-  std::string bytes;
-  {
-    google::protobuf::io::StringOutputStream raw(&bytes);
-    google::protobuf::io::CodedOutputStream out(&raw);
-    out.SetSerializationDeterministic(true);
-    p.SerializeToCodedStream(&out);
+  std::string bytes = scene.text;
+  for (const auto& [name, contents] : scene.files) {
+    bytes += '\0';
+    bytes += name;
+    bytes += '\0';
+    bytes += contents;
   }
   return fnv1a64(bytes);
 }

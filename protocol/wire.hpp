@@ -19,7 +19,7 @@
 
 namespace railcosim {
 
-inline constexpr std::uint32_t kProtocolVersion = 2;
+inline constexpr std::uint32_t kProtocolVersion = 3;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // The largest frame accepted by default: a saved state of a 2,500-sleeper
 // track (3 x 12,500 doubles) fits 25 times over.
@@ -78,10 +78,11 @@ wire::Envelope error_envelope(std::uint64_t id, wire::Error::Code code, const st
 
 // Engine types <-> messages. from_wire() throws ProtocolError(BAD_REQUEST)
 // for a message that does not describe a valid value.
-wire::SceneParams to_wire(const Scene& scene);
-Scene from_wire(const wire::SceneParams& params, const std::string& source);
-// 64-bit FNV-1a over the deterministic serialisation of every scene
-// parameter: the same on every machine.
+// The scene a Configure carries (its text and files, parsed as the master
+// parsed them); throws ProtocolError(BAD_SCENE) naming the key of a bad one.
+Scene scene_from_wire(const wire::Configure& configure);
+// 64-bit FNV-1a over the scene's canonical text and the files it names (name,
+// a zero byte, contents, a zero byte, each): the same on every machine.
 std::uint64_t scene_fingerprint(const Scene& scene);
 std::uint64_t fnv1a64(std::string_view bytes);
 

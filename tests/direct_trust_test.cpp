@@ -15,6 +15,7 @@
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 extern char** environ;
@@ -128,7 +129,7 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
                          });
   LaunchedNode track("track_node", milliseconds(10000));
   Scene scene = test::paper_scene();
-  scene.end_time = 200 * scene.macro_step;
+  scene = with_keys(scene, {{"simulation.end_time", 200 * scene.macro_step}});
   const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
     return std::make_unique<RemoteParticipant>(at, scene, c);

@@ -15,6 +15,7 @@
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -24,10 +25,7 @@ using std::chrono::milliseconds;
 
 // The paper scene shortened to 0.05 s (500 macro steps).
 Scene short_paper_scene() {
-  Scene s = test::paper_scene();
-  s.end_time = 0.05;
-  s.validate();
-  return s;
+  return with_keys(test::paper_scene(), {{"simulation.end_time", 0.05}});
 }
 
 std::string channel_peer(const std::string& role) {

@@ -8,6 +8,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -24,13 +25,10 @@ CouplingOptions implicit(InputMode inputs, AcceleratorKind kind = AcceleratorKin
 using test::judged;
 
 Scene short_scene(const char* file, double end_time) {
-  Scene s = load_scene(test::source_path(file));
-  s.end_time = end_time;
   // Fixed micro steps: the monolithic reference integrates with the same
   // steps, so what remains is the coupling error alone.
-  s.micro_steps = 4;
-  s.validate();
-  return s;
+  return with_keys(load_scene(test::source_path(file)),
+                   {{"simulation.end_time", end_time}, {"simulation.micro_steps", 4}});
 }
 
 TEST(ImplicitCoupling, ConvergedRunsDoNotDependOnTheAccelerator) {

@@ -216,7 +216,8 @@ TEST(TableProfile, InterpolatesLinearlyAndNamesFileAndLineOfBadRows) {
 
 IrregularitySpec parse(const std::string& text) {
   const toml::table root = toml::parse(text, std::string_view("scenes/x.toml"));
-  return parse_irregularity(*root["irregularity"].as_table(), "scenes/x.toml");
+  SceneFiles read;
+  return parse_irregularity(*root["irregularity"].as_table(), "scenes/x.toml", nullptr, read);
 }
 
 TEST(IrregularityToml, ReadsEachModelAndRejectsMistakes) {
@@ -235,8 +236,11 @@ TEST(IrregularityToml, ReadsEachModelAndRejectsMistakes) {
     const std::string src = (dir / "x.toml").string();
     const toml::table root =
         toml::parse("[irregularity]\nmodel = \"csv\"\nfile = \"p.csv\"\n", std::string_view(src));
-    const IrregularitySpec c = parse_irregularity(*root["irregularity"].as_table(), src);
+    SceneFiles read;
+    const IrregularitySpec c =
+        parse_irregularity(*root["irregularity"].as_table(), src, nullptr, read);
     EXPECT_EQ(c.csv_path, (dir / "p.csv").string());
+    EXPECT_EQ(read.at("p.csv"), "x_m,r_m\n0,0\n1,2e-4\n");  // as it travels to a node
     EXPECT_EQ(c.table_x, (std::vector<double>{0.0, 1.0}));
     EXPECT_EQ(c.table_r, (std::vector<double>{0.0, 2e-4}));
     std::filesystem::remove_all(dir);

@@ -16,6 +16,7 @@
 #include "remote/node_launcher.hpp"
 #include "remote/transport.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "server.hpp"
 #include "test_support.hpp"
 
@@ -27,10 +28,7 @@ using std::chrono::milliseconds;
 // (Resolved feedthrough exists for explicit coupling with held inputs only.)
 // 100 macro steps of 1e-4 s: every kind of message many times over.
 Scene short_scene(const char* file) {
-  Scene s = load_scene(test::source_path(file));
-  s.end_time = 0.01;
-  s.validate();
-  return s;
+  return with_keys(load_scene(test::source_path(file)), {{"simulation.end_time", 0.01}});
 }
 
 struct Coupling {

@@ -12,6 +12,7 @@
 #include "connection.hpp"
 #include "engine/coupled_statics.hpp"
 #include "remote/remote_participant.hpp"
+#include "scene_text.hpp"
 #include "server.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
@@ -124,8 +125,8 @@ TEST_F(NodeLimitsTest, AFloodWithoutReadingKeepsMemoryBounded) {
   ServerLimits limits;
   limits.message_timeout = milliseconds(700);
   start(limits);
-  Scene scene = test::paper_scene();
-  scene.sleeper_count = 2000;  // a saved state of 30,000 doubles
+  // A saved state of 30,000 doubles.
+  const Scene scene = with_keys(test::paper_scene(), {{"sleepers.count", 2000}});
   auto flood = Connection::connect(address_, milliseconds(5000));
   open(*flood, scene, track_config(scene));
   // Save replies are the whole state (some 270 kB) for a request of a few
@@ -184,8 +185,7 @@ TEST_F(NodeLimitsTest, ALongStepIsBoundedAndTheNodeAnswersMeanwhile) {
   ServerLimits limits;
   limits.max_step_time = milliseconds(800);
   start(limits);
-  Scene scene = test::paper_scene();
-  scene.sleeper_count = 2000;
+  const Scene scene = with_keys(test::paper_scene(), {{"sleepers.count", 2000}});
   SubsystemConfig cfg = track_config(scene);
   cfg.tolerance = 1e-30;
   auto c = Connection::connect(address_, milliseconds(5000));

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "model.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 #include "wire.hpp"
 
@@ -213,31 +214,88 @@ TEST(Fingerprint, TheProtocolDocumentsExampleIsTheSoilScenes) {
   for (const std::string& q : quoted) EXPECT_EQ(q, want);
 }
 
+// The scene a built-in node gets in Configure: the text the master parsed,
+// parsed again by the node into the same scene, with the same fingerprint.
+Scene through_configure(const Scene& s) {
+  SubsystemConfig config;
+  config.participant = partition(s, parse_case("wr-xx-jacobi")).front();
+  config.macro_step = s.macro_step;
+  config.tolerance = s.tolerance;
+  return scene_from_wire(configure_envelope(s, config).configure());
+}
+
 TEST(Conversions, SceneRoundTripsAndItsFingerprintSeesEveryChange) {
+  for (const Scene& s : {test::paper_scene(), soil_scene()}) {
+    Scene back = through_configure(s);
+    EXPECT_EQ(back.source, "the master's scene");
+    EXPECT_EQ(scene_fingerprint(back), scene_fingerprint(s));
+    back.source = s.source;
+    EXPECT_TRUE(back == s) << s.name << ": the node's scene differs from the master's";
+  }
   const Scene s = test::paper_scene();
-  const Scene back = from_wire(to_wire(s), "wire");
-  EXPECT_EQ(scene_fingerprint(back), scene_fingerprint(s));
-  EXPECT_EQ(back.hertz_constant, s.hertz_constant);
-  EXPECT_EQ(back.speed, s.speed);
-  Scene changed = s;
-  changed.pad_damping = std::nextafter(s.pad_damping, 1e9);
+  const Scene changed = with_keys(s, {{"railpad.damping", std::nextafter(s.pad_damping, 1e9)}});
+  EXPECT_EQ(changed.pad_damping, std::nextafter(s.pad_damping, 1e9));
   EXPECT_NE(scene_fingerprint(changed), scene_fingerprint(s));
-  const Scene soil = soil_scene();
-  EXPECT_EQ(scene_fingerprint(from_wire(to_wire(soil), "wire")), scene_fingerprint(soil));
-  Scene softer = soil;
-  softer.soil_coupling_damping = std::nextafter(soil.soil_coupling_damping, 1e9);
-  EXPECT_NE(scene_fingerprint(softer), scene_fingerprint(soil));
+  EXPECT_EQ(through_configure(changed).pad_damping, changed.pad_damping);
+}
+
+// A field set in code after parsing would not reach the node: the master
+// refuses to send such a scene rather than run two different ones.
+TEST(Conversions, ASceneChangedBehindItsTextIsNotSent) {
+  Scene s = test::paper_scene();
+  s.pad_damping *= 2;
+  try {
+    through_configure(s);
+    FAIL() << "sent";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("changed after it was read"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Conversions, AnInvalidSceneOnTheWireIsABadScene) {
-  Scene s = test::paper_scene();
-  s.sleeper_mass = -1.0;
+  const Scene s = test::paper_scene();
+  wire::Configure c;
+  // The canonical text's [sleepers] table with a negative mass.
+  std::string text = s.text;
+  const auto mass = text.find("mass = ", text.find("[sleepers]"));
+  ASSERT_NE(mass, std::string::npos);
+  text.replace(mass, text.find('\n', mass) - mass, "mass = -1.0");
+  c.set_scene(text);
   try {
-    from_wire(to_wire(s), "the master's scene");
+    scene_from_wire(c);
     FAIL() << "no error";
   } catch (const ProtocolError& e) {
     EXPECT_EQ(e.code(), wire::Error::BAD_SCENE);
     EXPECT_NE(std::string(e.what()).find("sleepers.mass"), std::string::npos) << e.what();
+  }
+}
+
+// A scene naming a profile file: the file travels with the text, and a node
+// that is not handed it names the file.
+TEST(Conversions, TheProfileFileTravelsWithTheScene) {
+  const std::string dir = testing::TempDir();
+  {
+    std::ofstream csv(dir + "/bumps.csv");
+    csv << "x_m,r_m\n-100,0\n0,0.001\n100,0\n";
+  }
+  std::ifstream paper(test::source_path("scenes/paper.toml"));
+  std::stringstream text;
+  text << paper.rdbuf() << "\n[irregularity]\nmodel = \"csv\"\nfile = \"bumps.csv\"\n";
+  const Scene s = parse_scene(text.str(), dir + "/bumps.toml");
+  ASSERT_EQ(s.files.count("bumps.csv"), 1u);
+  const Scene back = through_configure(s);
+  EXPECT_EQ(back.irregularity.table_r, s.irregularity.table_r);
+  EXPECT_EQ(scene_fingerprint(back), scene_fingerprint(s));
+  wire::Configure bare;
+  bare.set_scene(s.text);
+  try {
+    scene_from_wire(bare);
+    FAIL() << "no error";
+  } catch (const ProtocolError& e) {
+    EXPECT_EQ(e.code(), wire::Error::BAD_SCENE);
+    EXPECT_NE(std::string(e.what()).find("bumps.csv: not among the files"), std::string::npos)
+        << e.what();
   }
 }
 

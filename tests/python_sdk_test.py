@@ -20,7 +20,7 @@ import time
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
 from railcosim_sdk.session import auth_answer  # noqa: E402
-from railcosim_sdk.wire import E, pb  # noqa: E402
+from railcosim_sdk.wire import E, PROTOCOL_VERSION, pb  # noqa: E402
 
 failures = []
 
@@ -62,7 +62,7 @@ class Recorder(Participant):
 def configure_recorder(own_config, config=None):
     p = Recorder()
     s = Session(p, None, "test", config)
-    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=2, role="master",
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master",
                                                participant="soil")))
     c = pb.Configure(participant="soil", macro_step=1e-4, end_time=1e-3, micro_steps=1,
                      own_config=own_config)
@@ -131,7 +131,7 @@ try:
             return e
 
         def hello(self, participant="soil", secret="s3cret"):
-            r = self.send(hello=pb.Hello(protocol_version=2, role="master",
+            r = self.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master",
                                          participant=participant))
             if not r.HasField("challenge"):
                 return r
@@ -232,7 +232,7 @@ try:
     w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=5)).SerializeToString()
     m.s.sendall(struct.pack(">I", len(w)) + w)
     intruder = Master()  # not a peer: BUSY, and the soil waits on for its peer
-    error(intruder.send(hello=pb.Hello(protocol_version=2, role="master", participant="soil")),
+    error(intruder.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master", participant="soil")),
           E.BUSY, "this participant serves a session; it accepts nothing but its peer links")
     m.s.close()
     t0 = time.monotonic()
@@ -264,7 +264,7 @@ try:
     silent = [socket.create_connection((host, int(port)), timeout=5) for _ in range(100)]
     t0 = time.monotonic()
     peer = Master()
-    c = peer.send(hello=pb.Hello(protocol_version=2, role="peer", participant="soil",
+    c = peer.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer", participant="soil",
                                  peer_of="track", session=b"f" * 16))
     check("the real peer is challenged under a flood", c is not None and
           c.HasField("challenge"), str(c))
@@ -310,7 +310,7 @@ try:
     a = peer.send(challenge=pb.Challenge(nonce=bytes(32)))
     check("peer auth", a.HasField("auth") and a.auth.mac == auth_answer("s3cret", "track",
                                                                          bytes(32)), str(a))
-    first = peer.send(hello_reply=pb.HelloReply(protocol_version=2, participant="track"))
+    first = peer.send(hello_reply=pb.HelloReply(protocol_version=PROTOCOL_VERSION, participant="track"))
     check("the soil's outputs at point 0", first.HasField("peer_data") and
           first.peer_data.point == 0 and len(first.peer_data.data.interfaces) == 1 and
           len(first.peer_data.data.interfaces[0].displacement) == 4, str(first))

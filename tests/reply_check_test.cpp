@@ -16,6 +16,7 @@
 #include "fake_node.hpp"
 #include "remote/remote_participant.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 extern char** environ;
@@ -30,9 +31,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The paper scene cut short: 20 macro steps are enough to meet every kind
 // of reply, and keep each run at a few milliseconds.
 Scene short_scene() {
-  Scene s = test::paper_scene();
-  s.end_time = 20 * s.macro_step;
-  return s;
+  const Scene s = test::paper_scene();
+  return with_keys(s, {{"simulation.end_time", 20 * s.macro_step}});
 }
 
 RunOptions options(const Scene& s) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -121,6 +122,39 @@ TEST(Scene, MissingFileIsNamed) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("no/such/scene.toml"), std::string::npos);
   }
+}
+
+// The canonical text: parsing it gives the same scene and the same text
+// (what a node gets is what the master runs), for every shipped scene.
+TEST(SceneText, EveryShippedSceneReadsBackFromItsText) {
+  for (const char* file :
+       {"paper", "soil", "car_irregular", "freight160", "wheel_flat", "ground_vibration"}) {
+    const Scene s = load_scene(test::source_path(std::string("scenes/") + file + ".toml"));
+    const Scene again = parse_scene(s.text, s.source, &s.files);
+    EXPECT_TRUE(again == s) << file;
+    EXPECT_EQ(again.text, s.text) << file;
+    EXPECT_NO_THROW(check_scene_text(s)) << file;
+  }
+}
+
+TEST(SceneText, EditsGoThroughTheParserAndCanBeTakenBack) {
+  const Scene s = test::paper_scene();
+  const Scene fixed = with_keys(s, {{"simulation.micro_steps", 4}, {"vehicle.speed_kmh", 72.0}});
+  EXPECT_EQ(fixed.micro_steps, 4);
+  EXPECT_EQ(fixed.speed, 20.0);
+  EXPECT_NO_THROW(check_scene_text(fixed));
+  const Scene back = with_keys(fixed, {{"simulation.micro_steps", kLeftOut}});
+  EXPECT_EQ(back.micro_steps, 0);
+  EXPECT_EQ(back.speed, 20.0);
+  try {
+    with_keys(s, {{"sleepers.mass", -1.0}});
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'sleepers.mass'"), std::string::npos) << e.what();
+  }
+  Scene changed = s;
+  changed.speed = 1.0;
+  EXPECT_THROW(check_scene_text(changed), std::logic_error);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -26,8 +27,9 @@ long resident_kib(pid_t pid) {
 }
 
 TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
-  Scene scene = load_scene(test::source_path("scenes/soil.toml"));
-  scene.end_time = 0.005;  // 50 macro steps a session
+  // 50 macro steps a session.
+  const Scene scene = with_keys(load_scene(test::source_path("scenes/soil.toml")),
+                                {{"simulation.end_time", 0.005}});
   const std::vector<std::string> roles = {"vehicle", "track", "soil"};
   std::map<std::string, std::unique_ptr<LaunchedNode>> nodes;
   std::map<std::string, Address> at;

@@ -13,6 +13,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
 
@@ -31,12 +32,11 @@ CouplingOptions coupling(CouplingMethod method, InputMode inputs, double converg
 using test::judged;
 
 Scene paper(double end_time, int micro_steps = 0, double tolerance = 0) {
-  Scene s = test::paper_scene();
-  s.end_time = end_time;
-  s.micro_steps = micro_steps;
-  if (tolerance > 0) s.tolerance = tolerance;
-  s.validate();
-  return s;
+  const Scene s = test::paper_scene();
+  std::vector<SceneEdit> edits = {{"simulation.end_time", end_time}};
+  if (micro_steps > 0) edits.push_back({"simulation.micro_steps", micro_steps});
+  if (tolerance > 0) edits.push_back({"simulation.tolerance", tolerance});
+  return with_keys(s, edits);
 }
 
 TEST(SubstepWaveform, ModesParseAndNameTheirDegree) {

@@ -19,6 +19,7 @@
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "test_support.hpp"
 
 namespace railcosim {
@@ -32,10 +33,8 @@ namespace fs = std::filesystem;
 constexpr double kSoilEndTime = 0.05;
 
 Scene soil_scene() {
-  Scene s = load_scene(test::source_path("scenes/soil.toml"));
-  s.end_time = kSoilEndTime;
-  s.validate();
-  return s;
+  return with_keys(load_scene(test::source_path("scenes/soil.toml")),
+                   {{"simulation.end_time", kSoilEndTime}});
 }
 
 using test::config_of;
@@ -199,8 +198,7 @@ TEST(TcpMaster, ARunWithAGivenSoilNodeEqualsTheInProcessRun) {
 // --- nodes that misbehave ---------------------------------------------------
 
 TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
-  Scene scene = test::paper_scene();
-  scene.end_time = 0.001;
+  const Scene scene = with_keys(test::paper_scene(), {{"simulation.end_time", 0.001}});
   NodePool pool;
   RunOptions o;
   o.macro_step = scene.macro_step;

@@ -14,6 +14,7 @@
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/runner.hpp"
+#include "scene_text.hpp"
 #include "server.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
@@ -26,10 +27,9 @@ namespace {
 // at times that differ between them: a receiver evaluates its waveforms
 // between the sender's samples, where the degree counts.
 Scene short_paper() {
-  Scene s = test::paper_scene();
-  s.end_time = 300 * s.macro_step;
-  s.tolerance = 1e-9;
-  s.validate();
+  const Scene paper = test::paper_scene();
+  const Scene s = with_keys(
+      paper, {{"simulation.end_time", 300 * paper.macro_step}, {"simulation.tolerance", 1e-9}});
   return s;
 }
 

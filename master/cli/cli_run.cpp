@@ -32,6 +32,7 @@
 #include "run/runner.hpp"
 #include "run/stability.hpp"
 #include "scene.hpp"
+#include "scene_text.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
@@ -291,7 +292,7 @@ int do_run(const RunArgs& command_line) {
   Scene scene = load_scene(command_line.scene_path);
   // The scene's [coupling] stands in for the flags not given.
   const RunArgs a = with_scene_coupling(command_line, scene);
-  if (!a.restart.empty()) scene.restart = a.restart;
+  if (!a.restart.empty()) scene = with_keys(scene, {{"simulation.restart", a.restart}});
   const CaseSpec spec = parse_case_of(a.case_name, scene);
   RunOptions o;
   try {

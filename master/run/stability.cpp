@@ -57,6 +57,8 @@ std::vector<double> deviation_from_rest(const RunRecord& run) {
   return d;
 }
 
+// Run in process only: its fields are changed behind its text, which the
+// master would refuse to send to a node (check_scene_text).
 Scene parked_scene(const Scene& scene, double macro_step) {
   Scene s = scene;
   s.speed = 0;

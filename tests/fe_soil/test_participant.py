@@ -19,7 +19,7 @@ import support  # noqa: F401  (skips without dolfinx; puts the checkout on the p
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "sdk", "python"))
 from mpi4py import MPI  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
-from railcosim_sdk.wire import E, ProtocolError, pb  # noqa: E402
+from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
 
 from fe_soil.participant import Core, FESoilParticipant, follow  # noqa: E402
 
@@ -47,7 +47,7 @@ H = 1e-3
 def session(core, own=OWN, receives=(3,), output_dir=None):
     p = FESoilParticipant(core, output_dir)
     s = Session(p, None, "test", None)
-    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=2, role="master",
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master",
                                                participant="soil")))
     c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=1,
                      own_config=own)

@@ -17,7 +17,7 @@ import subprocess
 import tempfile
 import time
 
-PROTOCOL_VERSION = 2
+PROTOCOL_VERSION = 3
 MAX_FRAME = 8 << 20
 
 
