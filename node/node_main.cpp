@@ -26,6 +26,7 @@ struct NodeCommandLine {
   double step_seconds = 30.0;
   long max_micro_steps = Newmark::kMaxStepsPerInterval;
   std::string token_file;
+  bool check = false;
 };
 
 void declare_options(CLI::App& app, NodeCommandLine& o) {
@@ -62,6 +63,9 @@ void declare_options(CLI::App& app, NodeCommandLine& o) {
                  "Seconds of work one macro step may take before it fails (STEP_FAILED)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_flag("--check", o.check,
+               "Check the options (the address, the scene and secret files) as the node would, "
+               "print what it would serve, and stop without listening");
   app.add_option("--log-level", o.level, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
       ->capture_default_str();
@@ -93,6 +97,12 @@ void serve(const NodeProgram& program, const NodeCommandLine& o) {
         "refusing to listen on " + address.str() +
         " without --token-file: any host that reaches this address could drive the node. "
         "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
+  if (o.check) {
+    std::printf("check: would serve the %s participant on %s%s%s\n", o.role.c_str(),
+                address.str().c_str(), options.token ? ", with a shared secret" : "",
+                o.scene_path.empty() ? "" : (", pinned to " + o.scene_path).c_str());
+    return;
+  }
   NodeServer server(options, address, server_limits(o));
   std::printf("listening on %s\n", server.local_address().str().c_str());
   std::fflush(stdout);

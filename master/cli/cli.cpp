@@ -36,6 +36,13 @@ void catch_stop_signals() {
 
 }  // namespace
 
+void add_check_flag(CLI::App& command, bool& check) {
+  command.add_flag("--check", check,
+                   "Read the command line and the files it names (scene, secret, node addresses) "
+                   "as the command would, print what it would do, and stop: no node is started, "
+                   "no run made, no file written");
+}
+
 const std::atomic<int>* stop_flag() {
   return &g_stop;
 }

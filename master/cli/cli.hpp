@@ -2,9 +2,13 @@
 // (cli_run, cli_study, conform).
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 
 namespace railcosim {
+
+// Adds --check to a command: read and check everything, do nothing.
+void add_check_flag(CLI::App& command, bool& check);
 
 // Set by SIGINT or SIGTERM once master_main has installed its handlers: runs
 // stop at the next macro step and leave a summary saying so.

@@ -1,12 +1,14 @@
 // `master conform`: its command line, and the run of the checklist
 // (conform.cpp) it starts.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
 
 #include "auth.hpp"
+#include "cli/cli.hpp"
 #include "cli/conform.hpp"
 #include "scene.hpp"
 
@@ -40,6 +42,7 @@ void add_conform_command(CLI::App& app, ConformArgs& a) {
   a.command->add_option("--steps", a.steps, "Macro steps of the relayed check")
       ->check(CLI::Range(4, 100000))
       ->capture_default_str();
+  add_check_flag(*a.command, a.check);
 }
 
 int do_conform(const ConformArgs& a) {
@@ -58,6 +61,11 @@ int do_conform(const ConformArgs& a) {
   }
   o.reply = std::chrono::milliseconds(a.reply_ms);
   o.steps = a.steps;
+  if (a.check) {
+    std::printf("check: would check the %s participant at %s with case %s\n", o.role.c_str(),
+                o.address.str().c_str(), o.case_name.c_str());
+    return 0;
+  }
   std::error_code ec;
   o.master_program = std::filesystem::read_symlink("/proc/self/exe", ec).string();
   return report_conformance(run_conformance(o), o);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cli/cli.hpp"
 #include "scene_checks.hpp"
 #include "scene_keys.hpp"
 
@@ -133,10 +134,16 @@ void add_keys_command(CLI::App& app, KeysArgs& a) {
       "keys", "Print the reference of every scene key: type, default, range, unit, meaning.");
   a.command->add_flag("--markdown", a.markdown,
                       "Print it as Markdown (what docs/scene-keys.md holds).");
+  add_check_flag(*a.command, a.check);
 }
 
 int do_keys(const KeysArgs& a) {
   const std::string text = a.markdown ? scene_keys_markdown() : scene_keys_text();
+  if (a.check) {
+    std::printf("check: would print the reference of %zu scene keys (%s)\n", scene_keys().size(),
+                a.markdown ? "Markdown" : "text");
+    return 0;
+  }
   std::fwrite(text.data(), 1, text.size(), stdout);
   return std::fflush(stdout) == 0 ? 0 : 1;
 }

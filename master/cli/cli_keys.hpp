@@ -14,6 +14,7 @@ namespace railcosim {
 struct KeysArgs {
   CLI::App* command = nullptr;
   bool markdown = false;
+  bool check = false;  // master --check: print what it would print, nothing else
 };
 
 // The reference: one section per table, one line (text) or row (Markdown)

@@ -284,7 +284,23 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "A scene's [coupling] table (docs/scene-keys.md) stands in for --coupling, --inputs, "
       "--accelerator, --relaxation, --max-iterations, --convergence, --reused-windows, "
       "--feedthrough, --data-plane and --window-steps; a flag given wins.");
+  add_check_flag(*run, a.check);
   a.command = run;
+}
+
+// master --check run: what the run would be, once every input is read.
+int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                const std::map<std::string, Address>& given) {
+  if (!a.token_file.empty()) read_token_file(a.token_file);
+  std::string where = spec.monolithic ? "in process" : "over " + a.transport;
+  if (!spec.monolithic && is_remote_transport(a.transport))
+    where += " (" + a.data_plane + " data plane)";
+  for (const auto& [role, address] : given) where += ", " + role + " at " + address.str();
+  std::printf("check: would run %s of %s (H = %g s, tolerance %g m, %s coupling) %s; writing %s\n",
+              spec.name().c_str(), scene.source.c_str(), o.macro_step, o.tolerance,
+              a.coupling.c_str(), where.c_str(),
+              (std::filesystem::path(a.out) / spec.name()).string().c_str());
+  return 0;
 }
 
 int do_run(const RunArgs& command_line) {
@@ -301,6 +317,7 @@ int do_run(const RunArgs& command_line) {
     throw std::invalid_argument(e.what() + scene_coupling_note(command_line, scene));
   }
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
+  if (a.check) return print_check(a, scene, spec, o, given);
 
   RunRecord reference;
   if (!spec.monolithic && !scene.outside_soil()) {

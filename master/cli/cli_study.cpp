@@ -70,6 +70,10 @@ int do_study(const StudyArgs& a) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   if (!a.collect.empty()) {
+    if (a.check) {
+      std::printf("check: would collect the study in %s\n", a.collect.c_str());
+      return 0;
+    }
     const CollectedStudy c = collect_study(a.collect, "");
     return report_collected(c, a.collect, "collected " + a.collect, seconds());
   }
@@ -83,12 +87,18 @@ int do_study(const StudyArgs& a) {
   o.macro_steps = a.macro_steps;
   for (const std::string& s : a.sweeps) o.sweeps.push_back(parse_sweep(s));
   o.stop = stop_flag();
-  if (!a.plan.empty()) {
+  if (!a.plan.empty() || a.check) {
     std::error_code ec;
     o.master_program =
         !a.master.empty() ? a.master : std::filesystem::read_symlink("/proc/self/exe", ec).string();
     if (o.master_program.empty()) o.master_program = "master";
     const StudyPlan plan = make_plan(a.scene_path, o);
+    if (a.check) {
+      std::printf("check: would %s %zu runs of %s into %s\n",
+                  a.plan.empty() ? "run" : ("plan (" + a.plan + ")").c_str(), plan.runs.size(),
+                  a.scene_path.c_str(), o.out.string().c_str());
+      return 0;
+    }
     write_plan(plan, a.plan);
     std::printf("plan: %zu runs in %s (and %s); run them, then master study --collect %s\n",
                 plan.runs.size(), a.plan.c_str(), plan_file(o.out, 1).string().c_str(),
@@ -137,6 +147,7 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
   collect_opt->excludes(plan_opt);
   study->add_option("--master", a.master,
                     "With --plan: the master program the command lines call (default: this one)");
+  add_check_flag(*study, a.check);
   a.command = study;
 }
 

@@ -24,6 +24,7 @@ struct StudyArgs {
   std::string plan;                 // --plan FILE: write the plan only
   std::string collect;              // --collect DIR: read the runs, write the report
   std::string master;               // the program a plan's command lines call
+  bool check = false;               // master --check: make the plan, run nothing
 };
 
 // Adds `study` to the master's command line, filling `a`.

@@ -58,6 +58,7 @@ struct ConformArgs {
   std::string scene_path, node, case_name, token_file;
   long reply_ms = 1000;
   long steps = 20;
+  bool check = false;  // master --check: read the options, connect to nothing
 };
 void add_conform_command(CLI::App& app, ConformArgs& args);
 // Runs the checks and prints them; the exit status (0: nothing failed).

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""Every command in the README and docs/ against the programs it names.
+
+Reads each shell block (```sh, ```bash, ```console, or unmarked) of
+README.md and docs/*.md, joins continued lines, drops comments and a
+trailing '&', and, in a scratch folder that holds the repository's scenes,
+checks each command as follows:
+
+- the product's programs (build/bin/master, vehicle_node, track_node,
+  soil_node): run with --check, which reads the command line and every file
+  it names as the real command would, and must exit 0. HOST and PORT stand
+  for 127.0.0.1 and a port; optional parts in [brackets] are left out of the
+  run, and every --option they name must be one the program's --help lists;
+- `sed ... > FILE` lines are run as written (the docs make scene variants
+  that way, and later commands use them);
+- every other command (the scripts, Python modules and programs, CMake,
+  GNU parallel, Slurm): every path it names inside the repository
+  (scenes/, scripts/, examples/, bench/, fe_soil/, docs/) must exist.
+
+The scripts the README's two commands name are what CI runs.
+Usage: docs_commands_test.py BIN_DIR SOURCE_DIR
+"""
+
+import glob
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+
+PROGRAMS = ("master", "vehicle_node", "track_node", "soil_node")
+SHELLS = ("sh", "bash", "console", "shell", "")
+REPO_DIRS = ("scenes/", "scripts/", "examples/", "bench/", "fe_soil/", "docs/")
+# At least this many product commands are checked: a change that breaks
+# the reading of the docs fails here rather than checking nothing.
+MIN_CHECKED = 25
+
+
+def commands(path):
+    """(line, command) for each command of the file's shell blocks."""
+    lines = open(path, encoding="utf-8").read().split("\n")
+    inside, lang, i = False, "", 0
+    while i < len(lines):
+        fence = re.match(r"^\s*```(\S*)", lines[i])
+        if fence:
+            inside, lang = not inside, fence.group(1)
+        elif inside and lang in SHELLS:
+            start, cmd = i + 1, lines[i].strip()
+            while cmd.endswith("\\") and i + 1 < len(lines):
+                i += 1
+                cmd = cmd[:-1].rstrip() + " " + lines[i].strip()
+            if cmd.startswith("$ "):
+                cmd = cmd[2:]
+            cmd = re.sub(r"\s+#.*$", "", cmd)
+            if cmd and not cmd.startswith("#"):
+                yield start, cmd
+        i += 1
+
+
+def help_text(bin_dir, words):
+    """--help of a program, or of the master's subcommand."""
+    args = [os.path.join(bin_dir, words[0])]
+    if words[0] == "master" and len(words) > 1 and not words[1].startswith("-"):
+        args.append(words[1])
+    out = subprocess.run(args + ["--help"], capture_output=True, text=True, timeout=30)
+    return out.stdout + out.stderr
+
+
+def check_program(bin_dir, cwd, cmd):
+    """Runs a product command with --check; returns a failure or None."""
+    optional = re.findall(r"\[([^\]]*)\]", cmd)
+    concrete = re.sub(r"\s*\[[^\]]*\]", "", cmd)
+    concrete = concrete.replace("HOST:PORT", "127.0.0.1:7099").replace(":PORT", ":7099")
+    if concrete.rstrip().endswith("&"):
+        concrete = concrete.rstrip()[:-1]
+    words = shlex.split(concrete)
+    words[0] = os.path.basename(words[0])
+    known = help_text(bin_dir, words)
+    for part in optional:
+        for flag in re.findall(r"--[a-z][a-z-]*", part):
+            if flag not in known:
+                return "%s is not an option of %s" % (flag, " ".join(words[:2]))
+    run = [os.path.join(bin_dir, words[0])] + words[1:]
+    if "--help" in words:  # help wins over --check: it must print the usage
+        out = subprocess.run(run, cwd=cwd, capture_output=True, text=True, timeout=60)
+        return None if out.returncode == 0 and "Usage:" in out.stdout else \
+            "exit %d: %s" % (out.returncode, (out.stdout + out.stderr).strip())
+    if "--check" not in known:
+        return "%s has no --check" % " ".join(words[:2])
+    out = subprocess.run(run + ["--check"], cwd=cwd, capture_output=True, text=True, timeout=60)
+    if out.returncode != 0 or not out.stdout.startswith("check: "):
+        return "exit %d: %s" % (out.returncode, (out.stdout + out.stderr).strip())
+    return None
+
+
+def check_paths(source, cmd):
+    """The repository paths a command names exist."""
+    for word in shlex.split(cmd.replace("<", " ").replace(">", " ")):
+        word = word.split("=", 1)[-1]
+        if word.startswith(REPO_DIRS) and "*" not in word:
+            if not os.path.exists(os.path.join(source, word)):
+                return "%s does not exist" % word
+    return None
+
+
+def main():
+    bin_dir, source = sys.argv[1], sys.argv[2]
+    docs = [os.path.join(source, "README.md")] + sorted(glob.glob(os.path.join(source, "docs", "*.md")))
+    cwd = tempfile.mkdtemp(prefix="docs-commands-")
+    failures, checked, paths = [], 0, 0
+    try:
+        shutil.copytree(os.path.join(source, "scenes"), os.path.join(cwd, "scenes"))
+        with open(os.path.join(cwd, "cosim.token"), "w") as f:
+            f.write("a shared secret of the docs' examples\n")
+        os.mkdir(os.path.join(cwd, "study"))  # what `master study --collect study` reads
+        for doc in docs:
+            name = os.path.relpath(doc, source)
+            for line, cmd in commands(doc):
+                first = cmd.split()[0]
+                if first.startswith("build/bin/") and os.path.basename(first) in PROGRAMS:
+                    why = check_program(bin_dir, cwd, cmd)
+                    checked += 1
+                elif first == "sed" and ">" in cmd:
+                    out = subprocess.run(cmd, shell=True, cwd=cwd, capture_output=True, text=True)
+                    why = out.stderr.strip() if out.returncode else None
+                else:
+                    why = check_paths(source, cmd)
+                    paths += 1
+                if why:
+                    failures.append("%s:%d: %s\n    %s" % (name, line, cmd, why))
+        # --check writes nothing: no run folder, plan or report appeared.
+        made = sorted(set(os.listdir(cwd)) - {"scenes", "cosim.token", "study"})
+        if any(not name.endswith(".toml") for name in made):
+            failures.append("--check wrote into the working folder: %s" % ", ".join(made))
+        if os.listdir(os.path.join(cwd, "study")):
+            failures.append("--check wrote into study/: %s" % os.listdir(os.path.join(cwd, "study")))
+    finally:
+        shutil.rmtree(cwd, ignore_errors=True)
+    print("%d commands of the product checked with --check, %d others' paths checked"
+          % (checked, paths))
+    if checked < MIN_CHECKED:
+        failures.append("only %d product commands found (at least %d expected): the reading of "
+                        "the docs' shell blocks is broken" % (checked, MIN_CHECKED))
+    for f in failures:
+        print("FAIL " + f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
