@@ -20,6 +20,11 @@ install(TARGETS railcosim_common railcosim_protocol railcosim_node railcosim_war
 
 file(GLOB railcosim_sdk_headers ${PROJECT_SOURCE_DIR}/common/*.hpp
      ${PROJECT_SOURCE_DIR}/protocol/*.hpp ${PROJECT_SOURCE_DIR}/node/*.hpp)
+# The node's own internals: the server's connections and the peer
+# handshake, which no public header includes (tests/cpp_sdk_test.sh checks
+# that every installed header's includes are installed).
+list(REMOVE_ITEM railcosim_sdk_headers ${PROJECT_SOURCE_DIR}/node/server_conn.hpp
+     ${PROJECT_SOURCE_DIR}/node/frame_source.hpp ${PROJECT_SOURCE_DIR}/node/peer_handshake.hpp)
 install(FILES ${railcosim_sdk_headers} ${PROJECT_BINARY_DIR}/protocol/railcosim.pb.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/railcosim)
 install(FILES ${PROJECT_SOURCE_DIR}/protocol/railcosim.proto

@@ -20,6 +20,14 @@ cleanup() {
 trap cleanup EXIT
 
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
+# The installed headers are a closed set: each one's own includes are installed.
+include_dir="$work/prefix/include/railcosim"
+for header in "$include_dir"/*.h*; do
+  for wanted in $(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$header"); do
+    [[ -f $include_dir/$wanted ]] || { echo "$(basename "$header") includes $wanted, which is not installed"; exit 1; }
+  done
+done
+[[ ! -e $include_dir/server_conn.hpp ]] || { echo "an internal header is installed: server_conn.hpp"; exit 1; }
 cmake -S "$src/examples/cpp_soil" -B "$work/soil-build" -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$work/prefix" >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/soil-build" >"$work/compile.log" 2>&1 || { cat "$work/compile.log"; exit 1; }
