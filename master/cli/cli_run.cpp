@@ -28,6 +28,7 @@
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
+#include "run/execute.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
 #include "run/stability.hpp"
@@ -319,50 +320,38 @@ int do_run(const RunArgs& command_line) {
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   if (a.check) return print_check(a, scene, spec, o, given);
 
+  NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
+  RunJob job;
+  job.scene = &scene;
+  job.spec = spec;
+  job.options = o;
+  job.options.stop = stop_flag();
+  job.transport = a.transport;
+  job.nodes = {given, &pool, {}};
+  if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
+  job.out = a.out;
+  job.folder = spec.name();
   RunRecord reference;
-  if (!spec.monolithic && !scene.outside_soil()) {
+  job.reference = [&]() -> const RunRecord& {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
     reference = run_monolithic(scene, o);
-  }
-
-  RunWriter writer(a.out, spec.name());
-  o.stop = stop_flag();
-  o.on_row = [&writer](const HistoryRow& row) { writer.row(row); };
-  o.on_channels = [&writer](const std::vector<std::string>& extra) { writer.channels(extra); };
-  auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
-  long steps_done = 0;  // for the summary of a run that fails
-  o.on_progress = [progress, &steps_done](long done, long total) {
-    steps_done = done;
-    (*progress)(done, total);
+    return reference;
   };
-  RunRecord record;
-  try {
-    if (spec.monolithic) {
-      record = run_monolithic(scene, o);
-    } else {
-      NodePool pool(a.token_file);   // nodes it starts share the secret of the given ones
-      if (scene.soil_model == "fe")  // writes its measures next to the run's files
-        pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(writer.dir()).string()});
-      std::optional<std::string> token;
-      if (!a.token_file.empty()) token = read_token_file(a.token_file);
-      const SceneTransport transport =
-          make_transport(parse_transport(a.transport, "--transport"), scene, {given, &pool, token});
-      record = run_cosim(scene, spec, o, transport.factory, transport.name);
-      if (!scene.outside_soil()) assess(record, reference, scene, spec, o);
-    }
-  } catch (const std::exception& e) {
-    RunRecord failed = failed_record(scene, spec, o, a.transport, e.what());
-    failed.macro_steps = steps_done;
-    writer.finish(failed);
-    progress->end();
+  if (scene.soil_model == "fe")  // it writes its measures next to the run's files
+    job.on_folder = [&](const std::filesystem::path& dir) {
+      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string()});
+    };
+  auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
+  job.on_progress = [progress](long done, long total) { (*progress)(done, total); };
+  const RunOutcome run = execute(job);
+  progress->end();
+  if (!run.error.empty()) {
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
-                 spec.name().c_str(), e.what(), writer.dir().string().c_str());
+                 spec.name().c_str(), run.error.c_str(), run.dir.string().c_str());
     return 1;
   }
-  writer.finish(record);
-  progress->end();
-  print_summary(record, writer.dir());
+  print_summary(run.record, run.dir);
   return 0;
 }
 

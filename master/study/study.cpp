@@ -18,6 +18,7 @@
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
+#include "run/execute.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
 #include "run/stability.hpp"
@@ -151,16 +152,25 @@ struct PlanScenes {
   std::map<std::tuple<std::string, double, double>, Reference> references;
 };
 
-// The record of one planned run: the monolithic model, or a co-simulation
-// judged against the monolithic reference of its scene (a soil outside
-// the master's models aside).
-RunRecord record_of(const PlannedRun& run, const Scene& scene, const CaseSpec& spec,
-                    const RunOptions& o, NodePool& pool, PlanScenes& shared) {
-  if (spec.monolithic) return run_monolithic(scene, o);
-  const SceneTransport t =
-      make_transport(parse_transport(run.transport, "transport"), scene, {{}, &pool, {}});
-  RunRecord r = run_cosim(scene, spec, o, t.factory, t.name);
-  if (!scene.outside_soil()) {
+// Runs one planned run with the worker's nodes and writes its folder (see
+// execute()); the monolithic reference of its scene, H and tolerance is
+// computed once, by whichever worker needs it first.
+void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
+                 NodePool& pool, PlanScenes& shared) {
+  const Scene& scene = shared.scenes.at(run.scene);
+  RunJob job;
+  job.scene = &scene;
+  job.spec = parse_case(run.case_name);
+  job.options.macro_step = run.macro_step;
+  job.options.tolerance = run.tolerance;
+  job.options.feedthrough = run.feedthrough;
+  job.options.coupling = run.coupling;
+  job.options.stop = opt.stop;
+  job.transport = run.transport;
+  job.nodes = {{}, &pool, {}};
+  job.out = plan.out / std::filesystem::path(run.folder).parent_path();
+  job.folder = run.case_name;
+  job.reference = [&]() -> const RunRecord& {
     Reference& ref = shared.references.at({run.scene, run.macro_step, run.tolerance});
     std::call_once(ref.once, [&] {
       RunOptions m;
@@ -168,47 +178,10 @@ RunRecord record_of(const PlannedRun& run, const Scene& scene, const CaseSpec& s
       m.tolerance = run.tolerance;
       ref.record = run_monolithic(scene, m);
     });
-    assess(r, ref.record, scene, spec, o);
-  }
-  return r;
-}
-
-// Runs one planned run with the worker's nodes and writes its folder; a run
-// that fails leaves a failed record with the history it had.
-void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
-                 NodePool& pool, PlanScenes& shared) {
-  auto log = logger("master");
-  const Scene& scene = shared.scenes.at(run.scene);
-  const CaseSpec spec = parse_case(run.case_name);
-  RunOptions o;
-  o.macro_step = run.macro_step;
-  o.tolerance = run.tolerance;
-  o.feedthrough = run.feedthrough;
-  o.coupling = run.coupling;
-  const std::filesystem::path prefix = plan.out / std::filesystem::path(run.folder).parent_path();
-  // The writer outlives a failure, so that a failed run keeps its history.
-  std::optional<RunWriter> writer;
-  long steps_done = 0;  // for the summary of a run that fails
-  o.on_progress = [&steps_done](long d, long) { steps_done = d; };
-  try {
-    writer.emplace(prefix, run.case_name);
-    o.stop = opt.stop;
-    o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
-    o.on_channels = [&writer](const std::vector<std::string>& extra) { writer->channels(extra); };
-    writer->finish(record_of(run, scene, spec, o, pool, shared));
-  } catch (const std::exception& e) {
-    log->error("{} failed: {}", run.folder, e.what());
-    try {
-      RunRecord failed = failed_record(scene, spec, o, run.transport, e.what());
-      failed.macro_steps = steps_done;
-      if (writer)
-        writer->finish(failed);
-      else
-        RunWriter(prefix, run.case_name).finish(failed);
-    } catch (const std::exception& e2) {
-      log->error("{}: no summary written: {}", run.folder, e2.what());
-    }
-  }
+    return ref.record;
+  };
+  const RunOutcome outcome = execute(job);
+  if (!outcome.error.empty()) logger("master")->error("{} failed: {}", run.folder, outcome.error);
 }
 
 // Runs a plan here, JOBS at a time, each worker with its own nodes. Each run

@@ -1,0 +1,70 @@
+#include "run/execute.hpp"
+
+#include <optional>
+#include <stdexcept>
+
+#include "run/run_output.hpp"
+#include "run/stability.hpp"
+
+namespace railcosim {
+namespace {
+
+RunRecord made_run(const RunJob& job, const RunOptions& o) {
+  const Scene& scene = *job.scene;
+  if (job.spec.monolithic) return run_monolithic(scene, o);
+  const SceneTransport t =
+      make_transport(parse_transport(job.transport, "transport"), scene, job.nodes);
+  RunRecord r = run_cosim(scene, job.spec, o, t.factory, t.name);
+  if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o);
+  return r;
+}
+
+}  // namespace
+
+RunOutcome execute(const RunJob& job) {
+  RunOutcome out;
+  RunOptions o = job.options;
+  // The writer outlives a failure, so that a failed run keeps its history.
+  std::optional<RunWriter> writer;
+  long steps_done = 0;  // for the summary of a run that fails
+  o.on_progress = [&job, &steps_done](long done, long total) {
+    steps_done = done;
+    if (job.on_progress) job.on_progress(done, total);
+  };
+  try {
+    writer.emplace(job.out, job.folder);
+    out.dir = writer->dir();
+    if (job.on_folder) job.on_folder(writer->dir());
+    o.on_row = [&writer](const HistoryRow& row) { writer->row(row); };
+    o.on_channels = [&writer](const std::vector<std::string>& extra) { writer->channels(extra); };
+    out.record = made_run(job, o);
+  } catch (const std::exception& e) {
+    out.error = e.what();
+  }
+  if (out.error.empty()) {
+    // A file that cannot be written leaves a summary saying so, then throws.
+    try {
+      writer->finish(out.record);
+    } catch (const std::exception& e) {
+      out.error = e.what();
+    }
+    return out;
+  }
+  out.record = failed_record(*job.scene, job.spec, o, job.transport, out.error);
+  out.record.macro_steps = steps_done;
+  try {
+    if (writer) {
+      writer->finish(out.record);
+    } else {
+      RunWriter again(job.out, job.folder);
+      out.dir = again.dir();
+      again.finish(out.record);
+    }
+  } catch (const std::exception& e) {
+    out.error += "; no summary written: ";
+    out.error += e.what();
+  }
+  return out;
+}
+
+}  // namespace railcosim

@@ -1,0 +1,44 @@
+// One run, whoever asked for it: `master run` and every run of a study go
+// through execute(), so that a run is made, judged and written one way.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "cosim_case.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim {
+
+struct RunJob {
+  const Scene* scene = nullptr;
+  CaseSpec spec;
+  RunOptions options;         // its stop flag is kept; its callbacks are execute()'s
+  std::string transport;      // a name of the transport table
+  TransportSetup nodes;       // the nodes given, the pool, the secret
+  std::filesystem::path out;  // the run writes OUT/FOLDER/
+  std::string folder;         // the case name for `master run`
+  // The monolithic reference a co-simulation is judged against (not called
+  // for the monolithic case, nor for a soil outside the master's models).
+  std::function<const RunRecord&()> reference;
+  // Called with the run's folder once it exists, before the run starts.
+  std::function<void(const std::filesystem::path&)> on_folder;
+  // Called after every macro step with the steps done and the total.
+  std::function<void(long done, long total)> on_progress;
+};
+
+struct RunOutcome {
+  RunRecord record;           // finished, or failed with the history it had
+  std::filesystem::path dir;  // where it was written ("" if nowhere)
+  std::string error;          // why the run failed; "" when it finished
+};
+
+// Runs the job and writes its folder (history.csv, deflection.csv,
+// summary.json). A run that fails leaves a failed summary with the macro
+// steps it made; execute() does not throw for it but says why in `error`.
+RunOutcome execute(const RunJob& job);
+
+}  // namespace railcosim
