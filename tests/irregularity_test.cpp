@@ -15,7 +15,7 @@
 #include "spectra.hpp"
 
 namespace railcosim {
-namespace {
+namespace irregularity_test {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
@@ -274,5 +274,5 @@ TEST(IrregularityToml, ReadsEachModelAndRejectsMistakes) {
   expect_error("[irregularity]\nmodel = \"wavy\"\n", "irregularity.model': unknown irregularity");
 }
 
-}  // namespace
+}  // namespace irregularity_test
 }  // namespace railcosim

@@ -10,7 +10,7 @@
 #include "test_support.hpp"
 
 namespace railcosim {
-namespace {
+namespace judging_test {
 
 RunOptions at(double H, const Scene& s) {
   RunOptions o;
@@ -133,5 +133,5 @@ TEST(Judging, AGainFarFromTenIsNotReproduced) {
   EXPECT_TRUE(seen);
 }
 
-}  // namespace
+}  // namespace judging_test
 }  // namespace railcosim

@@ -16,7 +16,7 @@
 #include "test_support.hpp"
 
 namespace railcosim {
-namespace {
+namespace partition_test {
 
 Scene soil_scene() {
   return load_scene(test::source_path("scenes/soil.toml"));
@@ -213,5 +213,5 @@ TEST(FixedMicroSteps, EveryMacroStepTakesExactlyThatMany) {
   EXPECT_EQ(m.micro_steps.at("monolithic"), 10 * m.macro_steps);
 }
 
-}  // namespace
+}  // namespace partition_test
 }  // namespace railcosim

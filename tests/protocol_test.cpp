@@ -11,7 +11,7 @@
 #include "wire.hpp"
 
 namespace railcosim {
-namespace {
+namespace protocol_test {
 
 Scene soil_scene() {
   return load_scene(test::source_path("scenes/soil.toml"));
@@ -379,5 +379,5 @@ TEST(Conversions, AnInterfaceTheModelCannotHonourIsABadInterface) {
   EXPECT_NE(std::string(e.what()).find("'sg'"), std::string::npos) << e.what();
 }
 
-}  // namespace
+}  // namespace protocol_test
 }  // namespace railcosim

@@ -22,7 +22,7 @@
 extern char** environ;
 
 namespace railcosim {
-namespace {
+namespace reply_check_test {
 
 using std::chrono::milliseconds;
 using Clock = std::chrono::steady_clock;
@@ -299,5 +299,5 @@ TEST(ReplyCheck, TheMasterAnswersSigtermWhileANodeDrips) {
   fs::remove_all(out);
 }
 
-}  // namespace
+}  // namespace reply_check_test
 }  // namespace railcosim

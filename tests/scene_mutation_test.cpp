@@ -17,7 +17,7 @@
 #include "wire.hpp"
 
 namespace railcosim {
-namespace {
+namespace scene_mutation_test {
 
 const std::vector<std::string> kMutations = {
     "0",   "-1",  "-0.5", "1e308", "5e-324", "4294967346", "-4294967296", "9223372036854775807",
@@ -166,5 +166,5 @@ TEST(SceneMutation, MeshLimitsApplyOnLoading) {
   }
 }
 
-}  // namespace
+}  // namespace scene_mutation_test
 }  // namespace railcosim

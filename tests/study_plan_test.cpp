@@ -23,7 +23,7 @@
 #include "test_support.hpp"
 
 namespace railcosim {
-namespace {
+namespace study_plan_test {
 
 using test::read_file;
 using test::split_csv;
@@ -247,5 +247,5 @@ TEST(StudySweep, OneSceneVariantPerSpeedAndTheReportGroupsByIt) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace study_plan_test
 }  // namespace railcosim

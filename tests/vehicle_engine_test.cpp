@@ -23,7 +23,7 @@
 #include "test_support.hpp"
 
 namespace railcosim {
-namespace {
+namespace vehicle_engine_test {
 
 std::string read(const std::string& relative) {
   std::ifstream f(test::source_path(relative));
@@ -390,5 +390,5 @@ TEST(CarCosim, FourWheelsOverTcpAreBitwiseEqualToInProcess) {
   }
 }
 
-}  // namespace
+}  // namespace vehicle_engine_test
 }  // namespace railcosim

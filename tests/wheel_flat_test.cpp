@@ -11,7 +11,7 @@
 #include "wheel_flat.hpp"
 
 namespace railcosim {
-namespace {
+namespace wheel_flat_test {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -150,5 +150,5 @@ TEST(WheelFlatToml, ReadsKeysAndRejectsMistakes) {
   expect_error("[wheel_flat]\nwheel_diameter = 0.92\n", "length': missing");
 }
 
-}  // namespace
+}  // namespace wheel_flat_test
 }  // namespace railcosim

@@ -8,7 +8,7 @@
 #include <cmath>
 
 namespace railcosim {
-namespace {
+namespace window_schedule_test {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -239,5 +239,5 @@ TEST(WindowSchedule, ExtrapolationRampsToTheExtrapolatedValue) {
   EXPECT_EQ(p.log[3], "B ramp 1 6 8");  // 6 -> 2 * 6 - 4 = 8
 }
 
-}  // namespace
+}  // namespace window_schedule_test
 }  // namespace railcosim
