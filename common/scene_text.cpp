@@ -8,29 +8,38 @@
 
 namespace railcosim {
 
-Scene with_keys(const Scene& scene, const std::vector<SceneEdit>& edits) {
-  toml::table root = toml::parse(scene.text, scene.source);
+std::string edit_scene_text(const std::string& text, const std::string& source,
+                            const std::vector<SceneEdit>& edits) {
+  toml::table root = toml::parse(text, source);
   for (const SceneEdit& e : edits) {
-    const auto dot = e.key.find('.');
-    if (dot == std::string::npos || dot == 0 || dot + 1 == e.key.size())
-      throw std::invalid_argument("scene edit '" + e.key + "': expected \"table.key\"");
-    const std::string table = e.key.substr(0, dot), key = e.key.substr(dot + 1);
-    toml::node* node = root.get(table);
-    if (!node) node = &root.insert_or_assign(table, toml::table{}).first->second;
-    toml::table* t = node->as_table();
-    if (!t) throw std::invalid_argument("scene edit '" + e.key + "': " + table + " is not a table");
+    std::vector<std::string> path;
+    std::stringstream parts(e.key);
+    for (std::string p; std::getline(parts, p, '.');) path.push_back(p);
+    if (path.size() < 2)
+      throw std::invalid_argument("scene key '" + e.key + "': expected \"table.key\"");
+    toml::table* t = &root;
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+      if (!t->contains(path[k])) t->insert(path[k], toml::table{});
+      t = (*t)[path[k]].as_table();
+      if (!t)
+        throw std::invalid_argument("scene key '" + e.key + "': " + path[k] + " is not a table");
+    }
     std::visit(
         [&](const auto& v) {
           if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
-            t->erase(key);
+            t->erase(path.back());
           else
-            t->insert_or_assign(key, v);
+            t->insert_or_assign(path.back(), v);
         },
         e.value);
   }
-  std::ostringstream text;
-  text << root;
-  return parse_scene(text.str(), scene.source, &scene.files);
+  std::ostringstream out;
+  out << root;
+  return out.str();
+}
+
+Scene with_keys(const Scene& scene, const std::vector<SceneEdit>& edits) {
+  return parse_scene(edit_scene_text(scene.text, scene.source, edits), scene.source, &scene.files);
 }
 
 void check_scene_text(const Scene& scene) {

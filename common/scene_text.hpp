@@ -22,6 +22,13 @@ struct SceneEdit {
 };
 inline constexpr std::monostate kLeftOut{};
 
+// TOML text with each edit made, written again in canonical form: a key
+// "table.key" (or deeper) is set, the tables on its way made as needed, or
+// removed with kLeftOut. Throws std::invalid_argument naming the key when a
+// part of its path is not a table; the values are the parser's to judge.
+std::string edit_scene_text(const std::string& text, const std::string& source,
+                            const std::vector<SceneEdit>& edits);
+
 // `scene` with the keys set (added when absent), parsed again: every check
 // of a scene file applies, and a bad value throws SceneError naming the key.
 Scene with_keys(const Scene& scene, const std::vector<SceneEdit>& edits);

@@ -157,5 +157,19 @@ TEST(SceneText, EditsGoThroughTheParserAndCanBeTakenBack) {
   EXPECT_THROW(check_scene_text(changed), std::logic_error);
 }
 
+// The editor under with_keys and the study's --sweep: any depth, tables made
+// on the way, and a path through a value named.
+TEST(SceneText, TheEditorMakesTablesAndNamesAPathThroughAValue) {
+  const std::string text = "[scene]\nname = \"x\"\n";
+  EXPECT_EQ(edit_scene_text(text, "t.toml", {{"a.b.c", 2}, {"scene.name", kLeftOut}}),
+            "[a.b]\nc = 2\n\n[scene]");
+  try {
+    edit_scene_text(text, "t.toml", {{"scene.name.x", 1.0}});
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "scene key 'scene.name.x': name is not a table");
+  }
+}
+
 }  // namespace
 }  // namespace railcosim

@@ -14,6 +14,7 @@
 #include "remote/transport.hpp"
 #include "run/run_output.hpp"
 #include "scene.hpp"
+#include "scene_text.hpp"
 #include "study/report_methods.hpp"
 
 namespace railcosim {
@@ -43,10 +44,9 @@ std::string folder_word(const std::string& s) {
   return out;
 }
 
-// A value given on the command line, as TOML: a whole number, a number,
-// true/false, or else a string.
-void assign(toml::table& t, const std::string& leaf, const std::string& value,
-            const toml::node* old, const std::string& key) {
+// A value given on the command line, as TOML: of the type the scene gives
+// the key, else a whole number, a number, true/false, or a string.
+SceneEdit swept(const std::string& key, const std::string& value, const toml::node* old) {
   const char* begin = value.c_str();
   char* end = nullptr;
   auto bad = [&](const char* what) {
@@ -68,48 +68,37 @@ void assign(toml::table& t, const std::string& leaf, const std::string& value,
   const bool is_bool = value == "true" || value == "false";
   if (old && old->is_integer()) {
     if (!is_int) throw bad("a whole number");
-    t.insert_or_assign(leaf, static_cast<int64_t>(i));
-  } else if (old && old->is_floating_point()) {
-    if (!is_num) throw bad("a number");
-    t.insert_or_assign(leaf, d);
-  } else if (old && old->is_boolean()) {
-    if (!is_bool) throw bad("true or false");
-    t.insert_or_assign(leaf, value == "true");
-  } else if (old && old->is_string()) {
-    t.insert_or_assign(leaf, value);
-  } else if (old) {
-    throw bad("a table or an array, which cannot be swept");
-  } else if (is_int) {
-    t.insert_or_assign(leaf, static_cast<int64_t>(i));
-  } else if (is_num) {
-    t.insert_or_assign(leaf, d);
-  } else if (is_bool) {
-    t.insert_or_assign(leaf, value == "true");
-  } else {
-    t.insert_or_assign(leaf, value);
+    return {key, static_cast<std::int64_t>(i)};
   }
+  if (old && old->is_floating_point()) {
+    if (!is_num) throw bad("a number");
+    return {key, d};
+  }
+  if (old && old->is_boolean()) {
+    if (!is_bool) throw bad("true or false");
+    return {key, value == "true"};
+  }
+  if (old && old->is_string()) return {key, value};
+  if (old) throw bad("a table or an array, which cannot be swept");
+  if (is_int) return {key, static_cast<std::int64_t>(i)};
+  if (is_num) return {key, d};
+  if (is_bool) return {key, value == "true"};
+  return {key, value};
 }
 
 // The scene text with each KEY set to VALUE (the scene's parser then
 // rejects keys it does not know, naming them).
 std::string with_values(const std::string& text, const std::string& source,
                         const std::vector<std::pair<std::string, std::string>>& values) {
-  toml::table root = toml::parse(text, source);
-  for (const auto& [key, value] : values) {
-    toml::table* t = &root;
-    std::stringstream parts(key);
-    std::vector<std::string> path;
-    for (std::string p; std::getline(parts, p, '.');) path.push_back(p);
-    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
-      if (!t->contains(path[k])) t->insert(path[k], toml::table{});
-      t = (*t)[path[k]].as_table();
-      if (!t) throw std::invalid_argument("--sweep " + key + ": " + path[k] + " is not a table");
-    }
-    assign(*t, path.back(), value, t->get(path.back()), key);
+  const toml::table root = toml::parse(text, source);
+  std::vector<SceneEdit> edits;
+  for (const auto& [key, value] : values)
+    edits.push_back(swept(key, value, root.at_path(key).node()));
+  try {
+    return edit_scene_text(text, source, edits) + "\n";
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--sweep: ") + e.what());
   }
-  std::ostringstream s;
-  s << root << "\n";
-  return s.str();
 }
 
 struct Variant {
