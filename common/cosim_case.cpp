@@ -116,7 +116,7 @@ CaseSpec parse_case(const std::string& name) {
         dash == std::string::npos ? std::nullopt : parse_coupling(part.substr(dash + 1));
     if (cut < 0 || !coupling) bad_case(name, "'" + part + "' is not CUT-TYPE");
     if (!c.cuts.empty() && cut <= c.cuts.back().cut)
-      bad_case(name, "the cuts must be distinct and in load order (wr, rs, ss)");
+      bad_case(name, "the cuts must be distinct and in load order (" + cut_names() + ")");
     c.cuts.push_back({cut, *coupling});
     if (plus == std::string::npos) break;
     pos = plus + 1;

@@ -6,18 +6,54 @@
 
 namespace railcosim {
 
+namespace {
+
+bool always(const Scene&) {
+  return true;
+}
+bool soil_present(const Scene& scene) {
+  return scene.has_soil();
+}
+
+}  // namespace
+
+const std::vector<ComponentKind>& components() {
+  static const std::vector<ComponentKind> kinds = {
+      {Component::kVehicle, "vehicle", always, ""},
+      {Component::kRail, "rail", always, ""},
+      {Component::kSleepers, "sleepers", always, ""},
+      {Component::kSoil, "soil", soil_present,
+       "the scene's soil is fixed; set [soil] model = \"lumped\", \"external\" or \"fe\""},
+  };
+  return kinds;
+}
+
 std::string to_string(Component c) {
-  switch (c) {
-    case Component::kVehicle:
-      return "vehicle";
-    case Component::kRail:
-      return "rail";
-    case Component::kSleepers:
-      return "sleepers";
-    case Component::kSoil:
-      return "soil";
-  }
+  for (const ComponentKind& k : components())
+    if (k.id == c) return k.name;
   return "?";
+}
+
+const std::vector<RoleKind>& roles() {
+  static const std::vector<RoleKind> kinds = {
+      {"vehicle", Component::kVehicle, "wr-xx-jacobi"},
+      {"track", Component::kSleepers, "wr-xx-jacobi"},
+      {"rail", Component::kRail, "wr-xx+rs-xx-jacobi"},
+      {"soil", Component::kSoil, "ss-xx-jacobi"},
+  };
+  return kinds;
+}
+
+std::vector<std::string> role_names() {
+  std::vector<std::string> names;
+  for (const RoleKind& r : roles()) names.emplace_back(r.name);
+  return names;
+}
+
+const RoleKind* find_role(const std::string& name) {
+  for (const RoleKind& r : roles())
+    if (name == r.name) return &r;
+  return nullptr;
 }
 
 std::string to_string(Quantity q) {
@@ -34,10 +70,8 @@ std::string to_string(Quantity q) {
 
 Parts Parts::all(const Scene& scene) {
   Parts p;
-  p.add(Component::kVehicle);
-  p.add(Component::kRail);
-  p.add(Component::kSleepers);
-  if (scene.has_soil()) p.add(Component::kSoil);
+  for (const ComponentKind& k : components())
+    if (k.present(scene)) p.add(k.id);
   return p;
 }
 
@@ -57,6 +91,12 @@ int find_cut(const std::string& name) {
   return -1;
 }
 
+std::string cut_names() {
+  std::string names;
+  for (const CutKind& k : cut_kinds()) names += (names.empty() ? "" : ", ") + std::string(k.name);
+  return names;
+}
+
 std::vector<Quantity> InterfaceSpec::receives() const {
   if (receives_force()) return {Quantity::kForce};
   if (kind().damped) return {Quantity::kDisplacement, Quantity::kVelocity};
@@ -70,16 +110,29 @@ std::vector<Quantity> InterfaceSpec::sends() const {
 }
 
 std::string role_of(const Parts& parts) {
-  if (parts.has(Component::kVehicle)) return "vehicle";
-  if (parts.has(Component::kSleepers)) return "track";
-  if (parts.has(Component::kRail)) return "rail";
-  return "soil";
+  for (const RoleKind& r : roles())
+    if (parts.has(r.marker)) return r.name;
+  return "?";
 }
 
 namespace {
 
+// The last component the scene models (a participant below the last cut
+// holds everything down to it).
 Component last_component(const Scene& scene) {
-  return scene.has_soil() ? Component::kSoil : Component::kSleepers;
+  Component last = Component::kVehicle;
+  for (const ComponentKind& k : components())
+    if (k.present(scene)) last = k.id;
+  return last;
+}
+
+// Why a cut cannot be made in this scene (a component on either side is
+// not modelled), or "".
+std::string absent(const Scene& scene, const CutKind& kind) {
+  for (const ComponentKind& k : components())
+    if ((k.id == kind.upper || k.id == kind.lower) && !k.present(scene))
+      return std::string("needs the ") + k.name + " (" + k.absent_hint + ")";
+  return "";
 }
 
 Parts range(Component first, Component last) {
@@ -99,15 +152,12 @@ std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec)
     const CutKind& kind = cut_kinds()[static_cast<std::size_t>(spec.cuts[k].cut)];
     if (k > 0 && spec.cuts[k].cut <= spec.cuts[k - 1].cut)
       throw std::invalid_argument("case " + spec.name() +
-                                  ": the cuts must be distinct and in load order (wr, rs, ss)");
-    if (kind.lower == Component::kSoil) {
-      cuts_soil = true;
-      if (!scene.has_soil())
-        throw std::invalid_argument(
-            "case " + spec.name() + ": the " + kind.title + " cut (" + kind.name +
-            ") needs a soil, and the scene's soil is fixed (set [soil] model = \"lumped\", "
-            "\"external\" or \"fe\")");
-    }
+                                  ": the cuts must be distinct and in load order (" + cut_names() +
+                                  ")");
+    if (kind.lower == Component::kSoil) cuts_soil = true;
+    if (const std::string missing = absent(scene, kind); !missing.empty())
+      throw std::invalid_argument("case " + spec.name() + ": the " + kind.title + " cut (" +
+                                  kind.name + ") " + missing);
   }
   if (scene.outside_soil() && !cuts_soil)
     throw std::invalid_argument("case " + spec.name() + ": the scene's soil is " +
@@ -155,9 +205,8 @@ ParticipantSpec participant_from_interfaces(const Scene& scene, const std::strin
       last = i.kind().upper;
       ++below;
     }
-    if (i.kind().lower == Component::kSoil && !scene.has_soil())
-      throw std::invalid_argument(std::string("interface ") + i.kind().name +
-                                  " needs a soil, and the scene's soil is fixed");
+    if (const std::string missing = absent(scene, i.kind()); !missing.empty())
+      throw std::invalid_argument(std::string("interface ") + i.kind().name + " " + missing);
   }
   if (above > 1 || below > 1 || static_cast<int>(first) > static_cast<int>(last))
     throw std::invalid_argument("the interfaces do not bound one contiguous set of components");

@@ -27,8 +27,20 @@ namespace railcosim {
 
 struct Scene;
 
-enum class Component { kVehicle = 0, kRail = 1, kSleepers = 2, kSoil = 3 };
-inline constexpr int kComponentCount = 4;
+// The components in load order. A new component is one enumerator here and
+// one row of components() (and, if it bounds a participant of its own, of
+// roles()); kComponentCount follows the enumerator list.
+enum class Component { kVehicle, kRail, kSleepers, kSoil, kCount };
+inline constexpr int kComponentCount = static_cast<int>(Component::kCount);
+
+struct ComponentKind {
+  Component id;
+  const char* name;                     // "sleepers"
+  bool (*present)(const Scene& scene);  // whether the scene models it
+  const char* absent_hint;              // how a scene that lacks it adds it
+};
+// One row per component, in load order.
+const std::vector<ComponentKind>& components();
 std::string to_string(Component c);
 
 // Which components a (sub)system holds.
@@ -49,6 +61,8 @@ struct CutKind {
 const std::vector<CutKind>& cut_kinds();
 // Index into cut_kinds(), or -1.
 int find_cut(const std::string& name);
+// The cuts' names in load order: "wr, rs, ss".
+std::string cut_names();
 
 enum class CutSide { kUpper, kLower };
 
@@ -86,6 +100,19 @@ std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec)
 // interfaces (what a node rebuilds from the interfaces it is told).
 ParticipantSpec participant_from_interfaces(const Scene& scene, const std::string& role,
                                             const std::vector<InterfaceSpec>& interfaces);
+
+// The participants a node can serve. A participant's role is the first row
+// whose marker component it holds (so the vehicle's participant is "vehicle"
+// whatever else it holds, one holding the sleepers but no vehicle "track").
+struct RoleKind {
+  const char* name;          // "track"
+  Component marker;          // the component that names it
+  const char* conform_case;  // the one-cut case `master conform` checks it in
+};
+const std::vector<RoleKind>& roles();
+// The role names, in the order of roles(); the row of one, or nullptr.
+std::vector<std::string> role_names();
+const RoleKind* find_role(const std::string& name);
 
 // The role name of a participant holding these components.
 std::string role_of(const Parts& parts);

@@ -30,10 +30,14 @@ struct NodeCommandLine {
 };
 
 void declare_options(CLI::App& app, NodeCommandLine& o) {
-  app.add_option("--role", o.role,
-                 "The participant this node serves: vehicle, track, rail, soil, or any (whatever "
-                 "the master asks for)")
-      ->check(CLI::IsMember({"vehicle", "track", "rail", "soil", "any"}))
+  std::vector<std::string> choices = role_names();
+  std::string listed;
+  for (const std::string& r : choices) listed += r + ", ";
+  choices.emplace_back("any");
+  app.add_option(
+         "--role", o.role,
+         "The participant this node serves: " + listed + "or any (whatever the master asks for)")
+      ->check(CLI::IsMember(choices))
       ->capture_default_str();
   app.add_option("--listen", o.listen, "HOST:PORT to listen on (port 0: the system chooses)")
       ->capture_default_str();

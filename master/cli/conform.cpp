@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include <unistd.h>
 
@@ -337,9 +338,15 @@ void check_planes(Checks& checks) {
 }  // namespace
 
 std::string conform_case(const std::string& role, const std::string& soil_model) {
-  if (role == "soil") return soil_model == "fe" ? "ss-xt-jacobi" : "ss-xx-jacobi";
-  if (role == "rail") return "wr-xx+rs-xx-jacobi";
-  return "wr-xx-jacobi";
+  const RoleKind* r = find_role(role);
+  if (r == nullptr) throw std::invalid_argument("no participant is called '" + role + "'");
+  CaseSpec c = parse_case(r->conform_case);
+  // The FE soil takes the ballast force only: its cut is X-T.
+  if (soil_model == "fe")
+    for (CutChoice& cut : c.cuts)
+      if (cut_kinds()[static_cast<std::size_t>(cut.cut)].lower == Component::kSoil)
+        cut.coupling = Coupling::kXT;
+  return c.name();
 }
 
 std::vector<ConformItem> run_conformance(const ConformOptions& options) {
