@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "auth.hpp"
+#include "model.hpp"
 
 namespace railcosim {
 namespace {
@@ -80,7 +81,7 @@ std::string check_peer_refusals(Connection& master, const SubsystemConfig& confi
       !why.empty())
     return why;
   std::string stranger = "track";
-  for (const char* r : {"track", "vehicle", "soil", "rail"})
+  for (const std::string& r : role_names())
     if (r != me && !by_peer.count(r)) stranger = r;
   return refused_with(
       peer_hello(o, me, stranger, session), wire::Error::WRONG_ROLE,
