@@ -4,14 +4,12 @@
 // over TCP; a channel the far end closes fails as TCP's does.
 #include <gtest/gtest.h>
 
-#include <utility>  // before Asio: its headers use std::exchange
-
-#include <boost/asio.hpp>
 #include <string>
 #include <thread>
 
 #include "cosim_support.hpp"
 #include "inproc_channel.hpp"
+#include "one_shot_peer.hpp"
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
 #include "run/runner.hpp"
@@ -89,37 +87,6 @@ TEST(FramedChannel, APaperCaseOverTheInProcessChannelEqualsInProcessAndTcpBitwis
   expect_same_run(channel, tcp);
 }
 
-// A TCP peer that accepts one connection, reads the first bytes and closes.
-class ClosingPeer {
- public:
-  ClosingPeer() : acceptor_(io_) {
-    using boost::asio::ip::tcp;
-    acceptor_.open(tcp::v4());
-    acceptor_.bind({boost::asio::ip::make_address("127.0.0.1"), 0});
-    acceptor_.listen();
-    thread_ = std::thread([this] {
-      boost::system::error_code ec;
-      tcp::socket s(io_);
-      acceptor_.accept(s, ec);
-      if (ec) return;
-      char buf[4096];
-      s.read_some(boost::asio::buffer(buf), ec);
-      s.close(ec);
-    });
-  }
-  ~ClosingPeer() {
-    boost::system::error_code ec;
-    acceptor_.close(ec);
-    thread_.join();
-  }
-  Address address() const { return {"127.0.0.1", acceptor_.local_endpoint().port()}; }
-
- private:
-  boost::asio::io_context io_;
-  boost::asio::ip::tcp::acceptor acceptor_;
-  std::thread thread_;
-};
-
 wire::Envelope a_hello() {
   return hello_envelope("track", 1);
 }
@@ -135,7 +102,7 @@ NetError::Kind kind_of_receive(FramedChannel& channel) {
 }
 
 TEST(FramedChannel, AChannelClosedByTheFarEndIsClosedAsOverTcp) {
-  ClosingPeer peer;
+  test::OneShotPeer peer("", test::OneShotPeer::After::kHangUp);
   auto tcp = Connection::connect(peer.address(), milliseconds(2000));
   tcp->send(a_hello(), milliseconds(1000));
   EXPECT_EQ(kind_of_receive(*tcp), NetError::Kind::kClosed);
@@ -171,7 +138,7 @@ TEST(FramedChannel, ANodeThatHangsUpOnTheHelloFailsAlikeOverBothChannels) {
   const Scene scene = test::paper_scene();
   const SubsystemConfig config = test::config_of(scene, "wr-xx-jacobi", "track");
   std::string over_tcp;
-  ClosingPeer peer;
+  test::OneShotPeer peer("", test::OneShotPeer::After::kHangUp);
   try {
     RemoteParticipant p(peer.address(), scene, config);
     FAIL() << "a session with a node that hung up";

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cosim_support.hpp"
+#include "one_shot_peer.hpp"
 #include "process_support.hpp"
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
@@ -210,43 +211,9 @@ TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
   EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;
 }
 
-// A fake node: accepts one connection, reads whatever comes, and answers
-// with `reply` (nothing at all if empty), then keeps the connection open.
-class FakeNode {
- public:
-  explicit FakeNode(std::string reply) : reply_(std::move(reply)), acceptor_(io_) {
-    using boost::asio::ip::tcp;
-    acceptor_.open(tcp::v4());
-    acceptor_.bind({boost::asio::ip::make_address("127.0.0.1"), 0});
-    acceptor_.listen();
-    thread_ = std::thread([this] {
-      boost::system::error_code ec;
-      tcp::socket s(io_);
-      acceptor_.accept(s, ec);
-      if (ec) return;
-      char buf[4096];
-      s.read_some(boost::asio::buffer(buf), ec);  // the hello
-      if (!reply_.empty()) boost::asio::write(s, boost::asio::buffer(reply_), ec);
-      while (!ec) s.read_some(boost::asio::buffer(buf), ec);  // until the master hangs up
-    });
-  }
-  ~FakeNode() {
-    boost::system::error_code ec;
-    acceptor_.close(ec);
-    thread_.join();
-  }
-  Address address() const { return {"127.0.0.1", acceptor_.local_endpoint().port()}; }
-
- private:
-  std::string reply_;
-  boost::asio::io_context io_;
-  boost::asio::ip::tcp::acceptor acceptor_;
-  std::thread thread_;
-};
-
 TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {
   const Scene scene = test::paper_scene();
-  FakeNode fake(std::string("\0\0\0\6garbag", 10));
+  test::OneShotPeer fake(std::string("\0\0\0\6garbag", 10));
   try {
     RemoteParticipant p(fake.address(), scene, config_of(scene, "wr-xx-jacobi", "track"));
     FAIL() << "accepted garbage as a hello reply";
@@ -259,7 +226,7 @@ TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {
 
 TEST(TcpNodes, ANodeThatNeverAnswersTheHelloTimesOut) {
   const Scene scene = test::paper_scene();
-  FakeNode fake("");
+  test::OneShotPeer fake("");
   RemoteTimeouts t;
   t.reply = std::chrono::milliseconds(300);
   const auto t0 = std::chrono::steady_clock::now();
