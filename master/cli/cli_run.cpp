@@ -38,7 +38,7 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
@@ -355,4 +355,4 @@ int do_run(const RunArgs& command_line) {
   return 0;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

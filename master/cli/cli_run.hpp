@@ -11,7 +11,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct RunArgs {
   CLI::App* command = nullptr;
@@ -38,4 +38,4 @@ void add_run_command(CLI::App& app, RunArgs& a);
 // Runs the case; the exit status (0 finished, 1 failed; usage errors throw).
 int do_run(const RunArgs& a);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

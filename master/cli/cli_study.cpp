@@ -35,7 +35,7 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 // Prints what a collection found; the exit status: 0 complete, 1 runs
@@ -151,4 +151,4 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
   a.command = study;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -10,7 +10,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct StudyArgs {
   CLI::App* command = nullptr;
@@ -33,4 +33,4 @@ void add_study_command(CLI::App& app, StudyArgs& a);
 // missing or failed, 3 only stage 2 of the plan left to run).
 int do_study(const StudyArgs& a);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

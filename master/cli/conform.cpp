@@ -18,7 +18,7 @@
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 using Verdict = ConformItem::Verdict;
@@ -370,4 +370,4 @@ int report_conformance(const std::vector<ConformItem>& items, const ConformOptio
   return failed == 0 ? 0 : 1;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -5,7 +5,7 @@
 
 #include "auth.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 // The reply to a peer's hello at the subject's port (after the challenge,
@@ -87,4 +87,4 @@ std::string check_peer_refusals(Connection& master, const SubsystemConfig& confi
       "a link with the right key from the " + stranger + " participant, which it does not expect,");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli
