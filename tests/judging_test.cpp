@@ -104,9 +104,9 @@ TEST(Judging, EveryCouplingQuantityCounts) {
 // paper: a gain of 32 is reported as what it is, with the paper's number,
 // ours and the tolerance.
 TEST(Judging, AGainFarFromTenIsNotReproduced) {
-  std::vector<StudyRun> runs;
-  for (const Method& m : all_methods()) {
-    StudyRun s;
+  std::vector<study::StudyRun> runs;
+  for (const study::Method& m : study::all_methods()) {
+    study::StudyRun s;
     s.group = "case";
     s.method = m.label();
     s.record.case_name = m.spec.name();
@@ -115,12 +115,12 @@ TEST(Judging, AGainFarFromTenIsNotReproduced) {
     s.record.history_error = 1e-3;
     runs.push_back(s);
   }
-  for (StudyRun& s : runs) {
+  for (study::StudyRun& s : runs) {
     if (s.method == "rs-xx-jacobi") s.record.rel_l2_error = 3.2e-2;
     if (s.method == "rs-xx-gauss-seidel") s.record.rel_l2_error = 1e-3;
   }
   bool seen = false;
-  for (const Finding& f : check_findings(runs)) {
+  for (const study::Finding& f : study::check_findings(runs)) {
     EXPECT_FALSE(f.paper.empty()) << f.claim;
     EXPECT_FALSE(f.judged.empty()) << f.claim;
     if (f.claim.find("by almost 10") == std::string::npos) continue;

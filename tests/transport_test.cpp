@@ -65,10 +65,10 @@ TEST(TransportTable, AStudyPlanNamingNoTransportIsRefusedWithItsLine) {
       std::filesystem::temp_directory_path() / "railcosim_transport_test_plan.txt";
   {
     std::ofstream out(file);
-    out << "#% format = " << kPlanFormat << "\n#% transport = udp\n";
+    out << "#% format = " << study::kPlanFormat << "\n#% transport = udp\n";
   }
   try {
-    read_plan(file);
+    study::read_plan(file);
     FAIL() << "read a plan over transport udp";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),

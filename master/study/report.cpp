@@ -18,7 +18,7 @@
 #include "scene.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 // Runs a shell command; true on exit status 0.
@@ -259,4 +259,4 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
   write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

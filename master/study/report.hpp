@@ -10,7 +10,7 @@
 #include "remote/transport_names.hpp"
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // One of the paper's conclusions, checked against this study's runs.
 struct Finding {
@@ -46,4 +46,4 @@ struct StudyReportInfo {
 // the reason when a file cannot be written.
 void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -11,7 +11,7 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 // The runs at the scene's macro step, by method label.
 std::map<std::string, const RunRecord*> cases_of(const std::vector<StudyRun>& runs) {
@@ -184,4 +184,4 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
   return f;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

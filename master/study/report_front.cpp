@@ -8,7 +8,7 @@
 #include "run/run_output.hpp"
 #include "study/report_methods.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 std::string shortg(double v) {
@@ -237,4 +237,4 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

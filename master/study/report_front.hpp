@@ -11,7 +11,7 @@
 #include "remote/transport_names.hpp"
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // One row of front.csv. `cut` is "wr", "rs", "ss", "wr+ss", ..., or
 // "monolithic" for the monolithic tolerance sweep (the reference).
@@ -59,4 +59,4 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
                        const std::vector<StudyRun>& runs, const std::string& transport,
                        const std::string& h);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

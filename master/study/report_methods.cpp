@@ -7,7 +7,7 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 bool is_cosim(const StudyRun& r) {
@@ -89,4 +89,4 @@ void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

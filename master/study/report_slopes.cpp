@@ -8,7 +8,7 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 int input_order(const std::string& inputs) {
@@ -116,4 +116,4 @@ void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

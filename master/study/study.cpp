@@ -26,7 +26,7 @@
 #include "study/report_methods.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {}  // namespace
 
 std::string Method::label() const {
@@ -254,4 +254,4 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
   return collect_study(opt.out, opt.figure_script);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -16,7 +16,7 @@
 #include "run/run_record.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // A co-simulation method: a case, its feedthrough and how it couples.
 struct Method {
@@ -114,4 +114,4 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opti
 // and the reason when it cannot be written whole.
 void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -14,7 +14,7 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -281,4 +281,4 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
   return c;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

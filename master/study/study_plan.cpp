@@ -17,7 +17,7 @@
 #include "scene_text.hpp"
 #include "study/report_methods.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -339,4 +339,4 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   return p;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

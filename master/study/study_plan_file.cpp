@@ -9,7 +9,7 @@
 #include "run/run_output.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -274,4 +274,4 @@ StudyPlan read_plan(const fs::path& file) {
   return p;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study
