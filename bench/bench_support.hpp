@@ -66,7 +66,7 @@ inline RawRoundTrip lowest_raw_round_trip(std::size_t request, std::size_t reply
 
 // Exits with status 1, naming `program` and the case, when a run failed or
 // did not take the data plane asked for.
-inline void require_ran(const char* program, const RunRecord& r, const CaseSpec& spec,
+inline void require_ran(const char* program, const run::RunRecord& r, const CaseSpec& spec,
                         const std::string& transport, DataPlane plane) {
   if (r.status == "failed" || r.macro_steps == 0) {
     std::fprintf(stderr, "%s: %s failed: %s\n", program, spec.name().c_str(), r.message.c_str());

@@ -62,11 +62,11 @@ double target_round_trips(Scheme scheme) {
 
 double wall_per_step(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
                      const std::string& transport, DataPlane plane) {
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = kMacroStep;
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
-  const RunRecord r = run_cosim(scene, spec, o, f, transport);
+  const run::RunRecord r = run::run_cosim(scene, spec, o, f, transport);
   require_ran("tcp_bench", r, spec, transport, plane);
   return r.wall_s / static_cast<double>(r.macro_steps);
 }

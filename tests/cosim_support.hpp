@@ -58,17 +58,17 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
 // Case `name` at macro step H with coupling `c`, judged against the
 // monolithic run at the same H and the scene's tolerance; in process unless
 // a transport is given.
-inline RunRecord judged(const Scene& scene, const std::string& name, double H,
-                        const CouplingOptions& c, const SceneTransport* transport = nullptr) {
-  RunOptions o;
+inline run::RunRecord judged(const Scene& scene, const std::string& name, double H,
+                             const CouplingOptions& c, const SceneTransport* transport = nullptr) {
+  run::RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
   o.coupling = c;
-  const RunRecord reference = run_monolithic(scene, o);
+  const run::RunRecord reference = run::run_monolithic(scene, o);
   const SceneTransport inproc = inproc_transport(scene);
   const SceneTransport& t = transport ? *transport : inproc;
-  RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
-  assess(r, reference, scene, parse_case(name), o);
+  run::RunRecord r = run::run_cosim(scene, parse_case(name), o, t.factory, t.name);
+  run::assess(r, reference, scene, parse_case(name), o);
   return r;
 }
 

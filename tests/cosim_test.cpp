@@ -14,6 +14,12 @@
 namespace railcosim {
 namespace {
 
+using run::assess;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 RunRecord judged_run(const Scene& scene, const std::string& name, double H, double tol,
                      Feedthrough ft = Feedthrough::kLagged) {
   RunOptions o;

@@ -330,7 +330,7 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
   NodeServer vehicle(v, Address{"127.0.0.1", 0}), track(t, Address{"127.0.0.1", 0});
   std::thread tv([&] { vehicle.run(false); }), tt([&] { track.run(false); });
   const Scene scene = test::paper_scene();
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   NodePool pool;
@@ -338,7 +338,7 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
       tcp_transport(scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}},
                     pool, secret);
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
     ADD_FAILURE() << "the run went through";
   } catch (const NodeFailure& e) {
     const std::string what = e.what();

@@ -83,12 +83,12 @@ std::pair<std::string, double> run_against_trickle(bool bytes) {
     const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
     return std::make_unique<RemoteParticipant>(at, scene, c, t);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   const auto t0 = Clock::now();
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
   } catch (const NodeFailure& e) {
     const std::string m = e.what();
     EXPECT_TRUE(trickling);
@@ -134,11 +134,11 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
     const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
     return std::make_unique<RemoteParticipant>(at, scene, c);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
     ADD_FAILURE() << "the run went through";
   } catch (const NodeFailure& e) {
     const std::string m = e.what();

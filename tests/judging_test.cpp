@@ -12,6 +12,14 @@
 namespace railcosim {
 namespace judging_test {
 
+using run::assess;
+using run::judge;
+using run::kMaxDeflectionError;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 RunOptions at(double H, const Scene& s) {
   RunOptions o;
   o.macro_step = H;

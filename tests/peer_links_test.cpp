@@ -301,7 +301,7 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   NodeServer vehicle(v, Address{"127.0.0.1", 0}), track(t, Address{"127.0.0.1", 0});
   std::thread tv([&] { vehicle.run(false); }), tt([&] { track.run(false); });
   const Scene scene = test::paper_scene();
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   std::atomic<bool> flooding{false}, done{false};
@@ -337,9 +337,9 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   const SceneTransport tcp = tcp_transport(
       scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool);
   const auto t0 = Clock::now();
-  RunRecord r;
+  run::RunRecord r;
   try {
-    r = run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
+    r = run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
   } catch (const std::exception& e) {
     ADD_FAILURE() << e.what();
   }
@@ -350,11 +350,11 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   EXPECT_EQ(r.data_plane, "direct");
   EXPECT_LT(took, 10.0);
   EXPECT_GT(opened, 100) << "the flood did not happen";
-  RunOptions inproc = o;
+  run::RunOptions inproc = o;
   inproc.on_channels = nullptr;
   const SceneTransport local = inproc_transport(scene);
-  const RunRecord want =
-      run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
+  const run::RunRecord want =
+      run::run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
   ASSERT_EQ(r.history.size(), want.history.size());
   for (std::size_t k = 0; k < want.history.size(); ++k)
     ASSERT_EQ(r.history[k].wheel, want.history[k].wheel) << "row " << k;

@@ -35,8 +35,8 @@ Scene short_scene() {
   return with_keys(s, {{"simulation.end_time", 20 * s.macro_step}});
 }
 
-RunOptions options(const Scene& s) {
-  RunOptions o;
+run::RunOptions options(const Scene& s) {
+  run::RunOptions o;
   o.macro_step = s.macro_step;
   o.tolerance = s.tolerance;
   return o;
@@ -44,15 +44,15 @@ RunOptions options(const Scene& s) {
 
 // wr-xx-jacobi with participant `role` on `node` (the track holds the rail
 // and its deflection, the vehicle the wheel's history), the other in-process.
-RunRecord run_against(const test::FakeNode& node, RemoteTimeouts timeouts = {},
-                      const std::string& role = "track") {
+run::RunRecord run_against(const test::FakeNode& node, RemoteTimeouts timeouts = {},
+                           const std::string& role = "track") {
   const Scene scene = short_scene();
   const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     if (c.participant.role == role)
       return std::make_unique<RemoteParticipant>(node.address(), scene, c, timeouts);
     return std::make_unique<Subsystem>(scene, c);
   };
-  return run_cosim(scene, parse_case("wr-xx-jacobi"), options(scene), make, "tcp");
+  return run::run_cosim(scene, parse_case("wr-xx-jacobi"), options(scene), make, "tcp");
 }
 
 // Runs against a node that edits its replies with `lie`; expects the run to
@@ -89,7 +89,7 @@ test::FakeNode::Edit in_results(std::function<void(wire::Results&)> f) {
 
 TEST(ReplyCheck, AnHonestNodeIsBelieved) {
   test::FakeNode node("track", nullptr);
-  const RunRecord r = run_against(node);
+  const run::RunRecord r = run_against(node);
   EXPECT_EQ(r.status, "ok");
   EXPECT_EQ(r.deflection.size(), static_cast<std::size_t>(short_scene().rail_nodes()));
 }

@@ -40,7 +40,7 @@ TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
   const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     return std::make_unique<RemoteParticipant>(at.at(c.participant.role), scene, c);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   // Every session uses the three nodes; alternating the cuts builds and
@@ -51,7 +51,7 @@ TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
   std::map<std::string, long> warm;
   std::vector<double> first_deflection;
   for (int s = 0; s < 200; ++s) {
-    const RunRecord r = run_cosim(scene, cases[s % 2], o, tcp, "tcp");
+    const run::RunRecord r = run::run_cosim(scene, cases[s % 2], o, tcp, "tcp");
     ASSERT_EQ(r.status, "ok") << "session " << s << ": " << r.message;
     ASSERT_EQ(r.micro_steps.size(), 3u) << "session " << s;
     if (s == 0) first_deflection = r.deflection;

@@ -14,6 +14,19 @@
 namespace railcosim {
 namespace {
 
+using run::assess;
+using run::classify_growth;
+using run::kGrossHistoryError;
+using run::kProbeMinSteps;
+using run::kProbeTime;
+using run::kUnstableGrowth;
+using run::parked_scene;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+using run::Stability;
+
 constexpr double kDt = 1e-4;
 
 TEST(ClassifyGrowth, RoundOffStaysStable) {

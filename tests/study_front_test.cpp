@@ -17,8 +17,8 @@ namespace {
 const char* kLinear = "rs-xx-jacobi+implicit-linear-iqn-ils";
 const char* kCubic = "rs-xx-jacobi+implicit-waveform3-iqn-ils";
 
-study::StudyRun run(const std::string& method, const std::string& transport, double H, double wall,
-                    double error) {
+study::StudyRun study_run(const std::string& method, const std::string& transport, double H,
+                          double wall, double error) {
   study::StudyRun r;
   r.group = "sweep";
   r.folder = transport + "/" + method + "/" + std::to_string(H);
@@ -47,9 +47,9 @@ const study::FrontRow& row(const std::vector<study::FrontRow>& front, const std:
 // In process, the cubic waveform reaching 1e-4 in half the time of the
 // linear inputs is the answer at 1e-4; at 1e-3 the cheaper linear run is.
 TEST(StudyFront, AWaveformRunIsTheAnswerWhereItIsCheapest) {
-  const std::vector<study::StudyRun> runs{run(kLinear, "inproc", 5e-4, 0.5, 5e-4),
-                                          run(kLinear, "inproc", 1e-4, 2.0, 5e-5),
-                                          run(kCubic, "inproc", 5e-4, 1.0, 5e-5)};
+  const std::vector<study::StudyRun> runs{study_run(kLinear, "inproc", 5e-4, 0.5, 5e-4),
+                                          study_run(kLinear, "inproc", 1e-4, 2.0, 5e-5),
+                                          study_run(kCubic, "inproc", 5e-4, 1.0, 5e-5)};
   const auto front = study::study_front(runs, "inproc");
   EXPECT_EQ(row(front, "rs", "inproc", 1e-3).run, &runs[0]);
   EXPECT_EQ(row(front, "rs", "inproc", 1e-4).run, &runs[2]);
@@ -65,8 +65,8 @@ TEST(StudyFront, AWaveformRunIsTheAnswerWhereItIsCheapest) {
 // yet the TCP column keeps its own cheapest; the waveform run is the answer
 // of the cut's column "in process", and the headline names no in-process run.
 TEST(StudyFront, InProcessRunsOfATcpStudyAreComparedOnlyWithEachOther) {
-  const std::vector<study::StudyRun> runs{run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
-                                          run(kCubic, "inproc", 5e-4, 0.2, 5e-5)};
+  const std::vector<study::StudyRun> runs{study_run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
+                                          study_run(kCubic, "inproc", 5e-4, 0.2, 5e-5)};
   const auto front = study::study_front(runs, "tcp");
   EXPECT_EQ(row(front, "rs", "tcp", 1e-4).run, &runs[0]);
   EXPECT_EQ(row(front, "rs", "inproc", 1e-4).run, &runs[1]);
@@ -86,8 +86,8 @@ TEST(StudyFront, InProcessRunsOfATcpStudyAreComparedOnlyWithEachOther) {
 TEST(StudyFront, StageTwoNeverPlansAWaveformRunOverTcp) {
   study::StudyPlan stage1;
   stage1.transport = "tcp";
-  std::vector<study::StudyRun> runs{run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
-                                    run(kCubic, "inproc", 5e-4, 0.2, 5e-6)};
+  std::vector<study::StudyRun> runs{study_run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
+                                    study_run(kCubic, "inproc", 5e-4, 0.2, 5e-6)};
   for (const study::StudyRun& r : runs) {
     study::PlannedRun p;
     p.folder = r.folder + "/rs-xx-jacobi";
@@ -119,10 +119,10 @@ TEST(StudyFront, SlopeIsTheLeastSquaresFitOfLogErrorOnLogH) {
 
   std::vector<study::StudyRun> runs;
   for (double H : {1e-3, 1e-4, 5e-4}) {
-    runs.push_back(run(kCubic, "inproc", H, 1, 2 * std::pow(H, 3.0)));
-    runs.push_back(run(kLinear, "tcp", H, 1, 5 * std::pow(H, 2.0)));
+    runs.push_back(study_run(kCubic, "inproc", H, 1, 2 * std::pow(H, 3.0)));
+    runs.push_back(study_run(kLinear, "tcp", H, 1, 5 * std::pow(H, 2.0)));
   }
-  runs.push_back(run("rs-xx-jacobi", "tcp", 1e-4, 1, 1e-3));  // explicit: not in the table
+  runs.push_back(study_run("rs-xx-jacobi", "tcp", 1e-4, 1, 1e-3));  // explicit: not in the table
   runs.back().record.method = "explicit";
   const auto rows = study::error_slopes(runs);
   ASSERT_EQ(rows.size(), 2u);

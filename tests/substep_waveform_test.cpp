@@ -93,7 +93,7 @@ TEST(SubstepWaveform, WithTheSameMicroStepsImplicitCouplingIsTheMonolithicRun) {
   const Scene scene = paper(0.02, 4);
   for (const char* name : {"rs-xx-gauss-seidel", "wr-xx-gauss-seidel", "wr-xt-gauss-seidel",
                            "rs-xx-jacobi", "wr-xt-jacobi"}) {
-    const RunRecord r =
+    const run::RunRecord r =
         judged(scene, name, 1e-3, coupling(CouplingMethod::kImplicit, InputMode::kWaveform1));
     ASSERT_EQ(r.status, "ok") << name << ": " << r.message;
     EXPECT_LT(*r.rel_l2_error, 1e-8) << name;
@@ -106,11 +106,11 @@ TEST(SubstepWaveform, ImplicitErrorFallsWithTheDegree) {
   // integrators' own difference (~2e-5 at the scene's 1e-7 m) below the
   // coupling error.
   const Scene scene = paper(0.05, 0, 1e-9);
-  const RunRecord lin = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                               coupling(CouplingMethod::kImplicit, InputMode::kLinear, 1e-8));
+  const run::RunRecord lin = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                    coupling(CouplingMethod::kImplicit, InputMode::kLinear, 1e-8));
   std::vector<double> errs;
   for (InputMode m : {InputMode::kWaveform0, InputMode::kWaveform1, InputMode::kWaveform3}) {
-    const RunRecord r =
+    const run::RunRecord r =
         judged(scene, "rs-xx-gauss-seidel", 1e-3, coupling(CouplingMethod::kImplicit, m, 1e-8));
     // Held samples are first order in the micro step and converge slowly.
     if (m != InputMode::kWaveform0) {
@@ -127,10 +127,10 @@ TEST(SubstepWaveform, ImplicitErrorFallsWithTheDegree) {
 
 TEST(SubstepWaveform, ExplicitGaussSeidelTakesTheFreshSamples) {
   const Scene scene = paper(0.05);
-  const RunRecord hold = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                                coupling(CouplingMethod::kExplicit, InputMode::kLinear));
-  const RunRecord wave = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                                coupling(CouplingMethod::kExplicit, InputMode::kWaveform3));
+  const run::RunRecord hold = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                     coupling(CouplingMethod::kExplicit, InputMode::kLinear));
+  const run::RunRecord wave = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                     coupling(CouplingMethod::kExplicit, InputMode::kWaveform3));
   ASSERT_EQ(wave.status, "ok") << wave.message;
   EXPECT_LT(*wave.rel_l2_error, *hold.rel_l2_error);
 }

@@ -25,6 +25,13 @@
 namespace railcosim {
 namespace vehicle_engine_test {
 
+using run::deflection_error;
+using run::judge;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 std::string read(const std::string& relative) {
   std::ifstream f(test::source_path(relative));
   std::stringstream s;

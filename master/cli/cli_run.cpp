@@ -41,7 +41,7 @@
 namespace railcosim::cli {
 namespace {
 
-void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
+void print_summary(const run::RunRecord& r, const std::filesystem::path& dir) {
   std::printf("%s: %s", r.case_name.c_str(), r.status.c_str());
   if (r.rel_l2_error && r.case_name != "monolithic")
     std::printf(", rel. L2 error %.3e, max |error| %.3e m", *r.rel_l2_error, *r.max_abs_error_m);
@@ -151,8 +151,8 @@ CaseSpec parse_case_of(const std::string& name, const Scene& scene) {
 
 // The options of the run from the command line and the scene; checks that
 // they fit each other and the case.
-RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spec) {
-  RunOptions o;
+run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spec) {
+  run::RunOptions o;
   o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
   o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
   o.feedthrough = *parse_feedthrough(a.feedthrough);
@@ -290,8 +290,8 @@ void add_run_command(CLI::App& app, RunArgs& a) {
 }
 
 // master --check run: what the run would be, once every input is read.
-int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec, const RunOptions& o,
-                const std::map<std::string, Address>& given) {
+int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec,
+                const run::RunOptions& o, const std::map<std::string, Address>& given) {
   if (!a.token_file.empty()) read_token_file(a.token_file);
   std::string where = spec.monolithic ? "in process" : "over " + a.transport;
   if (!spec.monolithic && is_remote_transport(a.transport))
@@ -311,7 +311,7 @@ int do_run(const RunArgs& command_line) {
   const RunArgs a = with_scene_coupling(command_line, scene);
   if (!a.restart.empty()) scene = with_keys(scene, {{"simulation.restart", a.restart}});
   const CaseSpec spec = parse_case_of(a.case_name, scene);
-  RunOptions o;
+  run::RunOptions o;
   try {
     o = run_options(a, scene, spec);
   } catch (const std::invalid_argument& e) {
@@ -321,7 +321,7 @@ int do_run(const RunArgs& command_line) {
   if (a.check) return print_check(a, scene, spec, o, given);
 
   NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
-  RunJob job;
+  run::RunJob job;
   job.scene = &scene;
   job.spec = spec;
   job.options = o;
@@ -331,11 +331,11 @@ int do_run(const RunArgs& command_line) {
   if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
   job.out = a.out;
   job.folder = spec.name();
-  RunRecord reference;
-  job.reference = [&]() -> const RunRecord& {
+  run::RunRecord reference;
+  job.reference = [&]() -> const run::RunRecord& {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
-    reference = run_monolithic(scene, o);
+    reference = run::run_monolithic(scene, o);
     return reference;
   };
   if (scene.soil_model == "fe")  // it writes its measures next to the run's files
@@ -344,14 +344,14 @@ int do_run(const RunArgs& command_line) {
     };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
   job.on_progress = [progress](long done, long total) { (*progress)(done, total); };
-  const RunOutcome run = execute(job);
+  const run::RunOutcome outcome = run::execute(job);
   progress->end();
-  if (!run.error.empty()) {
+  if (!outcome.error.empty()) {
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
-                 spec.name().c_str(), run.error.c_str(), run.dir.string().c_str());
+                 spec.name().c_str(), outcome.error.c_str(), outcome.dir.string().c_str());
     return 1;
   }
-  print_summary(run.record, run.dir);
+  print_summary(outcome.record, outcome.dir);
   return 0;
 }
 

@@ -6,7 +6,7 @@
 #include "run/run_output.hpp"
 #include "run/stability.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 namespace {
 
 RunRecord made_run(const RunJob& job, const RunOptions& o) {
@@ -67,4 +67,4 @@ RunOutcome execute(const RunJob& job) {
   return out;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

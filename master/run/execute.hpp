@@ -11,7 +11,7 @@
 #include "run/runner.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunJob {
   const Scene* scene = nullptr;
@@ -41,4 +41,4 @@ struct RunOutcome {
 // steps it made; execute() does not throw for it but says why in `error`.
 RunOutcome execute(const RunJob& job);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -11,7 +11,7 @@
 #include "participant.hpp"
 #include "remote/transport_names.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunRecord {
   std::string case_name;
@@ -70,4 +70,4 @@ inline bool ran_to_end(const RunRecord& r) {
   return r.status == "ok" || r.status == "inaccurate" || r.status == "amplified";
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -15,7 +15,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -376,4 +376,4 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   return r;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

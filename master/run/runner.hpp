@@ -15,7 +15,7 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunOptions {
   double macro_step = 0;  // H, s
@@ -51,4 +51,4 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& options);
 RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
                     const ParticipantFactory& make, const std::string& transport);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

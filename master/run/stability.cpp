@@ -5,7 +5,7 @@
 
 #include "run/evaluation.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 Stability classify_growth(const std::vector<double>& deviation, double dt, double floor) {
   Stability s;
@@ -95,4 +95,4 @@ void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, cons
   judge(run, reference, scene);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -13,6 +13,10 @@
 
 namespace railcosim::study {
 namespace {
+
+using run::RunRecord;
+using run::sci;
+
 // The runs at the scene's macro step, by method label.
 std::map<std::string, const RunRecord*> cases_of(const std::vector<StudyRun>& runs) {
   std::map<std::string, const RunRecord*> m;

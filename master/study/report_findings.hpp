@@ -16,7 +16,7 @@ namespace railcosim::study {
 // scene's macro step by method label (every paper case is there).
 struct FindingRuns {
   const std::vector<StudyRun>& runs;
-  std::map<std::string, const RunRecord*> cases;
+  std::map<std::string, const run::RunRecord*> cases;
   std::vector<Method> methods;  // the paper's cases
 };
 

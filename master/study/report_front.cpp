@@ -11,6 +11,11 @@
 namespace railcosim::study {
 namespace {
 
+using run::format_double;
+using run::RunRecord;
+using run::sci;
+using run::write_file_atomically;
+
 std::string shortg(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%g", v);

@@ -29,6 +29,16 @@
 namespace railcosim::study {
 namespace {}  // namespace
 
+using run::execute;
+using run::format_double;
+using run::ran_to_end;
+using run::run_monolithic;
+using run::RunJob;
+using run::RunOptions;
+using run::RunOutcome;
+using run::RunRecord;
+using run::write_file_atomically;
+
 std::string Method::label() const {
   std::string s = spec.name();
   if (feedthrough == Feedthrough::kResolved) s += "-resolved";

@@ -79,7 +79,7 @@ struct StudyRun {
   std::string variant;  // the swept scene values, "key=value;..." ("" without a sweep)
   std::string method;   // Method::label(), or "monolithic"
   double tolerance = 0;
-  RunRecord record;                   // status "missing" when the run left no readable summary.json
+  run::RunRecord record;              // status "missing" when the run left no readable summary.json
   double rel_l2_error_converged = 0;  // deflection at t_end against the converged reference
 };
 

@@ -30,7 +30,7 @@ std::string join(const std::vector<double>& v) {
   std::string s;
   for (double x : v) {
     if (!s.empty()) s += ',';
-    s += format_double(x);
+    s += run::format_double(x);
   }
   return s;
 }
@@ -142,8 +142,8 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
   std::string c = shell_word(plan.master);
   c += " run --scene ";
   c += shell_word((plan.out / r.scene).string());
-  c += " --case " + r.case_name + " --macro-step " + format_double(r.macro_step) + " --tolerance " +
-       format_double(r.tolerance);
+  c += " --case " + r.case_name + " --macro-step " + run::format_double(r.macro_step) +
+       " --tolerance " + run::format_double(r.tolerance);
   if (r.case_name != "monolithic") {
     c += " --transport " + r.transport;
     if (r.feedthrough == Feedthrough::kResolved) c += " --feedthrough resolved";
@@ -152,9 +152,10 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
       c += " --coupling " + to_string(k.method) + " --inputs " + to_string(k.inputs);
       if (k.method == CouplingMethod::kImplicit)
         c += " --accelerator " + to_string(k.accelerator.kind) + " --relaxation " +
-             format_double(k.accelerator.relaxation) + " --max-iterations " +
-             std::to_string(k.max_iterations) + " --convergence " + format_double(k.convergence) +
-             " --reused-windows " + std::to_string(k.accelerator.windows_reused);
+             run::format_double(k.accelerator.relaxation) + " --max-iterations " +
+             std::to_string(k.max_iterations) + " --convergence " +
+             run::format_double(k.convergence) + " --reused-windows " +
+             std::to_string(k.accelerator.windows_reused);
     }
   }
   c += " --out ";
@@ -176,7 +177,7 @@ std::string plan_text(const StudyPlan& p) {
     << "#% transport = " << p.transport << "\n"
     << "#% macro_steps = " << (p.macro_steps.empty() ? "default" : join(p.macro_steps)) << "\n"
     << "#% tolerances = " << join(p.tolerances) << "\n"
-    << "#% converged_tolerance = " << format_double(p.converged_tolerance) << "\n";
+    << "#% converged_tolerance = " << run::format_double(p.converged_tolerance) << "\n";
   for (const SweepAxis& a : p.sweeps) {
     s << "#% sweep = " << a.key << "=";
     for (std::size_t i = 0; i < a.values.size(); ++i) s << (i ? "," : "") << a.values[i];
@@ -197,14 +198,14 @@ void write_plan(const StudyPlan& plan, const fs::path& copy) {
     fs::create_directories(f.parent_path(), ec);
     if (ec)
       throw std::runtime_error("cannot create " + f.parent_path().string() + ": " + ec.message());
-    write_file_atomically(f, text);
+    run::write_file_atomically(f, text);
   }
   fs::create_directories(plan.out, ec);
   if (ec) throw std::runtime_error("cannot create " + plan.out.string() + ": " + ec.message());
   const std::string text = plan_text(plan);
   const fs::path own = plan_file(plan.out, plan.stage);
-  write_file_atomically(own, text);
-  if (!copy.empty() && !fs::equivalent(copy, own, ec)) write_file_atomically(copy, text);
+  run::write_file_atomically(own, text);
+  if (!copy.empty() && !fs::equivalent(copy, own, ec)) run::write_file_atomically(copy, text);
 }
 
 StudyPlan read_plan(const fs::path& file) {
