@@ -28,6 +28,12 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::tcp_transport;
+
 constexpr double kMacroStep = 1e-4;  // H, s: the paper's
 constexpr int kRawSamples = 2000;    // round trips per raw measurement
 constexpr int kRawForks = 3;         // raw measurements per repeat: the lowest median counts

@@ -32,6 +32,12 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::tcp_transport;
+
 constexpr double kMacroStep = 1e-4;  // H, s: the paper's
 constexpr int kRawSamples = 2000;    // round trips per raw measurement
 // Raw measurements per repeat, each with a new child; the lowest median is

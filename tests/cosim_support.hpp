@@ -59,14 +59,15 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
 // monolithic run at the same H and the scene's tolerance; in process unless
 // a transport is given.
 inline run::RunRecord judged(const Scene& scene, const std::string& name, double H,
-                             const CouplingOptions& c, const SceneTransport* transport = nullptr) {
+                             const CouplingOptions& c,
+                             const remote::SceneTransport* transport = nullptr) {
   run::RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
   o.coupling = c;
   const run::RunRecord reference = run::run_monolithic(scene, o);
-  const SceneTransport inproc = inproc_transport(scene);
-  const SceneTransport& t = transport ? *transport : inproc;
+  const remote::SceneTransport inproc = remote::inproc_transport(scene);
+  const remote::SceneTransport& t = transport ? *transport : inproc;
   run::RunRecord r = run::run_cosim(scene, parse_case(name), o, t.factory, t.name);
   run::assess(r, reference, scene, parse_case(name), o);
   return r;

@@ -64,8 +64,8 @@ void kill_the_track_node(const std::vector<std::string>& coupling) {
   const std::string scene = test::source_path("scenes/paper.toml");
   const std::string c = "rs-xx-jacobi";
   // H = 1e-5 s: 25,000 macro steps, several seconds over loopback.
-  LaunchedNode vehicle("vehicle_node", milliseconds(10000));
-  LaunchedNode track("track_node", milliseconds(10000));
+  remote::LaunchedNode vehicle("vehicle_node", milliseconds(10000));
+  remote::LaunchedNode track("track_node", milliseconds(10000));
   std::vector<std::string> args{"run",
                                 "--scene",
                                 scene,
@@ -333,14 +333,14 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
   run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
-  NodePool pool;
-  const SceneTransport tcp =
-      tcp_transport(scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}},
-                    pool, secret);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(
+      scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool,
+      secret);
   try {
     run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
     ADD_FAILURE() << "the run went through";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("vehicle node at " + vehicle.local_address().str()), std::string::npos)
         << what;

@@ -21,6 +21,15 @@
 namespace railcosim {
 namespace {
 
+using remote::ChannelOpener;
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodeFailure;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::RemoteParticipant;
+using remote::tcp_transport;
+
 using std::chrono::milliseconds;
 
 // The paper scene shortened to 0.05 s (500 macro steps).

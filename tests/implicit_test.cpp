@@ -109,8 +109,8 @@ TEST(ImplicitCoupling, OverTcpIsBitwiseTheInProcessRun) {
   // Checkpoints travel as Save/Restore and ramps as inputs_end: any
   // difference between the two transports shows in the last bit.
   const Scene scene = short_scene("scenes/soil.toml", 0.01);
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(scene, {}, pool);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(scene, {}, pool);
   for (const char* name : {"rs-xt-gauss-seidel", "wr-xx+ss-xt-jacobi"}) {
     const CouplingOptions c = implicit(InputMode::kLinear);
     const run::RunRecord a = judged(scene, name, 1e-4, c);

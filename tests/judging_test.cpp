@@ -29,7 +29,8 @@ RunOptions at(double H, const Scene& s) {
 
 RunRecord judged_run(const Scene& scene, const char* name, double H) {
   const RunRecord ref = run_monolithic(scene, at(H, scene));
-  RunRecord r = run_cosim(scene, parse_case(name), at(H, scene), inproc_factory(scene), "inproc");
+  RunRecord r =
+      run_cosim(scene, parse_case(name), at(H, scene), remote::inproc_factory(scene), "inproc");
   assess(r, ref, scene, parse_case(name), at(H, scene));
   return r;
 }

@@ -53,15 +53,15 @@ struct LockStepCase {
 
 class LockStepPlanes : public ::testing::TestWithParam<LockStepCase> {
  protected:
-  static void SetUpTestSuite() { pool_ = std::make_unique<NodePool>(); }
+  static void SetUpTestSuite() { pool_ = std::make_unique<remote::NodePool>(); }
   static void TearDownTestSuite() { pool_.reset(); }
-  static inline std::unique_ptr<NodePool> pool_;
+  static inline std::unique_ptr<remote::NodePool> pool_;
 };
 
 TEST_P(LockStepPlanes, EveryCouplingIsBitwiseTheSameInProcessRelayedAndDirect) {
   const Scene scene = short_scene(GetParam().scene);
   const CaseSpec spec = parse_case(GetParam().name);
-  const SceneTransport tcp = tcp_transport(scene, {}, *pool_);
+  const remote::SceneTransport tcp = remote::tcp_transport(scene, {}, *pool_);
   for (const Coupling& c : kCouplings) {
     run::RunOptions o;
     o.macro_step = scene.macro_step;
@@ -70,10 +70,11 @@ TEST_P(LockStepPlanes, EveryCouplingIsBitwiseTheSameInProcessRelayedAndDirect) {
     o.coupling.method = c.method;
     o.coupling.inputs = c.inputs;
     o.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
-    const run::RunRecord local = run::run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
-    o.data_plane = DataPlane::kRelay;
+    const run::RunRecord local =
+        run::run_cosim(scene, spec, o, remote::inproc_factory(scene), "inproc");
+    o.data_plane = remote::DataPlane::kRelay;
     const run::RunRecord relayed = run::run_cosim(scene, spec, o, tcp.factory, "tcp");
-    o.data_plane = DataPlane::kDirect;
+    o.data_plane = remote::DataPlane::kDirect;
     const run::RunRecord direct = run::run_cosim(scene, spec, o, tcp.factory, "tcp");
     SCOPED_TRACE(c.name);
     EXPECT_EQ(relayed.data_plane, "relay");

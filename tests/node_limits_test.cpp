@@ -78,7 +78,7 @@ class NodeLimitsTest : public ::testing::Test {
   void expect_served(const std::optional<std::string>& token = std::nullopt) {
     const Scene scene = test::paper_scene();
     const SubsystemConfig cfg = track_config(scene);
-    RemoteParticipant remote(address_, scene, cfg, {}, token);
+    remote::RemoteParticipant remote(address_, scene, cfg, {}, token);
     remote.initialize(zero_inputs(scene, cfg.participant));
     remote.set_inputs(0, zero_inputs(scene, cfg.participant));
     EXPECT_EQ(remote.step(0).outputs.size(), 1u);

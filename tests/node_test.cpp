@@ -95,7 +95,7 @@ class NodeTest : public ::testing::Test {
   // an in-process twin: the node still serves.
   void expect_a_session_still_works() {
     const SubsystemConfig cfg = config(session_case(), role());
-    RemoteParticipant remote(address_, scene_, cfg);
+    remote::RemoteParticipant remote(address_, scene_, cfg);
     Subsystem local(scene_, cfg);
     EXPECT_EQ(remote.channels().history, local.channels().history);
     EXPECT_EQ(remote.channels().results, local.channels().results);

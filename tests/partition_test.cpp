@@ -205,7 +205,7 @@ TEST(FixedMicroSteps, EveryMacroStepTakesExactlyThatMany) {
   o.macro_step = s.macro_step;
   o.tolerance = s.tolerance;
   const run::RunRecord r =
-      run::run_cosim(s, parse_case("ss-xx-gauss-seidel"), o, inproc_factory(s), "inproc");
+      run::run_cosim(s, parse_case("ss-xx-gauss-seidel"), o, remote::inproc_factory(s), "inproc");
   ASSERT_EQ(r.status, "ok") << r.message;
   EXPECT_EQ(r.micro_steps.at("s1"), 10 * r.macro_steps);
   EXPECT_EQ(r.micro_steps.at("s2"), 10 * r.macro_steps);

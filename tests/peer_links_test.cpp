@@ -333,8 +333,8 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
     flooding = true;
     std::this_thread::sleep_for(milliseconds(200));  // the flood is under way
   };
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(
       scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool);
   const auto t0 = Clock::now();
   run::RunRecord r;
@@ -352,7 +352,7 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   EXPECT_GT(opened, 100) << "the flood did not happen";
   run::RunOptions inproc = o;
   inproc.on_channels = nullptr;
-  const SceneTransport local = inproc_transport(scene);
+  const remote::SceneTransport local = remote::inproc_transport(scene);
   const run::RunRecord want =
       run::run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
   ASSERT_EQ(r.history.size(), want.history.size());

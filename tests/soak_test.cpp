@@ -31,14 +31,15 @@ TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
   const Scene scene = with_keys(load_scene(test::source_path("scenes/soil.toml")),
                                 {{"simulation.end_time", 0.005}});
   const std::vector<std::string> roles = {"vehicle", "track", "soil"};
-  std::map<std::string, std::unique_ptr<LaunchedNode>> nodes;
+  std::map<std::string, std::unique_ptr<remote::LaunchedNode>> nodes;
   std::map<std::string, Address> at;
   for (const std::string& role : roles) {
-    nodes[role] = std::make_unique<LaunchedNode>(role + "_node", std::chrono::seconds(10));
+    nodes[role] = std::make_unique<remote::LaunchedNode>(role + "_node", std::chrono::seconds(10));
     at[role] = nodes[role]->address();
   }
-  const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(at.at(c.participant.role), scene, c);
+  const remote::ParticipantFactory tcp =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    return std::make_unique<remote::RemoteParticipant>(at.at(c.participant.role), scene, c);
   };
   run::RunOptions o;
   o.macro_step = scene.macro_step;

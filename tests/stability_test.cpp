@@ -83,7 +83,7 @@ RunRecord assessed(const Scene& scene, const char* name, double H, CouplingOptio
   o.tolerance = scene.tolerance;
   o.coupling = c;
   const RunRecord reference = run_monolithic(scene, o);
-  RunRecord r = run_cosim(scene, parse_case(name), o, inproc_factory(scene), "inproc");
+  RunRecord r = run_cosim(scene, parse_case(name), o, remote::inproc_factory(scene), "inproc");
   assess(r, reference, scene, parse_case(name), o);
   return r;
 }

@@ -212,7 +212,7 @@ TEST_F(StudyTest, StabilityMapAgreesWithADirectRunOfTheSameCell) {
     o.macro_step = H;
     o.tolerance = scene.tolerance;
     run::RunRecord direct =
-        run::run_cosim(scene, parse_case(method), o, inproc_factory(scene), "inproc");
+        run::run_cosim(scene, parse_case(method), o, remote::inproc_factory(scene), "inproc");
     run::assess(direct, run::run_monolithic(scene, o), scene, parse_case(method), o);
     EXPECT_EQ(json_value(json, "status"), direct.status) << method;
   }

@@ -138,10 +138,10 @@ TEST(SubstepWaveform, ExplicitGaussSeidelTakesTheFreshSamples) {
 TEST(SubstepWaveform, TheModesRunInProcessAndOverTcpOnly) {
   // Over tcp the runner relays them (tcp_waveform_test.cpp runs them there).
   CouplingOptions c = coupling(CouplingMethod::kImplicit, InputMode::kWaveform3);
-  EXPECT_NO_THROW(check_transport(c, "inproc"));
-  EXPECT_NO_THROW(check_transport(c, "tcp"));
+  EXPECT_NO_THROW(remote::check_transport(c, "inproc"));
+  EXPECT_NO_THROW(remote::check_transport(c, "tcp"));
   try {
-    check_transport(c, "carrier-pigeon");
+    remote::check_transport(c, "carrier-pigeon");
     FAIL() << "a waveform coupling on an unknown transport";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -149,7 +149,7 @@ TEST(SubstepWaveform, TheModesRunInProcessAndOverTcpOnly) {
               "plane), not over the carrier-pigeon transport (use --transport inproc or tcp)");
   }
   c.inputs = InputMode::kLinear;
-  EXPECT_NO_THROW(check_transport(c, "carrier-pigeon"));
+  EXPECT_NO_THROW(remote::check_transport(c, "carrier-pigeon"));
 }
 
 }  // namespace

@@ -25,6 +25,15 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::LaunchedNode;
+using remote::NodeFailure;
+using remote::NodePool;
+using remote::RemoteParticipant;
+using remote::RemoteTimeouts;
+using remote::tcp_transport;
+
 namespace fs = std::filesystem;
 
 // The soil scene shortened to 0.05 s (500 macro steps of 1e-4 s): long

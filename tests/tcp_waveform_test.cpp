@@ -22,6 +22,13 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::RemoteParticipant;
+using remote::SceneTransport;
+using remote::tcp_transport;
+
 // 300 macro steps of the paper scene. A tolerance 100 times tighter than
 // the scene's makes every participant take several adaptive micro steps,
 // at times that differ between them: a receiver evaluates its waveforms

@@ -16,6 +16,17 @@
 namespace railcosim {
 namespace {
 
+using remote::find_transport;
+using remote::is_remote_transport;
+using remote::make_transport;
+using remote::NodePool;
+using remote::other_transport;
+using remote::parse_transport;
+using remote::SceneTransport;
+using remote::tcp_transport;
+using remote::Transport;
+using remote::transport_names;
+
 TEST(TransportTable, NamesTheTransportsUsersGive) {
   EXPECT_EQ(transport_names(), (std::vector<std::string>{"inproc", "tcp"}));
   for (const std::string& name : transport_names()) {

@@ -359,7 +359,7 @@ TEST(CarCosim, ConvergesToTheMonolithicSolutionAsTheMacroStepShrinks) {
     for (double H : {2e-4, 1e-4, 5e-5}) {
       const RunOptions o = options(s, H);
       const RunRecord ref = run_monolithic(s, o);
-      RunRecord r = run_cosim(s, parse_case(name), o, inproc_factory(s), "inproc");
+      RunRecord r = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
       judge(r, ref, s);
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(*r.history_error);
@@ -378,11 +378,11 @@ TEST(CarCosim, FourWheelsOverTcpAreBitwiseEqualToInProcess) {
                  "[irregularity]\nmodel = \"random\"\nfra_class = 6\nwavelength_min = 1.524\n"
                  "wavelength_max = 30.0\nseed = 7\ncomponents = 256\n");
   const Scene s = scene_of(t);
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(s, {}, pool);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(s, {}, pool);
   for (const char* name : {"wr-xx-jacobi", "wr-xt-gauss-seidel"}) {
     const RunOptions o = options(s, s.macro_step);
-    const RunRecord local = run_cosim(s, parse_case(name), o, inproc_factory(s), "inproc");
+    const RunRecord local = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
     const RunRecord remote = run_cosim(s, parse_case(name), o, tcp.factory, "tcp");
     ASSERT_EQ(remote.status, "ok") << remote.message;
     ASSERT_EQ(local.status, "ok") << local.message;

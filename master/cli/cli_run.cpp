@@ -74,9 +74,9 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
             "the scene's soil is external (soil.model = \"external\"): start its program and "
             "give its address with --node " +
             p.role + "=HOST:PORT" +
-            (is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
+            (remote::is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
   // The FE soil is a program of its own too, which the master starts over TCP.
-  if (scene.soil_model == "fe" && !spec.monolithic && !is_remote_transport(a.transport))
+  if (scene.soil_model == "fe" && !spec.monolithic && !remote::is_remote_transport(a.transport))
     throw std::invalid_argument(
         "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
         "master starts over TCP: use --transport tcp (the default), not --transport inproc");
@@ -85,7 +85,7 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
     throw std::invalid_argument(
         "the monolithic case runs inside the master: it uses no nodes, so --node, --vehicle and "
         "--track do not apply");
-  if (!is_remote_transport(a.transport))
+  if (!remote::is_remote_transport(a.transport))
     throw std::invalid_argument("--node, --vehicle and --track need --transport tcp");
   std::string roles;
   const auto parts = partition(scene, spec);
@@ -161,7 +161,7 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
   o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
   o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
   check(o.coupling);
-  o.data_plane = parse_data_plane(a.data_plane);
+  o.data_plane = remote::parse_data_plane(a.data_plane);
   o.direct.window_steps = a.window_steps;
   if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(
@@ -174,7 +174,7 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   check_case_for_scene(spec, scene);
-  if (!spec.monolithic) check_transport(o.coupling, a.transport);
+  if (!spec.monolithic) remote::check_transport(o.coupling, a.transport);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
@@ -257,7 +257,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   add_coupling_options(*run, a);
   run->add_option("--transport", a.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
-      ->check(CLI::IsMember(transport_names()))
+      ->check(CLI::IsMember(remote::transport_names()))
       ->capture_default_str();
   run->add_option("--data-plane", a.data_plane,
                   "tcp: direct (explicit coupling with held inputs: the nodes send each other "
@@ -294,7 +294,7 @@ int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec,
                 const run::RunOptions& o, const std::map<std::string, Address>& given) {
   if (!a.token_file.empty()) read_token_file(a.token_file);
   std::string where = spec.monolithic ? "in process" : "over " + a.transport;
-  if (!spec.monolithic && is_remote_transport(a.transport))
+  if (!spec.monolithic && remote::is_remote_transport(a.transport))
     where += " (" + a.data_plane + " data plane)";
   for (const auto& [role, address] : given) where += ", " + role + " at " + address.str();
   std::printf("check: would run %s of %s (H = %g s, tolerance %g m, %s coupling) %s; writing %s\n",
@@ -320,7 +320,7 @@ int do_run(const RunArgs& command_line) {
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   if (a.check) return print_check(a, scene, spec, o, given);
 
-  NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
+  remote::NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
   run::RunJob job;
   job.scene = &scene;
   job.spec = spec;

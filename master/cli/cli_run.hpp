@@ -21,7 +21,7 @@ struct RunArgs {
   double tolerance = 0;   // 0: from the scene
   std::string feedthrough = "lagged";
   std::string restart;  // empty: from the scene
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::string vehicle, track;
   std::vector<std::string> nodes;  // ROLE=HOST:PORT
   std::string out = "results";

@@ -130,7 +130,7 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   study->add_option("--transport", a.transport, "inproc or tcp (nodes started by the study)")
-      ->check(CLI::IsMember(transport_names()))
+      ->check(CLI::IsMember(remote::transport_names()))
       ->capture_default_str();
   study->add_option("--sweep", a.sweeps,
                     "KEY=V1,V2,...: a scene value (dotted TOML key, e.g. vehicle.speed_kmh) and "

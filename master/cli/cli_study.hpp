@@ -19,7 +19,7 @@ struct StudyArgs {
   int jobs = 0;
   std::vector<double> macro_steps;
   std::vector<double> tolerances = {1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::vector<std::string> sweeps;  // KEY=V1,V2,...
   std::string plan;                 // --plan FILE: write the plan only
   std::string collect;              // --collect DIR: read the runs, write the report

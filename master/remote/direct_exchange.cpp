@@ -9,7 +9,7 @@
 
 #include "auth.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 using std::chrono::milliseconds;
 
@@ -367,4 +367,4 @@ void DirectExchange::drain() {
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

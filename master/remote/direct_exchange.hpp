@@ -25,7 +25,7 @@
 #include "remote/data_plane.hpp"
 #include "remote/remote_participant.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // Puts every participant into lock step for macro steps [first, end) and
 // returns true, if every one is a RemoteParticipant whose node offers it;
@@ -117,4 +117,4 @@ class DirectExchange final : public MacroSteps {
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -7,7 +7,7 @@
 #include "log.hpp"
 #include "remote/remote_participant.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 ParticipantFactory inproc_factory(const Scene& scene) {
   return [scene](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
@@ -175,4 +175,4 @@ SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> 
   return make_transport(kTcp, scene, {std::move(given), &pool, std::move(token)});
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -18,7 +18,7 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // The node program that serves a role by default ("vehicle" -> vehicle_node;
 // the rail alone is served by track_node --role rail).
@@ -117,4 +117,4 @@ SceneTransport inproc_transport(const Scene& scene);
 SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> given,
                              NodePool& pool, std::optional<std::string> token = std::nullopt);
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

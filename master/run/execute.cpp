@@ -12,8 +12,8 @@ namespace {
 RunRecord made_run(const RunJob& job, const RunOptions& o) {
   const Scene& scene = *job.scene;
   if (job.spec.monolithic) return run_monolithic(scene, o);
-  const SceneTransport t =
-      make_transport(parse_transport(job.transport, "transport"), scene, job.nodes);
+  const remote::SceneTransport t =
+      remote::make_transport(remote::parse_transport(job.transport, "transport"), scene, job.nodes);
   RunRecord r = run_cosim(scene, job.spec, o, t.factory, t.name);
   if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o);
   return r;

@@ -37,7 +37,7 @@ struct RunRecord {
   // its rate (1/s) and the probe's length (s).
   std::string stability;
   std::optional<double> error_growth, error_growth_rate, probe_time;
-  std::string transport = kInprocTransport;
+  std::string transport = remote::kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string data_plane_mode;         // direct: "windows" or "lock step"
   std::string restart = "consistent";  // at communication points: consistent or carry

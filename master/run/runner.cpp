@@ -18,6 +18,14 @@
 namespace railcosim::run {
 namespace {
 
+using remote::check_transport;
+using remote::DataPlane;
+using remote::DirectExchange;
+using remote::enter_lockstep;
+using remote::is_remote_transport;
+using remote::ParticipantFactory;
+using remote::require_distinct_channels;
+
 using Clock = std::chrono::steady_clock;
 
 std::vector<double> rail_positions(const Scene& scene) {

@@ -74,7 +74,8 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
   o.on_row = nullptr;
   o.on_channels = nullptr;
   o.on_progress = nullptr;
-  const RunRecord r = run_cosim(parked, spec, o, inproc_factory(parked), kInprocTransport);
+  const RunRecord r =
+      run_cosim(parked, spec, o, remote::inproc_factory(parked), remote::kInprocTransport);
   const double floor = options.coupling.method == CouplingMethod::kImplicit
                            ? std::max(kProbeFloor, options.coupling.convergence)
                            : kProbeFloor;

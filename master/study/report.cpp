@@ -176,7 +176,7 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
         md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
     md << "\n";
   }
-  const std::string other = other_transport(info.transport);
+  const std::string other = remote::other_transport(info.transport);
   if (info.stage2_pending)
     md << "Stage 2 of the plan, the cheapest methods rerun over `" << other
        << "`, is written to `plan-2.txt` and not run yet: run its commands like those of "

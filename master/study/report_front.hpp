@@ -37,7 +37,7 @@ std::string cut_of(const std::string& method);
 // end `ok` with rel_l2_error_converged <= level, the one with the least wall
 // time (the first in plan order on a tie).
 std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs,
-                                  const std::string& transport = kTcpTransport);
+                                  const std::string& transport = remote::kTcpTransport);
 
 // The column of a front row in the report: "wr cut", "wr cut, in process"
 // (a row over another transport than the study's), "monolithic (no cut)".

@@ -95,7 +95,7 @@ std::vector<Method> methods_for(const Scene& scene) {
 }
 
 std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
-  return waveform_degree(coupling.inputs) >= 0 ? kInprocTransport : transport;
+  return waveform_degree(coupling.inputs) >= 0 ? remote::kInprocTransport : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {
@@ -166,7 +166,7 @@ struct PlanScenes {
 // execute()); the monolithic reference of its scene, H and tolerance is
 // computed once, by whichever worker needs it first.
 void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
-                 NodePool& pool, PlanScenes& shared) {
+                 remote::NodePool& pool, PlanScenes& shared) {
   const Scene& scene = shared.scenes.at(run.scene);
   RunJob job;
   job.scene = &scene;
@@ -208,7 +208,7 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
 
   const std::size_t total = plan.runs.size();
   const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(total)));
-  std::vector<NodePool> pools(static_cast<std::size_t>(workers));
+  std::vector<remote::NodePool> pools(static_cast<std::size_t>(workers));
   logger("master")->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene,
                          plan.stage, total, workers);
   std::atomic<std::size_t> next{0}, done{0};

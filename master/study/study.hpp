@@ -53,7 +53,7 @@ struct StudyOptions {
   std::filesystem::path out = "results";
   int jobs = 1;
   // The transport of the co-simulation runs.
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::vector<double> macro_steps;     // the sweep (each must divide t_end)
   std::vector<double> tolerances;      // of the monolithic reference curve
   double converged_tolerance = 1e-10;  // the reference all accuracies are measured against

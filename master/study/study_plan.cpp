@@ -304,7 +304,7 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   p.stage = 2;
   p.runs.clear();
   p.scene_files.clear();
-  const std::string other = other_transport(stage1.transport);
+  const std::string other = remote::other_transport(stage1.transport);
   std::map<std::string, std::vector<StudyRun>> by_variant;
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
   std::vector<std::string> order;

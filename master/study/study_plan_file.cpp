@@ -103,7 +103,7 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
     } else if (k == "--tolerance") {
       r.tolerance = number(v, what);
     } else if (k == "--transport") {
-      r.transport = parse_transport(v, what).name();
+      r.transport = remote::parse_transport(v, what).name();
     } else if (k == "--feedthrough") {
       r.feedthrough = parse_feedthrough(v).value_or(Feedthrough::kLagged);
     } else if (k == "--coupling") {
@@ -236,7 +236,7 @@ StudyPlan read_plan(const fs::path& file) {
       } else if (key == "out") {
         p.out = value;
       } else if (key == "transport") {
-        p.transport = parse_transport(value, where + ": transport").name();
+        p.transport = remote::parse_transport(value, where + ": transport").name();
       } else if (key == "macro_steps") {
         if (value != "default") p.macro_steps = numbers(value, where);
       } else if (key == "tolerances") {
