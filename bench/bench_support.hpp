@@ -32,7 +32,7 @@ inline std::pair<std::size_t, std::size_t> step_frame_bytes(const Scene& scene,
     cfg.participant = p;
     cfg.macro_step = H;
     cfg.tolerance = scene.tolerance;
-    const CouplingData inputs = zero_inputs(scene, p);
+    const CouplingData inputs = engine::zero_inputs(scene, p);
     const StepResult r = remote::inproc_factory(scene)(cfg)->initialize(inputs);
     wire::Envelope step;
     step.set_id(12345);

@@ -50,9 +50,9 @@ Timed timed_run(const Scene& scene, const CaseSpec& spec, const ParticipantFacto
   o.macro_step = kMacroStep;
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
-  o.coupling.method = CouplingMethod::kImplicit;
-  o.coupling.inputs = InputMode::kLinear;
-  o.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
+  o.coupling.method = engine::CouplingMethod::kImplicit;
+  o.coupling.inputs = engine::InputMode::kLinear;
+  o.coupling.accelerator.kind = engine::AcceleratorKind::kIqnIls;
   const run::RunRecord r = run::run_cosim(scene, spec, o, f, transport);
   require_ran("implicit_bench", r, spec, transport, plane);
   const double steps = static_cast<double>(r.macro_steps);

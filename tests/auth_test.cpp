@@ -129,7 +129,7 @@ TEST_F(TokenNodeTest, TheRightSecretOpensASession) {
   remote::RemoteParticipant p(server_->local_address(), scene_, config(), {}, std::string(kSecret));
   ASSERT_EQ(config().participant.role, "vehicle");
   Subsystem local(scene_, config());
-  const CouplingData in = zero_inputs(scene_, config().participant);
+  const CouplingData in = engine::zero_inputs(scene_, config().participant);
   const StepResult remote = p.initialize(in);
   ASSERT_EQ(remote.outputs.size(), 1u);  // the wr interface
   EXPECT_EQ(remote.outputs[0].displacement.size(), 1u);

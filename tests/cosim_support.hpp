@@ -21,7 +21,7 @@ struct InprocCase {
   std::vector<ParticipantSpec> specs;
   std::vector<std::unique_ptr<Subsystem>> subs;
   std::vector<Participant*> ps;
-  StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
+  engine::StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
 };
 
 // The configuration of participant `role` in a case; throws if the case has
@@ -49,9 +49,9 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
     cfg.tolerance = scene.tolerance;
     c.subs.push_back(std::make_unique<Subsystem>(scene, cfg));
     c.ps.push_back(c.subs.back().get());
-    zero.push_back(zero_inputs(scene, p));
+    zero.push_back(engine::zero_inputs(scene, p));
   }
-  c.statics = find_static_state(c.ps, make_routing(c.specs), zero);
+  c.statics = engine::find_static_state(c.ps, engine::make_routing(c.specs), zero);
   return c;
 }
 
@@ -59,7 +59,7 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
 // monolithic run at the same H and the scene's tolerance; in process unless
 // a transport is given.
 inline run::RunRecord judged(const Scene& scene, const std::string& name, double H,
-                             const CouplingOptions& c,
+                             const engine::CouplingOptions& c,
                              const remote::SceneTransport* transport = nullptr) {
   run::RunOptions o;
   o.macro_step = H;

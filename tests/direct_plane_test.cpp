@@ -159,7 +159,8 @@ class PeerRefusal : public ::testing::Test {
     master_->send(configure_envelope(scene_, cfg));
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_configured());
     wire::Envelope init;
-    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene_, cfg.participant));
+    *init.mutable_initialize()->mutable_inputs() =
+        to_wire(engine::zero_inputs(scene_, cfg.participant));
     master_->send(init);
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_step_report());
     wire::Envelope links;
@@ -294,7 +295,7 @@ TEST_F(PeerRefusal, BadDataFromAPeerIsBlamedOnItAndTheReportsAreKept) {
   // Data of the right shape: the vehicle's own outputs at rest.
   const SubsystemConfig cfg = test::config_of(scene_, "rs-xx-jacobi", "vehicle");
   Subsystem sub(scene_, cfg);
-  InterfaceData data = sub.initialize(zero_inputs(scene_, cfg.participant)).outputs[0];
+  InterfaceData data = sub.initialize(engine::zero_inputs(scene_, cfg.participant)).outputs[0];
   for (long point = 0; point < 2; ++point) {
     if (point == 1)
       for (auto* v : {&data.displacement, &data.velocity, &data.force})

@@ -14,6 +14,11 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::CouplingOptions;
+using engine::InputMode;
+
 CouplingOptions implicit(InputMode inputs, AcceleratorKind kind = AcceleratorKind::kIqnIls) {
   CouplingOptions c;
   c.method = CouplingMethod::kImplicit;

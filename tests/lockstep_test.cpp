@@ -23,6 +23,11 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::InputMode;
+using engine::zero_inputs;
+
 using std::chrono::milliseconds;
 
 // (Resolved feedthrough exists for explicit coupling with held inputs only.)

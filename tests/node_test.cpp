@@ -21,7 +21,7 @@ using std::chrono::milliseconds;
 // Inputs of the right shape for a participant, every value non-zero so that
 // the participant really moves.
 CouplingData some_inputs(const Scene& scene, const ParticipantSpec& p, double scale) {
-  CouplingData in = zero_inputs(scene, p);
+  CouplingData in = engine::zero_inputs(scene, p);
   for (InterfaceData& i : in) {
     for (double& x : i.displacement) x = 1e-3 * scale;
     for (double& x : i.velocity) x = 1e-2 * scale;

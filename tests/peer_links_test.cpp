@@ -61,7 +61,8 @@ class PeerLinks : public ::testing::Test {
     master_->send(configure_envelope(scene_, cfg_));
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_configured());
     wire::Envelope init;
-    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene_, cfg_.participant));
+    *init.mutable_initialize()->mutable_inputs() =
+        to_wire(engine::zero_inputs(scene_, cfg_.participant));
     master_->send(init);
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_step_report());
     wire::Envelope links;
@@ -108,7 +109,7 @@ class PeerLinks : public ::testing::Test {
 
   // What the vehicle sends the track at `point`: values that fit.
   wire::Envelope peer_data(long point, double value = 1e-6) const {
-    CouplingData in = zero_inputs(scene_, cfg_.participant);
+    CouplingData in = engine::zero_inputs(scene_, cfg_.participant);
     for (double& x : in[0].displacement) x = value;
     wire::Envelope e;
     e.mutable_peer_data()->set_point(point);

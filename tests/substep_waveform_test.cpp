@@ -20,6 +20,13 @@
 namespace railcosim {
 namespace {
 
+using engine::CouplingMethod;
+using engine::CouplingOptions;
+using engine::InputMode;
+using engine::parse_input_mode;
+using engine::waveform_degree;
+using engine::zero_inputs;
+
 CouplingOptions coupling(CouplingMethod method, InputMode inputs, double convergence = 1e-10) {
   CouplingOptions c;
   c.method = method;

@@ -22,6 +22,11 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::InputMode;
+using engine::zero_inputs;
+
 using remote::DataPlane;
 using remote::inproc_factory;
 using remote::NodePool;

@@ -143,7 +143,7 @@ TEST_P(CarInterfaceStatics, EqualsTheGlobalStaticSolution) {
   const Scene s = scene_of(read("scenes/car_irregular.toml"));
   test::InprocCase c = test::inproc_case_at_statics(s, GetParam());
   const std::vector<Participant*>& ps = c.ps;
-  const StaticsOutcome& out = c.statics;
+  const engine::StaticsOutcome& out = c.statics;
   for (std::size_t p = 0; p < ps.size(); ++p) ps[p]->initialize(out.inputs[p]);
   std::vector<std::unique_ptr<Subsystem>> whole;
   Structure st;

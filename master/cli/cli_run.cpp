@@ -157,9 +157,9 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
   o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
   o.feedthrough = *parse_feedthrough(a.feedthrough);
   o.coupling = a.c;
-  o.coupling.method = parse_coupling_method(a.coupling, "--coupling");
-  o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
-  o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
+  o.coupling.method = engine::parse_coupling_method(a.coupling, "--coupling");
+  o.coupling.inputs = engine::parse_input_mode(a.inputs, "--inputs");
+  o.coupling.accelerator.kind = engine::parse_accelerator(a.accelerator, "--accelerator");
   check(o.coupling);
   o.data_plane = remote::parse_data_plane(a.data_plane);
   o.direct.window_steps = a.window_steps;
@@ -203,7 +203,7 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
       ->capture_default_str();
   run->add_option("--accelerator", a.accelerator,
                   "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")
-      ->check(CLI::IsMember(accelerator_names()))
+      ->check(CLI::IsMember(engine::accelerator_names()))
       ->capture_default_str();
   run->add_option("--relaxation", a.c.accelerator.relaxation,
                   "Implicit: the constant factor, and the first factor of aitken and iqn-ils")

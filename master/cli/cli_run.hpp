@@ -29,8 +29,8 @@ struct RunArgs {
   std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
   std::string data_plane = "direct";
   long window_steps = 0;
-  CouplingOptions c;   // the numbers; the names above are parsed into it
-  bool check = false;  // master --check: stop once everything is read and checked
+  engine::CouplingOptions c;  // the numbers; the names above are parsed into it
+  bool check = false;         // master --check: stop once everything is read and checked
 };
 
 // Adds `run` to the master's command line, filling `a`.

@@ -32,7 +32,7 @@ namespace railcosim::remote {
 // false (nothing sent) otherwise.
 bool enter_lockstep(const std::vector<Participant*>& participants, long first, long end);
 
-class DirectExchange final : public MacroSteps {
+class DirectExchange final : public engine::MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers
   // the direct data plane; throws NodeFailure naming a participant that
@@ -41,8 +41,8 @@ class DirectExchange final : public MacroSteps {
   // which peer's data it waits for at n + 1, which peer sends twice.
   // `bound`: the divergence bound (m).
   static std::unique_ptr<DirectExchange> make(const std::vector<Participant*>& participants,
-                                              const StepPlan& plan, double bound, long total_steps,
-                                              DirectOptions options = {});
+                                              const engine::StepPlan& plan, double bound,
+                                              long total_steps, DirectOptions options = {});
 
   // The results of macro step n, from the nodes' reports (granting the next
   // window when the last one has ended). Throws StepFailure for a node whose

@@ -101,7 +101,7 @@ bool is_remote_transport(const std::string& name);
 std::string other_transport(const std::string& name);
 // Throws std::invalid_argument for a coupling the transport does not carry:
 // substep waveforms travel in process or relayed over TCP.
-void check_transport(const CouplingOptions& o, const std::string& transport);
+void check_transport(const engine::CouplingOptions& o, const std::string& transport);
 
 // A transport made ready for one scene: its name and participant factory.
 struct SceneTransport {

@@ -49,7 +49,7 @@ struct RunRecord {
   std::optional<double> iterations_mean;
   std::optional<long> iterations_max, not_converged_steps;
   std::vector<std::string> convergence_quantities;
-  using ConvergenceRow = railcosim::ConvergenceRow;  // engine/convergence.hpp
+  using ConvergenceRow = engine::ConvergenceRow;  // engine/convergence.hpp
   std::vector<ConvergenceRow> convergence;
 
   std::vector<double> x;           // rail node positions

@@ -18,6 +18,18 @@
 namespace railcosim::run {
 namespace {
 
+using engine::ConvergenceLog;
+using engine::CouplingMethod;
+using engine::find_static_state;
+using engine::InputMode;
+using engine::MacroSteps;
+using engine::make_routing;
+using engine::make_schedule;
+using engine::Routing;
+using engine::Schedule;
+using engine::StaticsOutcome;
+using engine::zero_inputs;
+
 using remote::check_transport;
 using remote::DataPlane;
 using remote::DirectExchange;

@@ -21,7 +21,7 @@ struct RunOptions {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // micro-step local error bound, m
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
+  engine::CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
   // Over TCP: the nodes exchange directly in windows of macro steps where every
   // node can and the coupling is explicit with held inputs; otherwise relayed.
   remote::DataPlane data_plane = remote::DataPlane::kDirect;

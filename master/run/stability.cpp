@@ -76,7 +76,7 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
   o.on_progress = nullptr;
   const RunRecord r =
       run_cosim(parked, spec, o, remote::inproc_factory(parked), remote::kInprocTransport);
-  const double floor = options.coupling.method == CouplingMethod::kImplicit
+  const double floor = options.coupling.method == engine::CouplingMethod::kImplicit
                            ? std::max(kProbeFloor, options.coupling.convergence)
                            : kProbeFloor;
   Stability s = classify_growth(deviation_from_rest(r), options.macro_step, floor);

@@ -78,15 +78,15 @@ std::vector<Method> methods_for(const Scene& scene) {
         base.feedthrough != Feedthrough::kLagged)
       continue;
     Method implicit = base;
-    implicit.coupling.method = CouplingMethod::kImplicit;
-    implicit.coupling.inputs = InputMode::kLinear;
-    implicit.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
+    implicit.coupling.method = engine::CouplingMethod::kImplicit;
+    implicit.coupling.inputs = engine::InputMode::kLinear;
+    implicit.coupling.accelerator.kind = engine::AcceleratorKind::kIqnIls;
     Method extrapolated = base;
-    extrapolated.coupling.inputs = InputMode::kExtrapolate1;
+    extrapolated.coupling.inputs = engine::InputMode::kExtrapolate1;
     // The same implicit coupling with each sender's micro-step outputs as a
     // cubic waveform (in process only: run_transport()).
     Method waveform = implicit;
-    waveform.coupling.inputs = InputMode::kWaveform3;
+    waveform.coupling.inputs = engine::InputMode::kWaveform3;
     m.push_back(implicit);
     m.push_back(extrapolated);
     m.push_back(waveform);
@@ -94,8 +94,8 @@ std::vector<Method> methods_for(const Scene& scene) {
   return m;
 }
 
-std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
-  return waveform_degree(coupling.inputs) >= 0 ? remote::kInprocTransport : transport;
+std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport) {
+  return engine::waveform_degree(coupling.inputs) >= 0 ? remote::kInprocTransport : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {

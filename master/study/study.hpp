@@ -22,7 +22,7 @@ namespace railcosim::study {
 struct Method {
   CaseSpec spec;
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;  // explicit with held inputs: the paper's methods
+  engine::CouplingOptions coupling;  // explicit with held inputs: the paper's methods
   // Case name, "-resolved" appended for the resolved variant, and
   // "+implicit-linear-iqn-ils" or "+explicit-extrapolate1" for other couplings.
   std::string label() const;
@@ -39,7 +39,7 @@ std::vector<Method> methods_for(const Scene& scene);
 
 // The transport a study runs a coupling over: the study's, except for
 // substep waveforms, which the study runs in process ("inproc").
-std::string run_transport(const CouplingOptions& coupling, const std::string& transport);
+std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport);
 
 // --sweep KEY=V1,V2,...: a scene value (dotted TOML key) and its values.
 struct SweepAxis {

@@ -246,7 +246,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   for (double H : sweep) {
     if (H == scene.macro_step) continue;  // the cases are that column of the sweep
     for (const Method& m : methods)
-      if (m.coupling.method != CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
+      if (m.coupling.method != engine::CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
         to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
   }
   add_restart_runs(to, scene, base, scene_path);

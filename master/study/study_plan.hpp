@@ -38,7 +38,7 @@ struct PlannedRun {
   std::string scene;        // the scene file, relative to the study's folder
   std::string case_name;
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;
+  engine::CouplingOptions coupling;
   std::string transport;  // of a co-simulation run
   double macro_step = 0;
   double tolerance = 0;

@@ -107,11 +107,11 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
     } else if (k == "--feedthrough") {
       r.feedthrough = parse_feedthrough(v).value_or(Feedthrough::kLagged);
     } else if (k == "--coupling") {
-      r.coupling.method = parse_coupling_method(v, what);
+      r.coupling.method = engine::parse_coupling_method(v, what);
     } else if (k == "--inputs") {
-      r.coupling.inputs = parse_input_mode(v, what);
+      r.coupling.inputs = engine::parse_input_mode(v, what);
     } else if (k == "--accelerator") {
-      r.coupling.accelerator.kind = parse_accelerator(v, what);
+      r.coupling.accelerator.kind = engine::parse_accelerator(v, what);
     } else if (k == "--relaxation") {
       r.coupling.accelerator.relaxation = number(v, what);
     } else if (k == "--max-iterations") {
@@ -147,10 +147,10 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
   if (r.case_name != "monolithic") {
     c += " --transport " + r.transport;
     if (r.feedthrough == Feedthrough::kResolved) c += " --feedthrough resolved";
-    const CouplingOptions& k = r.coupling;
+    const engine::CouplingOptions& k = r.coupling;
     if (!k.is_plain()) {
       c += " --coupling " + to_string(k.method) + " --inputs " + to_string(k.inputs);
-      if (k.method == CouplingMethod::kImplicit)
+      if (k.method == engine::CouplingMethod::kImplicit)
         c += " --accelerator " + to_string(k.accelerator.kind) + " --relaxation " +
              run::format_double(k.accelerator.relaxation) + " --max-iterations " +
              std::to_string(k.max_iterations) + " --convergence " +
