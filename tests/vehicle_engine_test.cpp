@@ -25,8 +25,6 @@
 namespace railcosim {
 namespace vehicle_engine_test {
 
-using run::deflection_error;
-using run::judge;
 using run::run_cosim;
 using run::run_monolithic;
 using run::RunOptions;
@@ -269,7 +267,8 @@ TEST(CarRun, DeflectionSelfConvergesAsTheToleranceTightens) {
   std::vector<double> errs;
   for (double tol : {1e-8, 1e-9, 1e-10}) {
     o.tolerance = tol;
-    errs.push_back(deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
+    errs.push_back(
+        run::deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
   }
   // Measured 2.5e-7, 1.3e-7, 6.8e-8: a factor 1.9 per decade of tolerance;
   // 1.5 leaves room for the step-size pattern, which changes with it.
@@ -360,7 +359,7 @@ TEST(CarCosim, ConvergesToTheMonolithicSolutionAsTheMacroStepShrinks) {
       const RunOptions o = options(s, H);
       const RunRecord ref = run_monolithic(s, o);
       RunRecord r = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
-      judge(r, ref, s);
+      run::judge(r, ref, s);
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(*r.history_error);
     }

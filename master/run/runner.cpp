@@ -16,7 +16,6 @@
 #include "run/evaluation.hpp"
 
 namespace railcosim::run {
-namespace {
 
 using engine::ConvergenceLog;
 using engine::CouplingMethod;
@@ -37,6 +36,8 @@ using remote::enter_lockstep;
 using remote::is_remote_transport;
 using remote::ParticipantFactory;
 using remote::require_distinct_channels;
+
+namespace {
 
 using Clock = std::chrono::steady_clock;
 

@@ -12,10 +12,11 @@
 #include "run/run_output.hpp"
 
 namespace railcosim::study {
-namespace {
 
 using run::RunRecord;
 using run::sci;
+
+namespace {
 
 // The runs at the scene's macro step, by method label.
 std::map<std::string, const RunRecord*> cases_of(const std::vector<StudyRun>& runs) {

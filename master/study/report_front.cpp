@@ -9,12 +9,13 @@
 #include "study/report_methods.hpp"
 
 namespace railcosim::study {
-namespace {
 
 using run::format_double;
 using run::RunRecord;
 using run::sci;
 using run::write_file_atomically;
+
+namespace {
 
 std::string shortg(double v) {
   char b[32];
