@@ -32,8 +32,8 @@ inline std::pair<std::size_t, std::size_t> step_frame_bytes(const Scene& scene,
     cfg.participant = p;
     cfg.macro_step = H;
     cfg.tolerance = scene.tolerance;
-    const CouplingData inputs = zero_inputs(scene, p);
-    const StepResult r = inproc_factory(scene)(cfg)->initialize(inputs);
+    const CouplingData inputs = engine::zero_inputs(scene, p);
+    const StepResult r = remote::inproc_factory(scene)(cfg)->initialize(inputs);
     wire::Envelope step;
     step.set_id(12345);
     step.mutable_step()->set_step(1234);
@@ -66,8 +66,8 @@ inline RawRoundTrip lowest_raw_round_trip(std::size_t request, std::size_t reply
 
 // Exits with status 1, naming `program` and the case, when a run failed or
 // did not take the data plane asked for.
-inline void require_ran(const char* program, const RunRecord& r, const CaseSpec& spec,
-                        const std::string& transport, DataPlane plane) {
+inline void require_ran(const char* program, const run::RunRecord& r, const CaseSpec& spec,
+                        const std::string& transport, remote::DataPlane plane) {
   if (r.status == "failed" || r.macro_steps == 0) {
     std::fprintf(stderr, "%s: %s failed: %s\n", program, spec.name().c_str(), r.message.c_str());
     std::exit(1);

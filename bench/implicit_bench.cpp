@@ -28,6 +28,12 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::tcp_transport;
+
 constexpr double kMacroStep = 1e-4;  // H, s: the paper's
 constexpr int kRawSamples = 2000;    // round trips per raw measurement
 constexpr int kRawForks = 3;         // raw measurements per repeat: the lowest median counts
@@ -38,16 +44,16 @@ struct Timed {
   double iterations = 0;  // per macro step
 };
 
-Timed run(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
-          const std::string& transport, DataPlane plane) {
-  RunOptions o;
+Timed timed_run(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
+                const std::string& transport, DataPlane plane) {
+  run::RunOptions o;
   o.macro_step = kMacroStep;
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
-  o.coupling.method = CouplingMethod::kImplicit;
-  o.coupling.inputs = InputMode::kLinear;
-  o.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
-  const RunRecord r = run_cosim(scene, spec, o, f, transport);
+  o.coupling.method = engine::CouplingMethod::kImplicit;
+  o.coupling.inputs = engine::InputMode::kLinear;
+  o.coupling.accelerator.kind = engine::AcceleratorKind::kIqnIls;
+  const run::RunRecord r = run::run_cosim(scene, spec, o, f, transport);
   require_ran("implicit_bench", r, spec, transport, plane);
   const double steps = static_cast<double>(r.macro_steps);
   return {r.wall_s / steps, static_cast<double>(r.convergence.size()) / steps};
@@ -130,11 +136,11 @@ int main(int argc, char** argv) {
         for (int k = 0; k < repeats; ++k) {
           std::fprintf(stderr, "%s: repeat %d of %d\n", row.name.c_str(), k + 1, repeats);
           row.raw.push_back(lowest_raw_round_trip(row.request, row.reply, kRawSamples, kRawForks));
-          const Timed local = run(scene, spec, inproc, "inproc", DataPlane::kRelay);
+          const Timed local = timed_run(scene, spec, inproc, "inproc", DataPlane::kRelay);
           row.inproc = std::min(row.inproc, local.per_step);
           row.iterations = local.iterations;
           for (DataPlane d : {DataPlane::kRelay, DataPlane::kDirect})
-            row.tcp[d].push_back(run(scene, spec, tcp, "tcp", d).per_step);
+            row.tcp[d].push_back(timed_run(scene, spec, tcp, "tcp", d).per_step);
         }
         rows.push_back(row);
       }

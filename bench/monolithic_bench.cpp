@@ -25,13 +25,13 @@ void BM_Monolithic(benchmark::State& state) {
   const double tol =
       state.range(1) == 0 ? 0.0 : std::pow(10.0, -static_cast<double>(state.range(1)));
   const Scene scene = scene_with(sleepers, tol);
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   long micro = 0;
   double wall = 0;
   for (auto _ : state) {
-    const RunRecord r = run_monolithic(scene, o);
+    const run::RunRecord r = run::run_monolithic(scene, o);
     micro = r.micro_steps.at("monolithic");
     wall += r.wall_s;
     benchmark::DoNotOptimize(r.deflection.data());

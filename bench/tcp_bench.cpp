@@ -32,6 +32,12 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::tcp_transport;
+
 constexpr double kMacroStep = 1e-4;  // H, s: the paper's
 constexpr int kRawSamples = 2000;    // round trips per raw measurement
 // Raw measurements per repeat, each with a new child; the lowest median is
@@ -62,11 +68,11 @@ double target_round_trips(Scheme scheme) {
 
 double wall_per_step(const Scene& scene, const CaseSpec& spec, const ParticipantFactory& f,
                      const std::string& transport, DataPlane plane) {
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = kMacroStep;
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
-  const RunRecord r = run_cosim(scene, spec, o, f, transport);
+  const run::RunRecord r = run::run_cosim(scene, spec, o, f, transport);
   require_ran("tcp_bench", r, spec, transport, plane);
   return r.wall_s / static_cast<double>(r.macro_steps);
 }

@@ -1,5 +1,5 @@
 #include "cli/cli.hpp"
 
 int main(int argc, char** argv) {
-  return railcosim::master_main(argc, argv);
+  return railcosim::cli::master_main(argc, argv);
 }

@@ -6,7 +6,9 @@ module folder, exactly the project libraries its CMakeLists.txt links, and
 (2) that every top-level folder with a CMakeLists.txt is in the table and
 every folder the modules table names exists, and (3) the same for the
 modules inside master/: their table against the libraries
-master/CMakeLists.txt builds and links, and against every #include line.
+master/CMakeLists.txt builds and links, and against every #include line,
+and (4) that every source and header in master/MODULE/ opens namespace
+railcosim::MODULE and no other namespace block of railcosim's.
 Exits non-zero naming each difference. Usage: architecture_test.py SOURCE_DIR
 """
 import pathlib
@@ -98,6 +100,15 @@ for name in sorted(set(direct) | set(folders) | set(inner)):
                 problems.append(f"master/{name}/{src.name} includes {inc}/, "
                                 f"which master/{name}/ may not")
 for src in sorted((root / "master").glob("*/*.?pp")):
+    # Each module is a namespace named after its folder: its files open
+    # railcosim::MODULE and no other block of railcosim's.
+    want = f"railcosim::{src.parent.name}"
+    opened = re.findall(r"^\s*namespace\s+(railcosim\b[\w:]*)\s*\{", src.read_text(), re.M)
+    if want not in opened:
+        problems.append(f"{src.relative_to(root)} does not open namespace {want}")
+    for other in sorted(set(opened) - {want}):
+        problems.append(f"{src.relative_to(root)} opens namespace {other}; "
+                        f"a file of master/{src.parent.name}/ opens {want} only")
     for inc in re.findall(r'^#include "(\w+)\.hpp"', src.read_text(), re.M):
         if any((root / "master" / d / f"{inc}.hpp").exists() for d in folders):
             problems.append(f"{src.relative_to(root)} includes {inc}.hpp "

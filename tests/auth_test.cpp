@@ -126,10 +126,10 @@ class TokenNodeTest : public ::testing::Test {
 };
 
 TEST_F(TokenNodeTest, TheRightSecretOpensASession) {
-  RemoteParticipant p(server_->local_address(), scene_, config(), {}, std::string(kSecret));
+  remote::RemoteParticipant p(server_->local_address(), scene_, config(), {}, std::string(kSecret));
   ASSERT_EQ(config().participant.role, "vehicle");
   Subsystem local(scene_, config());
-  const CouplingData in = zero_inputs(scene_, config().participant);
+  const CouplingData in = engine::zero_inputs(scene_, config().participant);
   const StepResult remote = p.initialize(in);
   ASSERT_EQ(remote.outputs.size(), 1u);  // the wr interface
   EXPECT_EQ(remote.outputs[0].displacement.size(), 1u);
@@ -183,9 +183,9 @@ TEST_F(TokenNodeTest, ReplayingAnOldAnswerFails) {
 
 TEST_F(TokenNodeTest, AMasterWithoutTheSecretIsToldWhatToPass) {
   try {
-    RemoteParticipant p(server_->local_address(), scene_, config());
+    remote::RemoteParticipant p(server_->local_address(), scene_, config());
     FAIL() << "opened a session without the secret";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     EXPECT_NE(std::string(e.what()).find("--token-file"), std::string::npos) << e.what();
   }
 }

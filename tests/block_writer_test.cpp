@@ -17,6 +17,10 @@
 namespace railcosim {
 namespace {
 
+using run::BlockWriter;
+using run::RunRecord;
+using run::RunWriter;
+
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 

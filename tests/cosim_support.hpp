@@ -21,7 +21,7 @@ struct InprocCase {
   std::vector<ParticipantSpec> specs;
   std::vector<std::unique_ptr<Subsystem>> subs;
   std::vector<Participant*> ps;
-  StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
+  engine::StaticsOutcome statics;  // statics.inputs[p]: what participant p holds
 };
 
 // The configuration of participant `role` in a case; throws if the case has
@@ -49,26 +49,27 @@ inline InprocCase inproc_case_at_statics(const Scene& scene, const std::string& 
     cfg.tolerance = scene.tolerance;
     c.subs.push_back(std::make_unique<Subsystem>(scene, cfg));
     c.ps.push_back(c.subs.back().get());
-    zero.push_back(zero_inputs(scene, p));
+    zero.push_back(engine::zero_inputs(scene, p));
   }
-  c.statics = find_static_state(c.ps, make_routing(c.specs), zero);
+  c.statics = engine::find_static_state(c.ps, engine::make_routing(c.specs), zero);
   return c;
 }
 
 // Case `name` at macro step H with coupling `c`, judged against the
 // monolithic run at the same H and the scene's tolerance; in process unless
 // a transport is given.
-inline RunRecord judged(const Scene& scene, const std::string& name, double H,
-                        const CouplingOptions& c, const SceneTransport* transport = nullptr) {
-  RunOptions o;
+inline run::RunRecord judged(const Scene& scene, const std::string& name, double H,
+                             const engine::CouplingOptions& c,
+                             const remote::SceneTransport* transport = nullptr) {
+  run::RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
   o.coupling = c;
-  const RunRecord reference = run_monolithic(scene, o);
-  const SceneTransport inproc = inproc_transport(scene);
-  const SceneTransport& t = transport ? *transport : inproc;
-  RunRecord r = run_cosim(scene, parse_case(name), o, t.factory, t.name);
-  assess(r, reference, scene, parse_case(name), o);
+  const run::RunRecord reference = run::run_monolithic(scene, o);
+  const remote::SceneTransport inproc = remote::inproc_transport(scene);
+  const remote::SceneTransport& t = transport ? *transport : inproc;
+  run::RunRecord r = run::run_cosim(scene, parse_case(name), o, t.factory, t.name);
+  run::assess(r, reference, scene, parse_case(name), o);
   return r;
 }
 

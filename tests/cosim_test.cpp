@@ -14,6 +14,12 @@
 namespace railcosim {
 namespace {
 
+using run::assess;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 RunRecord judged_run(const Scene& scene, const std::string& name, double H, double tol,
                      Feedthrough ft = Feedthrough::kLagged) {
   RunOptions o;
@@ -21,7 +27,7 @@ RunRecord judged_run(const Scene& scene, const std::string& name, double H, doub
   o.tolerance = tol;
   o.feedthrough = ft;
   const RunRecord reference = run_monolithic(scene, o);
-  RunRecord r = run_cosim(scene, parse_case(name), o, inproc_factory(scene), "inproc");
+  RunRecord r = run_cosim(scene, parse_case(name), o, remote::inproc_factory(scene), "inproc");
   assess(r, reference, scene, parse_case(name), o);
   return r;
 }
@@ -272,7 +278,7 @@ TEST(Divergence, MicroStepsThatRunAwayEndTheRunAsDiverged) {
   o.macro_step = scene.macro_step;
   o.tolerance = 1e-30;
   const RunRecord r =
-      run_cosim(scene, parse_case("wr-xx-jacobi"), o, inproc_factory(scene), "inproc");
+      run_cosim(scene, parse_case("wr-xx-jacobi"), o, remote::inproc_factory(scene), "inproc");
   EXPECT_EQ(r.status, "diverged");
   EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
   EXPECT_EQ(r.macro_steps, 1);

@@ -64,8 +64,8 @@ void kill_the_track_node(const std::vector<std::string>& coupling) {
   const std::string scene = test::source_path("scenes/paper.toml");
   const std::string c = "rs-xx-jacobi";
   // H = 1e-5 s: 25,000 macro steps, several seconds over loopback.
-  LaunchedNode vehicle("vehicle_node", milliseconds(10000));
-  LaunchedNode track("track_node", milliseconds(10000));
+  remote::LaunchedNode vehicle("vehicle_node", milliseconds(10000));
+  remote::LaunchedNode track("track_node", milliseconds(10000));
   std::vector<std::string> args{"run",
                                 "--scene",
                                 scene,
@@ -159,7 +159,8 @@ class PeerRefusal : public ::testing::Test {
     master_->send(configure_envelope(scene_, cfg));
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_configured());
     wire::Envelope init;
-    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene_, cfg.participant));
+    *init.mutable_initialize()->mutable_inputs() =
+        to_wire(engine::zero_inputs(scene_, cfg.participant));
     master_->send(init);
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_step_report());
     wire::Envelope links;
@@ -294,7 +295,7 @@ TEST_F(PeerRefusal, BadDataFromAPeerIsBlamedOnItAndTheReportsAreKept) {
   // Data of the right shape: the vehicle's own outputs at rest.
   const SubsystemConfig cfg = test::config_of(scene_, "rs-xx-jacobi", "vehicle");
   Subsystem sub(scene_, cfg);
-  InterfaceData data = sub.initialize(zero_inputs(scene_, cfg.participant)).outputs[0];
+  InterfaceData data = sub.initialize(engine::zero_inputs(scene_, cfg.participant)).outputs[0];
   for (long point = 0; point < 2; ++point) {
     if (point == 1)
       for (auto* v : {&data.displacement, &data.velocity, &data.force})
@@ -330,17 +331,17 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
   NodeServer vehicle(v, Address{"127.0.0.1", 0}), track(t, Address{"127.0.0.1", 0});
   std::thread tv([&] { vehicle.run(false); }), tt([&] { track.run(false); });
   const Scene scene = test::paper_scene();
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
-  NodePool pool;
-  const SceneTransport tcp =
-      tcp_transport(scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}},
-                    pool, secret);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(
+      scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool,
+      secret);
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
     ADD_FAILURE() << "the run went through";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("vehicle node at " + vehicle.local_address().str()), std::string::npos)
         << what;

@@ -74,22 +74,23 @@ test::FakeNode::Reports trickle_after_step_20(bool bytes, std::atomic<bool>& tri
 std::pair<std::string, double> run_against_trickle(bool bytes) {
   std::atomic<bool> trickling{false};
   test::FakeNode vehicle("vehicle", nullptr, {}, trickle_after_step_20(bytes, trickling));
-  LaunchedNode track("track_node", milliseconds(10000));
+  remote::LaunchedNode track("track_node", milliseconds(10000));
   const Scene scene = test::paper_scene();
-  RemoteTimeouts t;
+  remote::RemoteTimeouts t;
   t.step_min = milliseconds(500);
   t.step_max = milliseconds(3000);
-  const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+  const remote::ParticipantFactory make =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
-    return std::make_unique<RemoteParticipant>(at, scene, c, t);
+    return std::make_unique<remote::RemoteParticipant>(at, scene, c, t);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   const auto t0 = Clock::now();
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
-  } catch (const NodeFailure& e) {
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+  } catch (const remote::NodeFailure& e) {
     const std::string m = e.what();
     EXPECT_TRUE(trickling);
     EXPECT_NE(m.find("vehicle node at " + vehicle.address().str() + ": no reply within "),
@@ -127,20 +128,21 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
                              if (r.step() > 20) return;
                            send_bytes(fd, frame.data(), frame.size());
                          });
-  LaunchedNode track("track_node", milliseconds(10000));
+  remote::LaunchedNode track("track_node", milliseconds(10000));
   Scene scene = test::paper_scene();
   scene = with_keys(scene, {{"simulation.end_time", 200 * scene.macro_step}});
-  const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+  const remote::ParticipantFactory make =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     const Address& at = c.participant.role == "vehicle" ? vehicle.address() : track.address();
-    return std::make_unique<RemoteParticipant>(at, scene, c);
+    return std::make_unique<remote::RemoteParticipant>(at, scene, c);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
     ADD_FAILURE() << "the run went through";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("vehicle node at " + vehicle.address().str() +
                      ": its window ended at macro step 200, but its step reports stop at "
@@ -158,7 +160,7 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
 struct TrickledMaster {
   std::atomic<bool> trickling{false};
   test::FakeNode vehicle{"vehicle", nullptr, {}, trickle_after_step_20(true, trickling)};
-  LaunchedNode track{"track_node", milliseconds(10000)};
+  remote::LaunchedNode track{"track_node", milliseconds(10000)};
   fs::path out;
   pid_t pid = 0;
   explicit TrickledMaster(const std::string& name) : out(test::temp_dir(name)) {

@@ -19,6 +19,15 @@
 namespace railcosim {
 namespace {
 
+using remote::ChannelOpener;
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodeFailure;
+using remote::NodePool;
+using remote::ParticipantFactory;
+using remote::RemoteParticipant;
+using remote::tcp_transport;
+
 using std::chrono::milliseconds;
 
 // The paper scene shortened to 0.05 s (500 macro steps).
@@ -42,15 +51,15 @@ ParticipantFactory channel_factory(const Scene& scene, test::InprocNodes& nodes,
   };
 }
 
-RunOptions options_of(const Scene& scene, DataPlane plane) {
-  RunOptions o;
+run::RunOptions options_of(const Scene& scene, DataPlane plane) {
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   o.data_plane = plane;
   return o;
 }
 
-void expect_same_run(const RunRecord& a, const RunRecord& b) {
+void expect_same_run(const run::RunRecord& a, const run::RunRecord& b) {
   ASSERT_EQ(a.status, b.status) << a.message << " / " << b.message;
   EXPECT_EQ(a.macro_steps, b.macro_steps);
   EXPECT_EQ(a.micro_steps, b.micro_steps);
@@ -67,16 +76,16 @@ void expect_same_run(const RunRecord& a, const RunRecord& b) {
 TEST(FramedChannel, APaperCaseOverTheInProcessChannelEqualsInProcessAndTcpBitwise) {
   const Scene scene = short_paper_scene();
   const CaseSpec spec = parse_case("wr-xx-jacobi");
-  const RunOptions relay = options_of(scene, DataPlane::kRelay);
-  const RunRecord local = run_cosim(scene, spec, relay, inproc_factory(scene), "inproc");
-  RunRecord channel;
+  const run::RunOptions relay = options_of(scene, DataPlane::kRelay);
+  const run::RunRecord local = run::run_cosim(scene, spec, relay, inproc_factory(scene), "inproc");
+  run::RunRecord channel;
   {
     test::InprocNodes nodes;
-    channel = run_cosim(scene, spec, relay, channel_factory(scene, nodes), "tcp");
+    channel = run::run_cosim(scene, spec, relay, channel_factory(scene, nodes), "tcp");
   }
   NodePool pool;
-  const RunRecord tcp = run_cosim(scene, spec, options_of(scene, DataPlane::kDirect),
-                                  tcp_transport(scene, {}, pool).factory, "tcp");
+  const run::RunRecord tcp = run::run_cosim(scene, spec, options_of(scene, DataPlane::kDirect),
+                                            tcp_transport(scene, {}, pool).factory, "tcp");
   ASSERT_EQ(local.status, "ok") << local.message;
   EXPECT_EQ(local.macro_steps, scene.macro_steps());
   EXPECT_EQ(local.history.size(), 501u);  // the static state and 500 macro steps
@@ -172,8 +181,8 @@ TEST(FramedChannel, TheDirectPlaneRefusesANodeOverAnotherChannelByName) {
   const Scene scene = short_paper_scene();
   test::InprocNodes nodes;
   try {
-    run_cosim(scene, parse_case("wr-xx-jacobi"), options_of(scene, DataPlane::kDirect),
-              channel_factory(scene, nodes, true), "tcp");
+    run::run_cosim(scene, parse_case("wr-xx-jacobi"), options_of(scene, DataPlane::kDirect),
+                   channel_factory(scene, nodes, true), "tcp");
     FAIL() << "the direct plane over in-process channels";
   } catch (const NodeFailure& e) {
     EXPECT_EQ(std::string(e.what()),

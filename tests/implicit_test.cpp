@@ -14,6 +14,11 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::CouplingOptions;
+using engine::InputMode;
+
 CouplingOptions implicit(InputMode inputs, AcceleratorKind kind = AcceleratorKind::kIqnIls) {
   CouplingOptions c;
   c.method = CouplingMethod::kImplicit;
@@ -33,7 +38,7 @@ Scene short_scene(const char* file, double end_time) {
 
 TEST(ImplicitCoupling, ConvergedRunsDoNotDependOnTheAccelerator) {
   const Scene scene = short_scene("scenes/paper.toml", 0.02);
-  std::vector<RunRecord> runs;
+  std::vector<run::RunRecord> runs;
   for (AcceleratorKind k :
        {AcceleratorKind::kConstant, AcceleratorKind::kAitken, AcceleratorKind::kIqnIls}) {
     CouplingOptions c = implicit(InputMode::kLinear, k);
@@ -71,7 +76,7 @@ TEST_P(ImplicitOrder, HeldInputsAreFirstOrderAndRampsSecondOrder) {
     std::vector<double> hs, errs;
     // From 1e-4 s down: at 2e-4 s the wheel/rail ramp is not yet asymptotic.
     for (double H : {1e-4, 5e-5, 2.5e-5, 1.25e-5}) {
-      const RunRecord r = judged(scene, GetParam().name, H, implicit(m));
+      const run::RunRecord r = judged(scene, GetParam().name, H, implicit(m));
       ASSERT_EQ(r.status, "ok") << to_string(m) << " H = " << H << ": " << r.message;
       hs.push_back(H);
       errs.push_back(*r.rel_l2_error);
@@ -97,9 +102,10 @@ INSTANTIATE_TEST_SUITE_P(OnePerCut, ImplicitOrder,
 
 TEST(ImplicitCoupling, StabilisesTheAmplifiedJacobiXtCaseAtTheWheelRailCut) {
   const Scene scene = test::paper_scene();
-  const RunRecord explicit_run = judged(scene, "wr-xt-jacobi", 1e-4, CouplingOptions{});
+  const run::RunRecord explicit_run = judged(scene, "wr-xt-jacobi", 1e-4, CouplingOptions{});
   EXPECT_NE(explicit_run.status, "ok");
-  const RunRecord implicit_run = judged(scene, "wr-xt-jacobi", 1e-4, implicit(InputMode::kHold));
+  const run::RunRecord implicit_run =
+      judged(scene, "wr-xt-jacobi", 1e-4, implicit(InputMode::kHold));
   EXPECT_EQ(implicit_run.status, "ok") << implicit_run.message;
   EXPECT_LT(*implicit_run.rel_l2_error, 1e-3);
 }
@@ -108,12 +114,12 @@ TEST(ImplicitCoupling, OverTcpIsBitwiseTheInProcessRun) {
   // Checkpoints travel as Save/Restore and ramps as inputs_end: any
   // difference between the two transports shows in the last bit.
   const Scene scene = short_scene("scenes/soil.toml", 0.01);
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(scene, {}, pool);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(scene, {}, pool);
   for (const char* name : {"rs-xt-gauss-seidel", "wr-xx+ss-xt-jacobi"}) {
     const CouplingOptions c = implicit(InputMode::kLinear);
-    const RunRecord a = judged(scene, name, 1e-4, c);
-    const RunRecord b = judged(scene, name, 1e-4, c, &tcp);
+    const run::RunRecord a = judged(scene, name, 1e-4, c);
+    const run::RunRecord b = judged(scene, name, 1e-4, c, &tcp);
     ASSERT_EQ(a.status, "ok") << a.message;
     ASSERT_EQ(b.status, "ok") << b.message;
     EXPECT_EQ(a.deflection, b.deflection) << name;
@@ -133,7 +139,7 @@ TEST(ImplicitCoupling, AWindowThatDoesNotConvergeIsNotOk) {
   const Scene scene = short_scene("scenes/paper.toml", 0.005);
   CouplingOptions c = implicit(InputMode::kHold, AcceleratorKind::kConstant);
   c.max_iterations = 2;
-  const RunRecord r = judged(scene, "rs-xx-jacobi", 1e-4, c);
+  const run::RunRecord r = judged(scene, "rs-xx-jacobi", 1e-4, c);
   EXPECT_EQ(r.status, "not_converged");
   EXPECT_NE(r.message.find("did not converge within 2 iterations"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("macro step 1 (t = 0.0001 s)"), std::string::npos) << r.message;

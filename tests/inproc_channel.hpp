@@ -114,7 +114,7 @@ class InprocNodes {
   // Opens channels to sessions of a node serving `options`; the master's end
   // calls the node `peer`. With `offer_direct`, the sessions offer the direct
   // data plane (as a node program's do), which needs TCP.
-  ChannelOpener opener(NodeOptions options, std::string peer, bool offer_direct = false) {
+  remote::ChannelOpener opener(NodeOptions options, std::string peer, bool offer_direct = false) {
     return [this, options = std::move(options), peer = std::move(peer),
             offer_direct](std::chrono::milliseconds) -> std::unique_ptr<FramedChannel> {
       auto [master_end, node_end] = InprocChannel::pair(peer, "master");

@@ -12,6 +12,14 @@
 namespace railcosim {
 namespace judging_test {
 
+using run::assess;
+using run::judge;
+using run::kMaxDeflectionError;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 RunOptions at(double H, const Scene& s) {
   RunOptions o;
   o.macro_step = H;
@@ -21,7 +29,8 @@ RunOptions at(double H, const Scene& s) {
 
 RunRecord judged_run(const Scene& scene, const char* name, double H) {
   const RunRecord ref = run_monolithic(scene, at(H, scene));
-  RunRecord r = run_cosim(scene, parse_case(name), at(H, scene), inproc_factory(scene), "inproc");
+  RunRecord r =
+      run_cosim(scene, parse_case(name), at(H, scene), remote::inproc_factory(scene), "inproc");
   assess(r, ref, scene, parse_case(name), at(H, scene));
   return r;
 }
@@ -104,9 +113,9 @@ TEST(Judging, EveryCouplingQuantityCounts) {
 // paper: a gain of 32 is reported as what it is, with the paper's number,
 // ours and the tolerance.
 TEST(Judging, AGainFarFromTenIsNotReproduced) {
-  std::vector<StudyRun> runs;
-  for (const Method& m : all_methods()) {
-    StudyRun s;
+  std::vector<study::StudyRun> runs;
+  for (const study::Method& m : study::all_methods()) {
+    study::StudyRun s;
     s.group = "case";
     s.method = m.label();
     s.record.case_name = m.spec.name();
@@ -115,12 +124,12 @@ TEST(Judging, AGainFarFromTenIsNotReproduced) {
     s.record.history_error = 1e-3;
     runs.push_back(s);
   }
-  for (StudyRun& s : runs) {
+  for (study::StudyRun& s : runs) {
     if (s.method == "rs-xx-jacobi") s.record.rel_l2_error = 3.2e-2;
     if (s.method == "rs-xx-gauss-seidel") s.record.rel_l2_error = 1e-3;
   }
   bool seen = false;
-  for (const Finding& f : check_findings(runs)) {
+  for (const study::Finding& f : study::check_findings(runs)) {
     EXPECT_FALSE(f.paper.empty()) << f.claim;
     EXPECT_FALSE(f.judged.empty()) << f.claim;
     if (f.claim.find("by almost 10") == std::string::npos) continue;

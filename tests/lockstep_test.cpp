@@ -23,6 +23,11 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::InputMode;
+using engine::zero_inputs;
+
 using std::chrono::milliseconds;
 
 // (Resolved feedthrough exists for explicit coupling with held inputs only.)
@@ -53,34 +58,35 @@ struct LockStepCase {
 
 class LockStepPlanes : public ::testing::TestWithParam<LockStepCase> {
  protected:
-  static void SetUpTestSuite() { pool_ = std::make_unique<NodePool>(); }
+  static void SetUpTestSuite() { pool_ = std::make_unique<remote::NodePool>(); }
   static void TearDownTestSuite() { pool_.reset(); }
-  static inline std::unique_ptr<NodePool> pool_;
+  static inline std::unique_ptr<remote::NodePool> pool_;
 };
 
 TEST_P(LockStepPlanes, EveryCouplingIsBitwiseTheSameInProcessRelayedAndDirect) {
   const Scene scene = short_scene(GetParam().scene);
   const CaseSpec spec = parse_case(GetParam().name);
-  const SceneTransport tcp = tcp_transport(scene, {}, *pool_);
+  const remote::SceneTransport tcp = remote::tcp_transport(scene, {}, *pool_);
   for (const Coupling& c : kCouplings) {
-    RunOptions o;
+    run::RunOptions o;
     o.macro_step = scene.macro_step;
     o.tolerance = scene.tolerance;
     o.feedthrough = GetParam().feedthrough;
     o.coupling.method = c.method;
     o.coupling.inputs = c.inputs;
     o.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
-    const RunRecord local = run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
-    o.data_plane = DataPlane::kRelay;
-    const RunRecord relayed = run_cosim(scene, spec, o, tcp.factory, "tcp");
-    o.data_plane = DataPlane::kDirect;
-    const RunRecord direct = run_cosim(scene, spec, o, tcp.factory, "tcp");
+    const run::RunRecord local =
+        run::run_cosim(scene, spec, o, remote::inproc_factory(scene), "inproc");
+    o.data_plane = remote::DataPlane::kRelay;
+    const run::RunRecord relayed = run::run_cosim(scene, spec, o, tcp.factory, "tcp");
+    o.data_plane = remote::DataPlane::kDirect;
+    const run::RunRecord direct = run::run_cosim(scene, spec, o, tcp.factory, "tcp");
     SCOPED_TRACE(c.name);
     EXPECT_EQ(relayed.data_plane, "relay");
     EXPECT_EQ(relayed.data_plane_mode, "");
     EXPECT_EQ(direct.data_plane, "direct");
     EXPECT_EQ(direct.data_plane_mode, "lock step");
-    for (const RunRecord* r : {&relayed, &direct}) {
+    for (const run::RunRecord* r : {&relayed, &direct}) {
       ASSERT_EQ(r->status, local.status) << r->message;
       EXPECT_EQ(r->macro_steps, local.macro_steps);
       EXPECT_EQ(r->micro_steps, local.micro_steps);

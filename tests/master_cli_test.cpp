@@ -150,8 +150,8 @@ TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
 }
 
 TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
-  LaunchedNode track("track_node", std::chrono::seconds(10));
+  remote::LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  remote::LaunchedNode track("track_node", std::chrono::seconds(10));
   const fs::path out = temp_dir("cli_tcp");
   const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
                                " --case rs-xx-gauss-seidel --vehicle " + vehicle.address().str() +
@@ -166,8 +166,8 @@ TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
 // A long TCP run of rs-xx-jacobi against nodes started here, in the middle
 // of which `signal` is sent to the track node.
 struct FaultedRun {
-  LaunchedNode vehicle{"vehicle_node", std::chrono::seconds(10)};
-  LaunchedNode track{"track_node", std::chrono::seconds(10)};
+  remote::LaunchedNode vehicle{"vehicle_node", std::chrono::seconds(10)};
+  remote::LaunchedNode track{"track_node", std::chrono::seconds(10)};
   fs::path out;
   fs::path history;
   Outcome outcome;
@@ -248,10 +248,10 @@ TEST(MasterCli, ANodeThatStartsLateIsWaitedFor) {
   // Find a free port, then start the track node on it a second after the master.
   std::string port;
   {
-    LaunchedNode probe("track_node", std::chrono::seconds(10));
+    remote::LaunchedNode probe("track_node", std::chrono::seconds(10));
     port = std::to_string(probe.address().port);
   }
-  LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
+  remote::LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
   const fs::path out = temp_dir("cli_late");
   Outcome o;
   std::thread master([&] {
@@ -260,7 +260,7 @@ TEST(MasterCli, ANodeThatStartsLateIsWaitedFor) {
                    " --track 127.0.0.1:" + port + " --out " + out.string());
   });
   std::this_thread::sleep_for(std::chrono::seconds(1));
-  LaunchedNode track("track_node", std::chrono::seconds(10), "127.0.0.1:" + port);
+  remote::LaunchedNode track("track_node", std::chrono::seconds(10), "127.0.0.1:" + port);
   master.join();
   EXPECT_EQ(o.status, 0) << o.output;
   fs::remove_all(out);

@@ -9,31 +9,31 @@
 namespace railcosim {
 namespace {
 
-RunRecord monolithic(const Scene& scene, double tolerance) {
-  RunOptions o;
+run::RunRecord monolithic(const Scene& scene, double tolerance) {
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = tolerance;
-  return run_monolithic(scene, o);
+  return run::run_monolithic(scene, o);
 }
 
 TEST(Monolithic, DeflectionSelfConvergesAsTheToleranceTightens) {
   const Scene scene = test::paper_scene();
-  const RunRecord reference = monolithic(scene, 1e-10);
+  const run::RunRecord reference = monolithic(scene, 1e-10);
   double previous = INFINITY;
   for (double tol : {1e-7, 1e-8, 1e-9}) {
     const double err =
-        deflection_error(monolithic(scene, tol).deflection, reference.deflection).max_abs;
+        run::deflection_error(monolithic(scene, tol).deflection, reference.deflection).max_abs;
     EXPECT_LT(err, previous) << "tolerance " << tol;
     previous = err;
   }
   // At the scene's own tolerance the deflection is right to four digits.
-  const RunRecord own = monolithic(scene, scene.tolerance);
-  EXPECT_LT(deflection_error(own.deflection, reference.deflection).rel_l2, 1e-4);
+  const run::RunRecord own = monolithic(scene, scene.tolerance);
+  EXPECT_LT(run::deflection_error(own.deflection, reference.deflection).rel_l2, 1e-4);
 }
 
 TEST(Monolithic, PeakDeflectionFollowsTheWheel) {
   const Scene scene = test::paper_scene();
-  const RunRecord r = monolithic(scene, scene.tolerance);
+  const run::RunRecord r = monolithic(scene, scene.tolerance);
   ASSERT_EQ(r.deflection.size(), 101u);
   const auto peak = std::max_element(r.deflection.begin(), r.deflection.end());
   const double x_peak = r.x[static_cast<std::size_t>(peak - r.deflection.begin())];
@@ -46,7 +46,7 @@ TEST(Monolithic, PeakDeflectionFollowsTheWheel) {
 
 TEST(Monolithic, HistoryHasEveryOutputStep) {
   const Scene scene = test::paper_scene();
-  const RunRecord r = monolithic(scene, scene.tolerance);
+  const run::RunRecord r = monolithic(scene, scene.tolerance);
   ASSERT_EQ(r.history.size(), 2501u);
   EXPECT_EQ(r.history.front().t, 0.0);
   EXPECT_EQ(r.history.back().t, 2500 * scene.macro_step);

@@ -69,7 +69,8 @@ class NodeLimitsTest : public ::testing::Test {
     c.send(configure_envelope(scene, cfg));
     ASSERT_TRUE(c.receive(milliseconds(5000)).has_configured());
     wire::Envelope init;
-    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene, cfg.participant));
+    *init.mutable_initialize()->mutable_inputs() =
+        to_wire(engine::zero_inputs(scene, cfg.participant));
     c.send(init);
     ASSERT_TRUE(c.receive(milliseconds(5000)).has_step_report());
   }
@@ -78,9 +79,9 @@ class NodeLimitsTest : public ::testing::Test {
   void expect_served(const std::optional<std::string>& token = std::nullopt) {
     const Scene scene = test::paper_scene();
     const SubsystemConfig cfg = track_config(scene);
-    RemoteParticipant remote(address_, scene, cfg, {}, token);
-    remote.initialize(zero_inputs(scene, cfg.participant));
-    remote.set_inputs(0, zero_inputs(scene, cfg.participant));
+    remote::RemoteParticipant remote(address_, scene, cfg, {}, token);
+    remote.initialize(engine::zero_inputs(scene, cfg.participant));
+    remote.set_inputs(0, engine::zero_inputs(scene, cfg.participant));
     EXPECT_EQ(remote.step(0).outputs.size(), 1u);
   }
 
@@ -190,7 +191,7 @@ TEST_F(NodeLimitsTest, ALongStepIsBoundedAndTheNodeAnswersMeanwhile) {
   cfg.tolerance = 1e-30;
   auto c = Connection::connect(address_, milliseconds(5000));
   open(*c, scene, cfg);
-  CouplingData in = zero_inputs(scene, cfg.participant);
+  CouplingData in = engine::zero_inputs(scene, cfg.participant);
   in[0].displacement[0] = 1e-3;  // the wheel pressed into the rail: the track moves
   wire::Envelope step;
   step.mutable_step()->set_step(0);

@@ -21,7 +21,7 @@ using std::chrono::milliseconds;
 // Inputs of the right shape for a participant, every value non-zero so that
 // the participant really moves.
 CouplingData some_inputs(const Scene& scene, const ParticipantSpec& p, double scale) {
-  CouplingData in = zero_inputs(scene, p);
+  CouplingData in = engine::zero_inputs(scene, p);
   for (InterfaceData& i : in) {
     for (double& x : i.displacement) x = 1e-3 * scale;
     for (double& x : i.velocity) x = 1e-2 * scale;
@@ -95,7 +95,7 @@ class NodeTest : public ::testing::Test {
   // an in-process twin: the node still serves.
   void expect_a_session_still_works() {
     const SubsystemConfig cfg = config(session_case(), role());
-    RemoteParticipant remote(address_, scene_, cfg);
+    remote::RemoteParticipant remote(address_, scene_, cfg);
     Subsystem local(scene_, cfg);
     EXPECT_EQ(remote.channels().history, local.channels().history);
     EXPECT_EQ(remote.channels().results, local.channels().results);

@@ -201,15 +201,15 @@ TEST(FixedMicroSteps, EveryMacroStepTakesExactlyThatMany) {
   Scene s = soil_scene();
   s.end_time = 0.005;
   s.micro_steps = 10;
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = s.macro_step;
   o.tolerance = s.tolerance;
-  const RunRecord r =
-      run_cosim(s, parse_case("ss-xx-gauss-seidel"), o, inproc_factory(s), "inproc");
+  const run::RunRecord r =
+      run::run_cosim(s, parse_case("ss-xx-gauss-seidel"), o, remote::inproc_factory(s), "inproc");
   ASSERT_EQ(r.status, "ok") << r.message;
   EXPECT_EQ(r.micro_steps.at("s1"), 10 * r.macro_steps);
   EXPECT_EQ(r.micro_steps.at("s2"), 10 * r.macro_steps);
-  const RunRecord m = run_monolithic(s, o);
+  const run::RunRecord m = run::run_monolithic(s, o);
   EXPECT_EQ(m.micro_steps.at("monolithic"), 10 * m.macro_steps);
 }
 

@@ -61,7 +61,8 @@ class PeerLinks : public ::testing::Test {
     master_->send(configure_envelope(scene_, cfg_));
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_configured());
     wire::Envelope init;
-    *init.mutable_initialize()->mutable_inputs() = to_wire(zero_inputs(scene_, cfg_.participant));
+    *init.mutable_initialize()->mutable_inputs() =
+        to_wire(engine::zero_inputs(scene_, cfg_.participant));
     master_->send(init);
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_step_report());
     wire::Envelope links;
@@ -108,7 +109,7 @@ class PeerLinks : public ::testing::Test {
 
   // What the vehicle sends the track at `point`: values that fit.
   wire::Envelope peer_data(long point, double value = 1e-6) const {
-    CouplingData in = zero_inputs(scene_, cfg_.participant);
+    CouplingData in = engine::zero_inputs(scene_, cfg_.participant);
     for (double& x : in[0].displacement) x = value;
     wire::Envelope e;
     e.mutable_peer_data()->set_point(point);
@@ -301,7 +302,7 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   NodeServer vehicle(v, Address{"127.0.0.1", 0}), track(t, Address{"127.0.0.1", 0});
   std::thread tv([&] { vehicle.run(false); }), tt([&] { track.run(false); });
   const Scene scene = test::paper_scene();
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   std::atomic<bool> flooding{false}, done{false};
@@ -333,13 +334,13 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
     flooding = true;
     std::this_thread::sleep_for(milliseconds(200));  // the flood is under way
   };
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(
       scene, {{"vehicle", vehicle.local_address()}, {"track", track.local_address()}}, pool);
   const auto t0 = Clock::now();
-  RunRecord r;
+  run::RunRecord r;
   try {
-    r = run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
+    r = run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, tcp.factory, tcp.name);
   } catch (const std::exception& e) {
     ADD_FAILURE() << e.what();
   }
@@ -350,11 +351,11 @@ TEST(PeerLinksRun, AFloodOfSilentConnectionsDuringLinkSetUpDoesNotStopTheRun) {
   EXPECT_EQ(r.data_plane, "direct");
   EXPECT_LT(took, 10.0);
   EXPECT_GT(opened, 100) << "the flood did not happen";
-  RunOptions inproc = o;
+  run::RunOptions inproc = o;
   inproc.on_channels = nullptr;
-  const SceneTransport local = inproc_transport(scene);
-  const RunRecord want =
-      run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
+  const remote::SceneTransport local = remote::inproc_transport(scene);
+  const run::RunRecord want =
+      run::run_cosim(scene, parse_case("wr-xx-jacobi"), inproc, local.factory, local.name);
   ASSERT_EQ(r.history.size(), want.history.size());
   for (std::size_t k = 0; k < want.history.size(); ++k)
     ASSERT_EQ(r.history[k].wheel, want.history[k].wheel) << "row " << k;

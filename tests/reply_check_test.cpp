@@ -35,8 +35,8 @@ Scene short_scene() {
   return with_keys(s, {{"simulation.end_time", 20 * s.macro_step}});
 }
 
-RunOptions options(const Scene& s) {
-  RunOptions o;
+run::RunOptions options(const Scene& s) {
+  run::RunOptions o;
   o.macro_step = s.macro_step;
   o.tolerance = s.tolerance;
   return o;
@@ -44,15 +44,16 @@ RunOptions options(const Scene& s) {
 
 // wr-xx-jacobi with participant `role` on `node` (the track holds the rail
 // and its deflection, the vehicle the wheel's history), the other in-process.
-RunRecord run_against(const test::FakeNode& node, RemoteTimeouts timeouts = {},
-                      const std::string& role = "track") {
+run::RunRecord run_against(const test::FakeNode& node, remote::RemoteTimeouts timeouts = {},
+                           const std::string& role = "track") {
   const Scene scene = short_scene();
-  const ParticipantFactory make = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+  const remote::ParticipantFactory make =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
     if (c.participant.role == role)
-      return std::make_unique<RemoteParticipant>(node.address(), scene, c, timeouts);
+      return std::make_unique<remote::RemoteParticipant>(node.address(), scene, c, timeouts);
     return std::make_unique<Subsystem>(scene, c);
   };
-  return run_cosim(scene, parse_case("wr-xx-jacobi"), options(scene), make, "tcp");
+  return run::run_cosim(scene, parse_case("wr-xx-jacobi"), options(scene), make, "tcp");
 }
 
 // Runs against a node that edits its replies with `lie`; expects the run to
@@ -63,7 +64,7 @@ void expect_refused(const test::FakeNode::Edit& lie, const std::string& what,
   try {
     run_against(node, {}, role);
     ADD_FAILURE() << "a node that lies (" << what << ") was believed";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find(role + " node at " + node.address().str()), std::string::npos) << m;
     EXPECT_NE(m.find("at macro step"), std::string::npos) << m;
@@ -89,7 +90,7 @@ test::FakeNode::Edit in_results(std::function<void(wire::Results&)> f) {
 
 TEST(ReplyCheck, AnHonestNodeIsBelieved) {
   test::FakeNode node("track", nullptr);
-  const RunRecord r = run_against(node);
+  const run::RunRecord r = run_against(node);
   EXPECT_EQ(r.status, "ok");
   EXPECT_EQ(r.deflection.size(), static_cast<std::size_t>(short_scene().rail_nodes()));
 }
@@ -212,13 +213,13 @@ TEST(ReplyCheck, ADrippingNodeMeetsTheDeadlineOfAWholeMessage) {
   test::FakeNode node(
       "track", [](const wire::Envelope& req, wire::Envelope&) { return req.has_step(); },
       milliseconds(40));
-  RemoteTimeouts t;
+  remote::RemoteTimeouts t;
   t.step_max = milliseconds(400);  // the first step's deadline
   const auto t0 = Clock::now();
   try {
     run_against(node, t);
     ADD_FAILURE() << "a node that drips its replies held the master";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     EXPECT_NE(std::string(e.what()).find("no reply within 400 ms at macro step 0"),
               std::string::npos)
         << e.what();
@@ -247,7 +248,7 @@ TEST(ReplyCheck, ASignalEndsAWaitOnANode) {
   try {
     run_against(node);
     ADD_FAILURE() << "the run ignored the signal";
-  } catch (const NodeFailure& e) {
+  } catch (const remote::NodeFailure& e) {
     caught = Clock::now();
     EXPECT_NE(std::string(e.what()).find("interrupted by signal 15"), std::string::npos)
         << e.what();

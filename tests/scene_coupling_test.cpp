@@ -24,9 +24,9 @@ namespace fs = std::filesystem;
 // The arguments of `master run ARGS` as the command line parses them.
 struct Parsed {
   CLI::App app;
-  RunArgs args;
+  cli::RunArgs args;
   explicit Parsed(const std::string& flags) {
-    add_run_command(app, args);
+    cli::add_run_command(app, args);
     app.parse("run --scene " + test::source_path("scenes/paper.toml") +
                   " --case wr-xx-gauss-seidel " + flags,
               false);
@@ -42,7 +42,7 @@ std::string word(const char* key) {
 
 TEST(SceneCoupling, TheTablesDefaultsAreTheFlagsDefaults) {
   const Parsed p("");
-  const RunArgs& a = p.args;
+  const cli::RunArgs& a = p.args;
   EXPECT_EQ(a.coupling, fallback("implicit") != 0.0 ? "implicit" : "explicit");
   EXPECT_EQ(a.inputs, word("inputs"));
   EXPECT_EQ(a.accelerator, word("accelerator"));
@@ -99,7 +99,7 @@ TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   const Scene scene = parse_scene(paper_with(kEveryKey), "coupling.toml");
   ASSERT_TRUE(scene.coupling.given);
   const Parsed p("--inputs hold --max-iterations 7 --data-plane direct");
-  const RunArgs a = with_scene_coupling(p.args, scene);
+  const cli::RunArgs a = cli::with_scene_coupling(p.args, scene);
   EXPECT_EQ(a.coupling, "implicit");
   EXPECT_EQ(a.inputs, "hold");  // the flag
   EXPECT_EQ(a.accelerator, "aitken");
@@ -110,14 +110,15 @@ TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   EXPECT_EQ(a.feedthrough, "resolved");
   EXPECT_EQ(a.data_plane, "direct");  // the flag
   EXPECT_EQ(a.window_steps, 40);
-  EXPECT_EQ(scene_coupling_note(p.args, scene),
+  EXPECT_EQ(cli::scene_coupling_note(p.args, scene),
             "; the scene's [coupling] (coupling.toml) set: implicit = true, accelerator = "
             "\"aitken\", relaxation = 0.25, convergence = 1e-06, reused_windows = 3, "
             "feedthrough = \"resolved\", window_steps = 40");
   // `implicit = false` is explicit coupling, even against a default.
   const Parsed q("");
   EXPECT_EQ(
-      with_scene_coupling(q.args, parse_scene(paper_with("implicit = false\n"), "e.toml")).coupling,
+      cli::with_scene_coupling(q.args, parse_scene(paper_with("implicit = false\n"), "e.toml"))
+          .coupling,
       "explicit");
 }
 
@@ -125,7 +126,7 @@ TEST(SceneCoupling, ASceneWithoutTheTableChangesNothing) {
   const Scene scene = test::paper_scene();
   EXPECT_FALSE(scene.coupling.given);
   const Parsed p("--inputs linear --relaxation 0.3");
-  const RunArgs a = with_scene_coupling(p.args, scene);
+  const cli::RunArgs a = cli::with_scene_coupling(p.args, scene);
   EXPECT_EQ(a.coupling, p.args.coupling);
   EXPECT_EQ(a.inputs, "linear");
   EXPECT_EQ(a.accelerator, p.args.accelerator);
@@ -136,7 +137,7 @@ TEST(SceneCoupling, ASceneWithoutTheTableChangesNothing) {
   EXPECT_EQ(a.feedthrough, p.args.feedthrough);
   EXPECT_EQ(a.data_plane, p.args.data_plane);
   EXPECT_EQ(a.window_steps, p.args.window_steps);
-  EXPECT_EQ(scene_coupling_note(p.args, scene), "");
+  EXPECT_EQ(cli::scene_coupling_note(p.args, scene), "");
 }
 
 TEST(SceneCoupling, BadValuesNameTheKey) {

@@ -12,6 +12,13 @@
 namespace railcosim {
 namespace {
 
+using engine::GaussSeidelSchedule;
+using engine::JacobiSchedule;
+using engine::make_routing;
+using engine::make_schedule;
+using engine::Routing;
+using engine::sends_force;
+
 // A participant that records calls in a shared log. It has `interfaces`
 // interfaces; the output on each is `state + the input held there`, sent as
 // a force if `sends_force`, else as a displacement; a step adds 1 to its

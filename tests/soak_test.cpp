@@ -31,16 +31,17 @@ TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
   const Scene scene = with_keys(load_scene(test::source_path("scenes/soil.toml")),
                                 {{"simulation.end_time", 0.005}});
   const std::vector<std::string> roles = {"vehicle", "track", "soil"};
-  std::map<std::string, std::unique_ptr<LaunchedNode>> nodes;
+  std::map<std::string, std::unique_ptr<remote::LaunchedNode>> nodes;
   std::map<std::string, Address> at;
   for (const std::string& role : roles) {
-    nodes[role] = std::make_unique<LaunchedNode>(role + "_node", std::chrono::seconds(10));
+    nodes[role] = std::make_unique<remote::LaunchedNode>(role + "_node", std::chrono::seconds(10));
     at[role] = nodes[role]->address();
   }
-  const ParticipantFactory tcp = [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    return std::make_unique<RemoteParticipant>(at.at(c.participant.role), scene, c);
+  const remote::ParticipantFactory tcp =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    return std::make_unique<remote::RemoteParticipant>(at.at(c.participant.role), scene, c);
   };
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   // Every session uses the three nodes; alternating the cuts builds and
@@ -51,7 +52,7 @@ TEST(Soak, TwoHundredSessionsDoNotGrowTheNodes) {
   std::map<std::string, long> warm;
   std::vector<double> first_deflection;
   for (int s = 0; s < 200; ++s) {
-    const RunRecord r = run_cosim(scene, cases[s % 2], o, tcp, "tcp");
+    const run::RunRecord r = run::run_cosim(scene, cases[s % 2], o, tcp, "tcp");
     ASSERT_EQ(r.status, "ok") << "session " << s << ": " << r.message;
     ASSERT_EQ(r.micro_steps.size(), 3u) << "session " << s;
     if (s == 0) first_deflection = r.deflection;

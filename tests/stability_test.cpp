@@ -14,6 +14,19 @@
 namespace railcosim {
 namespace {
 
+using run::assess;
+using run::classify_growth;
+using run::kGrossHistoryError;
+using run::kProbeMinSteps;
+using run::kProbeTime;
+using run::kUnstableGrowth;
+using run::parked_scene;
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+using run::Stability;
+
 constexpr double kDt = 1e-4;
 
 TEST(ClassifyGrowth, RoundOffStaysStable) {
@@ -64,13 +77,13 @@ TEST(ParkedScene, StandsStillForTheProbesLength) {
   EXPECT_NEAR(parked_scene(scene, 5e-3).end_time, scene.end_time, 1e-12);  // at most t_end
 }
 
-RunRecord assessed(const Scene& scene, const char* name, double H, CouplingOptions c = {}) {
+RunRecord assessed(const Scene& scene, const char* name, double H, engine::CouplingOptions c = {}) {
   RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
   o.coupling = c;
   const RunRecord reference = run_monolithic(scene, o);
-  RunRecord r = run_cosim(scene, parse_case(name), o, inproc_factory(scene), "inproc");
+  RunRecord r = run_cosim(scene, parse_case(name), o, remote::inproc_factory(scene), "inproc");
   assess(r, reference, scene, parse_case(name), o);
   return r;
 }
@@ -98,8 +111,8 @@ TEST(StabilityProbe, TellsTheUnstableCouplings) {
   EXPECT_EQ(j.status, "amplified") << j.message;
   EXPECT_NE(j.message.find("unstable"), std::string::npos) << j.message;
 
-  CouplingOptions linear;
-  linear.inputs = InputMode::kLinear;
+  engine::CouplingOptions linear;
+  linear.inputs = engine::InputMode::kLinear;
   const RunRecord gs = assessed(scene, "wr-xt-gauss-seidel", scene.macro_step, linear);
   EXPECT_EQ(gs.stability, "unstable");
   EXPECT_EQ(gs.status, "amplified") << gs.message;
@@ -127,8 +140,8 @@ TEST(StabilityProbe, AWheelThatBouncesIsAmplified) {
 // An implicit run with unconverged macro steps says so, whatever its error.
 TEST(StabilityProbe, NotConvergedStaysTheVerdict) {
   const Scene scene = test::paper_scene();
-  CouplingOptions c;
-  c.method = CouplingMethod::kImplicit;
+  engine::CouplingOptions c;
+  c.method = engine::CouplingMethod::kImplicit;
   c.max_iterations = 2;
   c.convergence = 1e-14;
   const RunRecord r = assessed(scene, "rs-xx-jacobi", 1e-3, c);
@@ -142,9 +155,9 @@ TEST(StabilityProbe, NotConvergedStaysTheVerdict) {
 // against round-off it looked 1000-fold grown.
 TEST(StabilityProbe, ImplicitCouplingIsMeasuredFromItsConvergence) {
   const Scene scene = test::paper_scene();
-  CouplingOptions c;
-  c.method = CouplingMethod::kImplicit;
-  c.inputs = InputMode::kLinear;
+  engine::CouplingOptions c;
+  c.method = engine::CouplingMethod::kImplicit;
+  c.inputs = engine::InputMode::kLinear;
   const RunRecord r = assessed(scene, "rs-xt-jacobi", 1e-3, c);
   EXPECT_EQ(r.stability, "stable");
   EXPECT_EQ(r.status, "ok") << r.message;

@@ -29,8 +29,8 @@ std::string plan_of(const std::string& name, Feedthrough feedthrough = Feedthrou
     force.push_back(f);
     roles.push_back(p.role);
   }
-  const StepPlan plan =
-      plan_steps(make_routing(specs), {spec.scheme, feedthrough, implicit}, force);
+  const engine::StepPlan plan =
+      engine::plan_steps(engine::make_routing(specs), {spec.scheme, feedthrough, implicit}, force);
   return plan.describe(roles);
 }
 

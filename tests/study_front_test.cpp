@@ -17,9 +17,9 @@ namespace {
 const char* kLinear = "rs-xx-jacobi+implicit-linear-iqn-ils";
 const char* kCubic = "rs-xx-jacobi+implicit-waveform3-iqn-ils";
 
-StudyRun run(const std::string& method, const std::string& transport, double H, double wall,
-             double error) {
-  StudyRun r;
+study::StudyRun study_run(const std::string& method, const std::string& transport, double H,
+                          double wall, double error) {
+  study::StudyRun r;
   r.group = "sweep";
   r.folder = transport + "/" + method + "/" + std::to_string(H);
   r.method = method;
@@ -37,9 +37,9 @@ StudyRun run(const std::string& method, const std::string& transport, double H, 
   return r;
 }
 
-const FrontRow& row(const std::vector<FrontRow>& front, const std::string& cut,
-                    const std::string& transport, double level) {
-  for (const FrontRow& r : front)
+const study::FrontRow& row(const std::vector<study::FrontRow>& front, const std::string& cut,
+                           const std::string& transport, double level) {
+  for (const study::FrontRow& r : front)
     if (r.cut == cut && r.transport == transport && r.level == level) return r;
   throw std::runtime_error("no front row " + cut + " " + transport);
 }
@@ -47,15 +47,15 @@ const FrontRow& row(const std::vector<FrontRow>& front, const std::string& cut,
 // In process, the cubic waveform reaching 1e-4 in half the time of the
 // linear inputs is the answer at 1e-4; at 1e-3 the cheaper linear run is.
 TEST(StudyFront, AWaveformRunIsTheAnswerWhereItIsCheapest) {
-  const std::vector<StudyRun> runs{run(kLinear, "inproc", 5e-4, 0.5, 5e-4),
-                                   run(kLinear, "inproc", 1e-4, 2.0, 5e-5),
-                                   run(kCubic, "inproc", 5e-4, 1.0, 5e-5)};
-  const auto front = study_front(runs, "inproc");
+  const std::vector<study::StudyRun> runs{study_run(kLinear, "inproc", 5e-4, 0.5, 5e-4),
+                                          study_run(kLinear, "inproc", 1e-4, 2.0, 5e-5),
+                                          study_run(kCubic, "inproc", 5e-4, 1.0, 5e-5)};
+  const auto front = study::study_front(runs, "inproc");
   EXPECT_EQ(row(front, "rs", "inproc", 1e-3).run, &runs[0]);
   EXPECT_EQ(row(front, "rs", "inproc", 1e-4).run, &runs[2]);
   EXPECT_EQ(row(front, "rs", "inproc", 1e-5).run, nullptr);
   std::ostringstream md;
-  write_answer(md, front, "inproc");
+  study::write_answer(md, front, "inproc");
   EXPECT_NE(md.str().find(std::string("`") + kCubic + "`, H = 0.0005 s"), std::string::npos)
       << md.str();
   EXPECT_EQ(md.str().find("in process\" hold"), std::string::npos) << md.str();
@@ -65,15 +65,15 @@ TEST(StudyFront, AWaveformRunIsTheAnswerWhereItIsCheapest) {
 // yet the TCP column keeps its own cheapest; the waveform run is the answer
 // of the cut's column "in process", and the headline names no in-process run.
 TEST(StudyFront, InProcessRunsOfATcpStudyAreComparedOnlyWithEachOther) {
-  const std::vector<StudyRun> runs{run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
-                                   run(kCubic, "inproc", 5e-4, 0.2, 5e-5)};
-  const auto front = study_front(runs, "tcp");
+  const std::vector<study::StudyRun> runs{study_run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
+                                          study_run(kCubic, "inproc", 5e-4, 0.2, 5e-5)};
+  const auto front = study::study_front(runs, "tcp");
   EXPECT_EQ(row(front, "rs", "tcp", 1e-4).run, &runs[0]);
   EXPECT_EQ(row(front, "rs", "inproc", 1e-4).run, &runs[1]);
-  EXPECT_EQ(front_column(row(front, "rs", "inproc", 1e-4), "tcp"), "rs cut, in process");
-  EXPECT_EQ(front_column(row(front, "rs", "tcp", 1e-4), "tcp"), "rs cut");
+  EXPECT_EQ(study::front_column(row(front, "rs", "inproc", 1e-4), "tcp"), "rs cut, in process");
+  EXPECT_EQ(study::front_column(row(front, "rs", "tcp", 1e-4), "tcp"), "rs cut");
   std::ostringstream md;
-  write_answer(md, front, "tcp");
+  study::write_answer(md, front, "tcp");
   const std::string text = md.str();
   EXPECT_NE(text.find("| rs cut | rs cut, in process |"), std::string::npos) << text;
   const std::string headline = text.substr(text.find("The fastest of all"));
@@ -84,12 +84,12 @@ TEST(StudyFront, InProcessRunsOfATcpStudyAreComparedOnlyWithEachOther) {
 // Stage 2 reruns the cheapest runs over the other transport: never a run
 // that can travel in process only.
 TEST(StudyFront, StageTwoNeverPlansAWaveformRunOverTcp) {
-  StudyPlan stage1;
+  study::StudyPlan stage1;
   stage1.transport = "tcp";
-  std::vector<StudyRun> runs{run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
-                             run(kCubic, "inproc", 5e-4, 0.2, 5e-6)};
-  for (const StudyRun& r : runs) {
-    PlannedRun p;
+  std::vector<study::StudyRun> runs{study_run(kLinear, "tcp", 1e-4, 3.0, 5e-5),
+                                    study_run(kCubic, "inproc", 5e-4, 0.2, 5e-6)};
+  for (const study::StudyRun& r : runs) {
+    study::PlannedRun p;
     p.folder = r.folder + "/rs-xx-jacobi";
     p.group = r.group;
     p.method = r.method;
@@ -98,7 +98,7 @@ TEST(StudyFront, StageTwoNeverPlansAWaveformRunOverTcp) {
     p.macro_step = r.record.macro_step;
     stage1.runs.push_back(p);
   }
-  const StudyPlan second = other_transport_plan(stage1, runs);
+  const study::StudyPlan second = study::other_transport_plan(stage1, runs);
   ASSERT_EQ(second.runs.size(), 1u);
   EXPECT_EQ(second.runs[0].method, kLinear);
   EXPECT_EQ(second.runs[0].transport, "inproc");
@@ -109,22 +109,22 @@ TEST(StudyFront, StageTwoNeverPlansAWaveformRunOverTcp) {
 TEST(StudyFront, SlopeIsTheLeastSquaresFitOfLogErrorOnLogH) {
   std::vector<std::pair<double, double>> xy;
   for (double H : {1e-4, 2e-4, 5e-4, 1e-3}) xy.emplace_back(H, 3 * std::pow(H, 2.7));
-  ASSERT_TRUE(log_log_slope(xy).has_value());
-  EXPECT_NEAR(*log_log_slope(xy), 2.7, 1e-12);
+  ASSERT_TRUE(study::log_log_slope(xy).has_value());
+  EXPECT_NEAR(*study::log_log_slope(xy), 2.7, 1e-12);
   // x = 1, e, e^2 and log y = 0, 1, 3: slope sum((x-1)(y-4/3)) / sum((x-1)^2) = 3/2.
   const double e = std::exp(1.0);
-  EXPECT_NEAR(*log_log_slope({{1, 1}, {e, e}, {e * e, e * e * e}}), 1.5, 1e-12);
-  EXPECT_FALSE(log_log_slope({{1e-4, 1e-3}}).has_value());
-  EXPECT_FALSE(log_log_slope({{1e-4, 1e-3}, {1e-4, 2e-3}}).has_value());
+  EXPECT_NEAR(*study::log_log_slope({{1, 1}, {e, e}, {e * e, e * e * e}}), 1.5, 1e-12);
+  EXPECT_FALSE(study::log_log_slope({{1e-4, 1e-3}}).has_value());
+  EXPECT_FALSE(study::log_log_slope({{1e-4, 1e-3}, {1e-4, 2e-3}}).has_value());
 
-  std::vector<StudyRun> runs;
+  std::vector<study::StudyRun> runs;
   for (double H : {1e-3, 1e-4, 5e-4}) {
-    runs.push_back(run(kCubic, "inproc", H, 1, 2 * std::pow(H, 3.0)));
-    runs.push_back(run(kLinear, "tcp", H, 1, 5 * std::pow(H, 2.0)));
+    runs.push_back(study_run(kCubic, "inproc", H, 1, 2 * std::pow(H, 3.0)));
+    runs.push_back(study_run(kLinear, "tcp", H, 1, 5 * std::pow(H, 2.0)));
   }
-  runs.push_back(run("rs-xx-jacobi", "tcp", 1e-4, 1, 1e-3));  // explicit: not in the table
+  runs.push_back(study_run("rs-xx-jacobi", "tcp", 1e-4, 1, 1e-3));  // explicit: not in the table
   runs.back().record.method = "explicit";
-  const auto rows = error_slopes(runs);
+  const auto rows = study::error_slopes(runs);
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].inputs, "linear");  // hold, linear, waveform0..3
   EXPECT_EQ(rows[1].inputs, "waveform3");

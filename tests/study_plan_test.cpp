@@ -176,13 +176,13 @@ TEST_F(StudyPlanTest, EveryRunKindIsACompleteCommandThatReadsBack) {
   EXPECT_EQ(carry.micro_steps, 10);
   EXPECT_EQ(carry.restart, "carry");
   // Read back and written again: the same command lines.
-  StudyPlan p = read_plan(dir_ / "plan.txt");
+  study::StudyPlan p = study::read_plan(dir_ / "plan.txt");
   std::istringstream in(text);
   std::size_t k = 0;
   for (std::string line; std::getline(in, line);) {
     if (line.empty() || line[0] == '#') continue;
     ASSERT_LT(k, p.runs.size());
-    EXPECT_EQ(line.substr(0, line.find(" #% ")), command_line(p, p.runs[k])) << line;
+    EXPECT_EQ(line.substr(0, line.find(" #% ")), study::command_line(p, p.runs[k])) << line;
     ++k;
   }
   EXPECT_EQ(k, p.runs.size());

@@ -208,11 +208,12 @@ TEST_F(StudyTest, StabilityMapAgreesWithADirectRunOfTheSameCell) {
        {std::pair{"wr-xt-jacobi", 5e-4}, std::pair{"rs-xx-jacobi", 5e-4}}) {
     const std::string json =
         read_file(dir_ / "out" / "sweep" / "H_0.0005" / method / "summary.json");
-    RunOptions o;
+    run::RunOptions o;
     o.macro_step = H;
     o.tolerance = scene.tolerance;
-    RunRecord direct = run_cosim(scene, parse_case(method), o, inproc_factory(scene), "inproc");
-    assess(direct, run_monolithic(scene, o), scene, parse_case(method), o);
+    run::RunRecord direct =
+        run::run_cosim(scene, parse_case(method), o, remote::inproc_factory(scene), "inproc");
+    run::assess(direct, run::run_monolithic(scene, o), scene, parse_case(method), o);
     EXPECT_EQ(json_value(json, "status"), direct.status) << method;
   }
 }

@@ -20,6 +20,13 @@
 namespace railcosim {
 namespace {
 
+using engine::CouplingMethod;
+using engine::CouplingOptions;
+using engine::InputMode;
+using engine::parse_input_mode;
+using engine::waveform_degree;
+using engine::zero_inputs;
+
 CouplingOptions coupling(CouplingMethod method, InputMode inputs, double convergence = 1e-10) {
   CouplingOptions c;
   c.method = method;
@@ -93,7 +100,7 @@ TEST(SubstepWaveform, WithTheSameMicroStepsImplicitCouplingIsTheMonolithicRun) {
   const Scene scene = paper(0.02, 4);
   for (const char* name : {"rs-xx-gauss-seidel", "wr-xx-gauss-seidel", "wr-xt-gauss-seidel",
                            "rs-xx-jacobi", "wr-xt-jacobi"}) {
-    const RunRecord r =
+    const run::RunRecord r =
         judged(scene, name, 1e-3, coupling(CouplingMethod::kImplicit, InputMode::kWaveform1));
     ASSERT_EQ(r.status, "ok") << name << ": " << r.message;
     EXPECT_LT(*r.rel_l2_error, 1e-8) << name;
@@ -106,11 +113,11 @@ TEST(SubstepWaveform, ImplicitErrorFallsWithTheDegree) {
   // integrators' own difference (~2e-5 at the scene's 1e-7 m) below the
   // coupling error.
   const Scene scene = paper(0.05, 0, 1e-9);
-  const RunRecord lin = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                               coupling(CouplingMethod::kImplicit, InputMode::kLinear, 1e-8));
+  const run::RunRecord lin = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                    coupling(CouplingMethod::kImplicit, InputMode::kLinear, 1e-8));
   std::vector<double> errs;
   for (InputMode m : {InputMode::kWaveform0, InputMode::kWaveform1, InputMode::kWaveform3}) {
-    const RunRecord r =
+    const run::RunRecord r =
         judged(scene, "rs-xx-gauss-seidel", 1e-3, coupling(CouplingMethod::kImplicit, m, 1e-8));
     // Held samples are first order in the micro step and converge slowly.
     if (m != InputMode::kWaveform0) {
@@ -127,10 +134,10 @@ TEST(SubstepWaveform, ImplicitErrorFallsWithTheDegree) {
 
 TEST(SubstepWaveform, ExplicitGaussSeidelTakesTheFreshSamples) {
   const Scene scene = paper(0.05);
-  const RunRecord hold = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                                coupling(CouplingMethod::kExplicit, InputMode::kLinear));
-  const RunRecord wave = judged(scene, "rs-xx-gauss-seidel", 1e-3,
-                                coupling(CouplingMethod::kExplicit, InputMode::kWaveform3));
+  const run::RunRecord hold = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                     coupling(CouplingMethod::kExplicit, InputMode::kLinear));
+  const run::RunRecord wave = judged(scene, "rs-xx-gauss-seidel", 1e-3,
+                                     coupling(CouplingMethod::kExplicit, InputMode::kWaveform3));
   ASSERT_EQ(wave.status, "ok") << wave.message;
   EXPECT_LT(*wave.rel_l2_error, *hold.rel_l2_error);
 }
@@ -138,10 +145,10 @@ TEST(SubstepWaveform, ExplicitGaussSeidelTakesTheFreshSamples) {
 TEST(SubstepWaveform, TheModesRunInProcessAndOverTcpOnly) {
   // Over tcp the runner relays them (tcp_waveform_test.cpp runs them there).
   CouplingOptions c = coupling(CouplingMethod::kImplicit, InputMode::kWaveform3);
-  EXPECT_NO_THROW(check_transport(c, "inproc"));
-  EXPECT_NO_THROW(check_transport(c, "tcp"));
+  EXPECT_NO_THROW(remote::check_transport(c, "inproc"));
+  EXPECT_NO_THROW(remote::check_transport(c, "tcp"));
   try {
-    check_transport(c, "carrier-pigeon");
+    remote::check_transport(c, "carrier-pigeon");
     FAIL() << "a waveform coupling on an unknown transport";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -149,7 +156,7 @@ TEST(SubstepWaveform, TheModesRunInProcessAndOverTcpOnly) {
               "plane), not over the carrier-pigeon transport (use --transport inproc or tcp)");
   }
   c.inputs = InputMode::kLinear;
-  EXPECT_NO_THROW(check_transport(c, "carrier-pigeon"));
+  EXPECT_NO_THROW(remote::check_transport(c, "carrier-pigeon"));
 }
 
 }  // namespace

@@ -26,6 +26,15 @@
 namespace railcosim {
 namespace {
 
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::LaunchedNode;
+using remote::NodeFailure;
+using remote::NodePool;
+using remote::RemoteParticipant;
+using remote::RemoteTimeouts;
+using remote::tcp_transport;
+
 namespace fs = std::filesystem;
 
 // The soil scene shortened to 0.05 s (500 macro steps of 1e-4 s): long
@@ -44,15 +53,16 @@ using test::config_of;
 void expect_tcp_equals_inproc(const Scene& scene, const std::string& name, Feedthrough feedthrough,
                               NodePool& pool, DataPlane plane = DataPlane::kDirect,
                               long window_steps = 0) {
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   o.feedthrough = feedthrough;
   o.data_plane = plane;
   o.direct.window_steps = window_steps;
   const CaseSpec spec = parse_case(name);
-  const RunRecord local = run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
-  const RunRecord remote = run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
+  const run::RunRecord local = run::run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
+  const run::RunRecord remote =
+      run::run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
   ASSERT_EQ(remote.status, local.status) << remote.message;
   EXPECT_EQ(remote.macro_steps, local.macro_steps);
   EXPECT_EQ(remote.macro_steps, scene.macro_steps());
@@ -201,11 +211,11 @@ TEST(TcpMaster, ARunWithAGivenSoilNodeEqualsTheInProcessRun) {
 TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
   const Scene scene = with_keys(test::paper_scene(), {{"simulation.end_time", 0.001}});
   NodePool pool;
-  RunOptions o;
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = 1e-30;  // no step can meet it
-  const RunRecord r = run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o,
-                                tcp_transport(scene, {}, pool).factory, "tcp");
+  const run::RunRecord r = run::run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o,
+                                          tcp_transport(scene, {}, pool).factory, "tcp");
   EXPECT_EQ(r.status, "diverged");
   EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;

@@ -22,6 +22,18 @@
 namespace railcosim {
 namespace {
 
+using engine::AcceleratorKind;
+using engine::CouplingMethod;
+using engine::InputMode;
+using engine::zero_inputs;
+
+using remote::DataPlane;
+using remote::inproc_factory;
+using remote::NodePool;
+using remote::RemoteParticipant;
+using remote::SceneTransport;
+using remote::tcp_transport;
+
 // 300 macro steps of the paper scene. A tolerance 100 times tighter than
 // the scene's makes every participant take several adaptive micro steps,
 // at times that differ between them: a receiver evaluates its waveforms
@@ -33,9 +45,9 @@ Scene short_paper() {
   return s;
 }
 
-RunOptions waveform_run(const Scene& scene, InputMode inputs, CouplingMethod method,
-                        Feedthrough feedthrough) {
-  RunOptions o;
+run::RunOptions waveform_run(const Scene& scene, InputMode inputs, CouplingMethod method,
+                             Feedthrough feedthrough) {
+  run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   o.feedthrough = feedthrough;
@@ -47,14 +59,15 @@ RunOptions waveform_run(const Scene& scene, InputMode inputs, CouplingMethod met
   return o;
 }
 
-void expect_tcp_equals_inproc(const Scene& scene, const char* name, RunOptions o, NodePool& pool) {
+void expect_tcp_equals_inproc(const Scene& scene, const char* name, run::RunOptions o,
+                              NodePool& pool) {
   const CaseSpec spec = parse_case(name);
-  const RunRecord local = run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
+  const run::RunRecord local = run::run_cosim(scene, spec, o, inproc_factory(scene), "inproc");
   ASSERT_EQ(local.status, "ok") << name << ": " << local.message;
   for (DataPlane plane : {DataPlane::kRelay, DataPlane::kDirect}) {
     o.data_plane = plane;
-    const RunRecord remote =
-        run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
+    const run::RunRecord remote =
+        run::run_cosim(scene, spec, o, tcp_transport(scene, {}, pool).factory, "tcp");
     const std::string what = std::string(name) + " " + o.coupling.label() + " " + to_string(plane);
     ASSERT_EQ(remote.status, "ok") << what << ": " << remote.message;
     EXPECT_EQ(remote.data_plane, to_string(plane)) << what;
@@ -191,11 +204,11 @@ TEST(TcpWaveformRefused, ANodeThatTakesNoWaveformsIsNamed) {
   const Scene scene = short_paper();
   NodePool pool;
   const SceneTransport tcp = tcp_transport(scene, {{"track", server.local_address()}}, pool);
-  const RunOptions o =
+  const run::RunOptions o =
       waveform_run(scene, InputMode::kWaveform1, CouplingMethod::kExplicit, Feedthrough::kLagged);
   std::string what;
   try {
-    run_cosim(scene, parse_case("rs-xx-gauss-seidel"), o, tcp.factory, tcp.name);
+    run::run_cosim(scene, parse_case("rs-xx-gauss-seidel"), o, tcp.factory, tcp.name);
   } catch (const std::exception& e) {
     what = e.what();
   }

@@ -16,6 +16,17 @@
 namespace railcosim {
 namespace {
 
+using remote::find_transport;
+using remote::is_remote_transport;
+using remote::make_transport;
+using remote::NodePool;
+using remote::other_transport;
+using remote::parse_transport;
+using remote::SceneTransport;
+using remote::tcp_transport;
+using remote::Transport;
+using remote::transport_names;
+
 TEST(TransportTable, NamesTheTransportsUsersGive) {
   EXPECT_EQ(transport_names(), (std::vector<std::string>{"inproc", "tcp"}));
   for (const std::string& name : transport_names()) {
@@ -65,10 +76,10 @@ TEST(TransportTable, AStudyPlanNamingNoTransportIsRefusedWithItsLine) {
       std::filesystem::temp_directory_path() / "railcosim_transport_test_plan.txt";
   {
     std::ofstream out(file);
-    out << "#% format = " << kPlanFormat << "\n#% transport = udp\n";
+    out << "#% format = " << study::kPlanFormat << "\n#% transport = udp\n";
   }
   try {
-    read_plan(file);
+    study::read_plan(file);
     FAIL() << "read a plan over transport udp";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),

@@ -25,6 +25,11 @@
 namespace railcosim {
 namespace vehicle_engine_test {
 
+using run::run_cosim;
+using run::run_monolithic;
+using run::RunOptions;
+using run::RunRecord;
+
 std::string read(const std::string& relative) {
   std::ifstream f(test::source_path(relative));
   std::stringstream s;
@@ -136,7 +141,7 @@ TEST_P(CarInterfaceStatics, EqualsTheGlobalStaticSolution) {
   const Scene s = scene_of(read("scenes/car_irregular.toml"));
   test::InprocCase c = test::inproc_case_at_statics(s, GetParam());
   const std::vector<Participant*>& ps = c.ps;
-  const StaticsOutcome& out = c.statics;
+  const engine::StaticsOutcome& out = c.statics;
   for (std::size_t p = 0; p < ps.size(); ++p) ps[p]->initialize(out.inputs[p]);
   std::vector<std::unique_ptr<Subsystem>> whole;
   Structure st;
@@ -262,7 +267,8 @@ TEST(CarRun, DeflectionSelfConvergesAsTheToleranceTightens) {
   std::vector<double> errs;
   for (double tol : {1e-8, 1e-9, 1e-10}) {
     o.tolerance = tol;
-    errs.push_back(deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
+    errs.push_back(
+        run::deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
   }
   // Measured 2.5e-7, 1.3e-7, 6.8e-8: a factor 1.9 per decade of tolerance;
   // 1.5 leaves room for the step-size pattern, which changes with it.
@@ -352,8 +358,8 @@ TEST(CarCosim, ConvergesToTheMonolithicSolutionAsTheMacroStepShrinks) {
     for (double H : {2e-4, 1e-4, 5e-5}) {
       const RunOptions o = options(s, H);
       const RunRecord ref = run_monolithic(s, o);
-      RunRecord r = run_cosim(s, parse_case(name), o, inproc_factory(s), "inproc");
-      judge(r, ref, s);
+      RunRecord r = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
+      run::judge(r, ref, s);
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(*r.history_error);
     }
@@ -371,11 +377,11 @@ TEST(CarCosim, FourWheelsOverTcpAreBitwiseEqualToInProcess) {
                  "[irregularity]\nmodel = \"random\"\nfra_class = 6\nwavelength_min = 1.524\n"
                  "wavelength_max = 30.0\nseed = 7\ncomponents = 256\n");
   const Scene s = scene_of(t);
-  NodePool pool;
-  const SceneTransport tcp = tcp_transport(s, {}, pool);
+  remote::NodePool pool;
+  const remote::SceneTransport tcp = remote::tcp_transport(s, {}, pool);
   for (const char* name : {"wr-xx-jacobi", "wr-xt-gauss-seidel"}) {
     const RunOptions o = options(s, s.macro_step);
-    const RunRecord local = run_cosim(s, parse_case(name), o, inproc_factory(s), "inproc");
+    const RunRecord local = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
     const RunRecord remote = run_cosim(s, parse_case(name), o, tcp.factory, "tcp");
     ASSERT_EQ(remote.status, "ok") << remote.message;
     ASSERT_EQ(local.status, "ok") << local.message;

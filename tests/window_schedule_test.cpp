@@ -10,6 +10,20 @@
 namespace railcosim {
 namespace window_schedule_test {
 
+using engine::Accelerator;
+using engine::AcceleratorKind;
+using engine::AcceleratorOptions;
+using engine::CouplingMethod;
+using engine::CouplingOptions;
+using engine::InputMode;
+using engine::make_accelerator;
+using engine::make_schedule;
+using engine::parse_accelerator;
+using engine::Route;
+using engine::Routing;
+using engine::Schedule;
+using engine::WindowSchedule;
+
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 

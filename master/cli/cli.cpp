@@ -14,7 +14,7 @@
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 // Set by SIGINT/SIGTERM: runs stop at the next macro step and leave a
@@ -86,4 +86,4 @@ int master_main(int argc, char** argv) {
   return 0;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -5,7 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 
-namespace railcosim {
+namespace railcosim::cli {
 
 // Adds --check to a command: read and check everything, do nothing.
 void add_check_flag(CLI::App& command, bool& check);
@@ -19,4 +19,4 @@ const std::atomic<int>* stop_flag();
 // scene error.
 int master_main(int argc, char** argv);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

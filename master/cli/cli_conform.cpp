@@ -12,7 +12,7 @@
 #include "cli/conform.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 
 void add_conform_command(CLI::App& app, ConformArgs& a) {
   a.command = app.add_subcommand(
@@ -71,4 +71,4 @@ int do_conform(const ConformArgs& a) {
   return report_conformance(run_conformance(o), o);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

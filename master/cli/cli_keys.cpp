@@ -9,7 +9,7 @@
 #include "scene_checks.hpp"
 #include "scene_keys.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 std::string shortest(double v) {
@@ -148,4 +148,4 @@ int do_keys(const KeysArgs& a) {
   return std::fflush(stdout) == 0 ? 0 : 1;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -9,7 +9,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct KeysArgs {
   CLI::App* command = nullptr;
@@ -27,4 +27,4 @@ void add_keys_command(CLI::App& app, KeysArgs& a);
 // Prints the reference to stdout; the exit status.
 int do_keys(const KeysArgs& a);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

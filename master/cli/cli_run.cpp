@@ -38,10 +38,10 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
-void print_summary(const RunRecord& r, const std::filesystem::path& dir) {
+void print_summary(const run::RunRecord& r, const std::filesystem::path& dir) {
   std::printf("%s: %s", r.case_name.c_str(), r.status.c_str());
   if (r.rel_l2_error && r.case_name != "monolithic")
     std::printf(", rel. L2 error %.3e, max |error| %.3e m", *r.rel_l2_error, *r.max_abs_error_m);
@@ -74,9 +74,9 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
             "the scene's soil is external (soil.model = \"external\"): start its program and "
             "give its address with --node " +
             p.role + "=HOST:PORT" +
-            (is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
+            (remote::is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
   // The FE soil is a program of its own too, which the master starts over TCP.
-  if (scene.soil_model == "fe" && !spec.monolithic && !is_remote_transport(a.transport))
+  if (scene.soil_model == "fe" && !spec.monolithic && !remote::is_remote_transport(a.transport))
     throw std::invalid_argument(
         "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
         "master starts over TCP: use --transport tcp (the default), not --transport inproc");
@@ -85,7 +85,7 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
     throw std::invalid_argument(
         "the monolithic case runs inside the master: it uses no nodes, so --node, --vehicle and "
         "--track do not apply");
-  if (!is_remote_transport(a.transport))
+  if (!remote::is_remote_transport(a.transport))
     throw std::invalid_argument("--node, --vehicle and --track need --transport tcp");
   std::string roles;
   const auto parts = partition(scene, spec);
@@ -151,17 +151,17 @@ CaseSpec parse_case_of(const std::string& name, const Scene& scene) {
 
 // The options of the run from the command line and the scene; checks that
 // they fit each other and the case.
-RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spec) {
-  RunOptions o;
+run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spec) {
+  run::RunOptions o;
   o.macro_step = a.macro_step > 0 ? a.macro_step : scene.macro_step;
   o.tolerance = a.tolerance > 0 ? a.tolerance : scene.tolerance;
   o.feedthrough = *parse_feedthrough(a.feedthrough);
   o.coupling = a.c;
-  o.coupling.method = parse_coupling_method(a.coupling, "--coupling");
-  o.coupling.inputs = parse_input_mode(a.inputs, "--inputs");
-  o.coupling.accelerator.kind = parse_accelerator(a.accelerator, "--accelerator");
+  o.coupling.method = engine::parse_coupling_method(a.coupling, "--coupling");
+  o.coupling.inputs = engine::parse_input_mode(a.inputs, "--inputs");
+  o.coupling.accelerator.kind = engine::parse_accelerator(a.accelerator, "--accelerator");
   check(o.coupling);
-  o.data_plane = parse_data_plane(a.data_plane);
+  o.data_plane = remote::parse_data_plane(a.data_plane);
   o.direct.window_steps = a.window_steps;
   if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(
@@ -174,7 +174,7 @@ RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec& spe
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   check_case_for_scene(spec, scene);
-  if (!spec.monolithic) check_transport(o.coupling, a.transport);
+  if (!spec.monolithic) remote::check_transport(o.coupling, a.transport);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
@@ -203,7 +203,7 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
       ->capture_default_str();
   run->add_option("--accelerator", a.accelerator,
                   "Implicit coupling: constant (under-relaxation), aitken or iqn-ils")
-      ->check(CLI::IsMember(accelerator_names()))
+      ->check(CLI::IsMember(engine::accelerator_names()))
       ->capture_default_str();
   run->add_option("--relaxation", a.c.accelerator.relaxation,
                   "Implicit: the constant factor, and the first factor of aitken and iqn-ils")
@@ -257,7 +257,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   add_coupling_options(*run, a);
   run->add_option("--transport", a.transport,
                   "inproc: both subsystems inside the master; tcp: each in its own node process")
-      ->check(CLI::IsMember(transport_names()))
+      ->check(CLI::IsMember(remote::transport_names()))
       ->capture_default_str();
   run->add_option("--data-plane", a.data_plane,
                   "tcp: direct (explicit coupling with held inputs: the nodes send each other "
@@ -290,11 +290,11 @@ void add_run_command(CLI::App& app, RunArgs& a) {
 }
 
 // master --check run: what the run would be, once every input is read.
-int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec, const RunOptions& o,
-                const std::map<std::string, Address>& given) {
+int print_check(const RunArgs& a, const Scene& scene, const CaseSpec& spec,
+                const run::RunOptions& o, const std::map<std::string, Address>& given) {
   if (!a.token_file.empty()) read_token_file(a.token_file);
   std::string where = spec.monolithic ? "in process" : "over " + a.transport;
-  if (!spec.monolithic && is_remote_transport(a.transport))
+  if (!spec.monolithic && remote::is_remote_transport(a.transport))
     where += " (" + a.data_plane + " data plane)";
   for (const auto& [role, address] : given) where += ", " + role + " at " + address.str();
   std::printf("check: would run %s of %s (H = %g s, tolerance %g m, %s coupling) %s; writing %s\n",
@@ -311,7 +311,7 @@ int do_run(const RunArgs& command_line) {
   const RunArgs a = with_scene_coupling(command_line, scene);
   if (!a.restart.empty()) scene = with_keys(scene, {{"simulation.restart", a.restart}});
   const CaseSpec spec = parse_case_of(a.case_name, scene);
-  RunOptions o;
+  run::RunOptions o;
   try {
     o = run_options(a, scene, spec);
   } catch (const std::invalid_argument& e) {
@@ -320,8 +320,8 @@ int do_run(const RunArgs& command_line) {
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   if (a.check) return print_check(a, scene, spec, o, given);
 
-  NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
-  RunJob job;
+  remote::NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones
+  run::RunJob job;
   job.scene = &scene;
   job.spec = spec;
   job.options = o;
@@ -331,11 +331,11 @@ int do_run(const RunArgs& command_line) {
   if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
   job.out = a.out;
   job.folder = spec.name();
-  RunRecord reference;
-  job.reference = [&]() -> const RunRecord& {
+  run::RunRecord reference;
+  job.reference = [&]() -> const run::RunRecord& {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),
               o.macro_step, o.tolerance);
-    reference = run_monolithic(scene, o);
+    reference = run::run_monolithic(scene, o);
     return reference;
   };
   if (scene.soil_model == "fe")  // it writes its measures next to the run's files
@@ -344,15 +344,15 @@ int do_run(const RunArgs& command_line) {
     };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
   job.on_progress = [progress](long done, long total) { (*progress)(done, total); };
-  const RunOutcome run = execute(job);
+  const run::RunOutcome outcome = run::execute(job);
   progress->end();
-  if (!run.error.empty()) {
+  if (!outcome.error.empty()) {
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
-                 spec.name().c_str(), run.error.c_str(), run.dir.string().c_str());
+                 spec.name().c_str(), outcome.error.c_str(), outcome.dir.string().c_str());
     return 1;
   }
-  print_summary(run.record, run.dir);
+  print_summary(outcome.record, outcome.dir);
   return 0;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

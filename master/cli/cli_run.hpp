@@ -11,7 +11,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct RunArgs {
   CLI::App* command = nullptr;
@@ -21,7 +21,7 @@ struct RunArgs {
   double tolerance = 0;   // 0: from the scene
   std::string feedthrough = "lagged";
   std::string restart;  // empty: from the scene
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::string vehicle, track;
   std::vector<std::string> nodes;  // ROLE=HOST:PORT
   std::string out = "results";
@@ -29,8 +29,8 @@ struct RunArgs {
   std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
   std::string data_plane = "direct";
   long window_steps = 0;
-  CouplingOptions c;   // the numbers; the names above are parsed into it
-  bool check = false;  // master --check: stop once everything is read and checked
+  engine::CouplingOptions c;  // the numbers; the names above are parsed into it
+  bool check = false;         // master --check: stop once everything is read and checked
 };
 
 // Adds `run` to the master's command line, filling `a`.
@@ -38,4 +38,4 @@ void add_run_command(CLI::App& app, RunArgs& a);
 // Runs the case; the exit status (0 finished, 1 failed; usage errors throw).
 int do_run(const RunArgs& a);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

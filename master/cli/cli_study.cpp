@@ -35,16 +35,16 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 // Prints what a collection found; the exit status: 0 complete, 1 runs
 // missing or failed, 3 only stage 2 of the plan left to run.
-int report_collected(const CollectedStudy& c, const std::filesystem::path& out,
+int report_collected(const study::CollectedStudy& c, const std::filesystem::path& out,
                      const std::string& what, double wall) {
   std::printf("%s: %zu runs in %.1f s (%d failed, %d missing)\n", what.c_str(), c.runs.size(), wall,
               c.failed, c.missing);
-  for (const Finding& f : check_findings(c.runs))
+  for (const study::Finding& f : study::check_findings(c.runs))
     std::printf("  %-18s %s\n", f.verdict.c_str(), f.claim.c_str());
   std::printf("report: %s\n", (out / "REPORT.md").string().c_str());
   for (const auto& r : c.runs)
@@ -56,7 +56,7 @@ int report_collected(const CollectedStudy& c, const std::filesystem::path& out,
     std::fprintf(stderr,
                  "master: stage 2 (the cheapest methods over the other transport) is planned in "
                  "%s: run it, then collect again\n",
-                 plan_file(out, 2).string().c_str());
+                 study::plan_file(out, 2).string().c_str());
     return 3;
   }
   return 0;
@@ -74,38 +74,38 @@ int do_study(const StudyArgs& a) {
       std::printf("check: would collect the study in %s\n", a.collect.c_str());
       return 0;
     }
-    const CollectedStudy c = collect_study(a.collect, "");
+    const study::CollectedStudy c = study::collect_study(a.collect, "");
     return report_collected(c, a.collect, "collected " + a.collect, seconds());
   }
   if (a.scene_path.empty()) throw std::invalid_argument("study: --scene FILE is required");
-  StudyOptions o;
+  study::StudyOptions o;
   o.out = a.out;
   o.jobs =
       a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   o.transport = a.transport;
   o.tolerances = a.tolerances;
   o.macro_steps = a.macro_steps;
-  for (const std::string& s : a.sweeps) o.sweeps.push_back(parse_sweep(s));
+  for (const std::string& s : a.sweeps) o.sweeps.push_back(study::parse_sweep(s));
   o.stop = stop_flag();
   if (!a.plan.empty() || a.check) {
     std::error_code ec;
     o.master_program =
         !a.master.empty() ? a.master : std::filesystem::read_symlink("/proc/self/exe", ec).string();
     if (o.master_program.empty()) o.master_program = "master";
-    const StudyPlan plan = make_plan(a.scene_path, o);
+    const study::StudyPlan plan = study::make_plan(a.scene_path, o);
     if (a.check) {
       std::printf("check: would %s %zu runs of %s into %s\n",
                   a.plan.empty() ? "run" : ("plan (" + a.plan + ")").c_str(), plan.runs.size(),
                   a.scene_path.c_str(), o.out.string().c_str());
       return 0;
     }
-    write_plan(plan, a.plan);
+    study::write_plan(plan, a.plan);
     std::printf("plan: %zu runs in %s (and %s); run them, then master study --collect %s\n",
-                plan.runs.size(), a.plan.c_str(), plan_file(o.out, 1).string().c_str(),
+                plan.runs.size(), a.plan.c_str(), study::plan_file(o.out, 1).string().c_str(),
                 o.out.string().c_str());
     return 0;
   }
-  const CollectedStudy c = run_study(a.scene_path, o);
+  const study::CollectedStudy c = study::run_study(a.scene_path, o);
   return report_collected(c, o.out, "study of " + a.scene_path, seconds());
 }
 
@@ -130,7 +130,7 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   study->add_option("--transport", a.transport, "inproc or tcp (nodes started by the study)")
-      ->check(CLI::IsMember(transport_names()))
+      ->check(CLI::IsMember(remote::transport_names()))
       ->capture_default_str();
   study->add_option("--sweep", a.sweeps,
                     "KEY=V1,V2,...: a scene value (dotted TOML key, e.g. vehicle.speed_kmh) and "
@@ -151,4 +151,4 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
   a.command = study;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -10,7 +10,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct StudyArgs {
   CLI::App* command = nullptr;
@@ -19,7 +19,7 @@ struct StudyArgs {
   int jobs = 0;
   std::vector<double> macro_steps;
   std::vector<double> tolerances = {1e-5, 1e-6, 1e-7, 1e-8, 1e-9};
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::vector<std::string> sweeps;  // KEY=V1,V2,...
   std::string plan;                 // --plan FILE: write the plan only
   std::string collect;              // --collect DIR: read the runs, write the report
@@ -33,4 +33,4 @@ void add_study_command(CLI::App& app, StudyArgs& a);
 // missing or failed, 3 only stage 2 of the plan left to run).
 int do_study(const StudyArgs& a);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -19,7 +19,7 @@
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 using Verdict = ConformItem::Verdict;
@@ -215,13 +215,13 @@ void check_hello(Checks& checks) {
 
 // §5, §2, §7, §8: a session configured, held against a second master,
 // through its statics and initialized; none when the configure failed.
-std::unique_ptr<RemoteParticipant> start_session(Checks& checks) {
+std::unique_ptr<remote::RemoteParticipant> start_session(Checks& checks) {
   const Subject& s = checks.s;
-  std::unique_ptr<RemoteParticipant> p;
-  RemoteTimeouts t;
+  std::unique_ptr<remote::RemoteParticipant> p;
+  remote::RemoteTimeouts t;
   t.reply = t.step_min = t.step_max = std::chrono::milliseconds(10000);
   const bool configured = checks.item("§5", "hello and configure accepted, outputs declared", [&] {
-    p = std::make_unique<RemoteParticipant>(s.o.address, s.scene, s.config, t, s.o.token);
+    p = std::make_unique<remote::RemoteParticipant>(s.o.address, s.scene, s.config, t, s.o.token);
     return std::string();
   });
   if (!configured) return nullptr;
@@ -243,7 +243,7 @@ std::unique_ptr<RemoteParticipant> start_session(Checks& checks) {
 
 // §9, §10, §14, §11: relayed macro steps, a save and restore, the reply
 // deadline, the results; ends the session.
-void check_steps(Checks& checks, std::unique_ptr<RemoteParticipant>& p) {
+void check_steps(Checks& checks, std::unique_ptr<remote::RemoteParticipant>& p) {
   const Subject& s = checks.s;
   Clock::duration slowest{};
   const long steps = s.o.steps;
@@ -353,7 +353,7 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
   const Subject s = subject_of(options);
   Checks checks{s, {}};
   check_hello(checks);
-  std::unique_ptr<RemoteParticipant> p = start_session(checks);
+  std::unique_ptr<remote::RemoteParticipant> p = start_session(checks);
   if (!p) return checks.items;
   check_steps(checks, p);
   check_refusals(checks);
@@ -377,4 +377,4 @@ int report_conformance(const std::vector<ConformItem>& items, const ConformOptio
   return failed == 0 ? 0 : 1;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -18,7 +18,7 @@ namespace CLI {
 class App;
 }
 
-namespace railcosim {
+namespace railcosim::cli {
 
 struct ConformOptions {
   std::string scene_path;                 // the scene the participant is checked with
@@ -64,4 +64,4 @@ void add_conform_command(CLI::App& app, ConformArgs& args);
 // Runs the checks and prints them; the exit status (0: nothing failed).
 int do_conform(const ConformArgs& args);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

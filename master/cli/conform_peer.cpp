@@ -6,7 +6,7 @@
 #include "auth.hpp"
 #include "model.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 // The reply to a peer's hello at the subject's port (after the challenge,
@@ -88,4 +88,4 @@ std::string check_peer_refusals(Connection& master, const SubsystemConfig& confi
       "a link with the right key from the " + stranger + " participant, which it does not expect,");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

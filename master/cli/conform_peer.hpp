@@ -11,7 +11,7 @@
 #include "connection.hpp"
 #include "participant.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 
 // `master`: a session of the subject, configured and initialized, on which
 // nothing else will be sent (the check ends it). Returns "" when both
@@ -20,4 +20,4 @@ namespace railcosim {
 std::string check_peer_refusals(Connection& master, const SubsystemConfig& config,
                                 const ConformOptions& o);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <vector>
 
-namespace railcosim {
+namespace railcosim::cli {
 namespace {
 
 bool flag_given(const RunArgs& a, const char* flag) {
@@ -85,4 +85,4 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene) {
   return "; the scene's [coupling] (" + scene.source + ") set: " + set;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

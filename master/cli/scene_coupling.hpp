@@ -7,7 +7,7 @@
 #include "cli/cli_run.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::cli {
 
 // `a` with every key of the scene's [coupling] whose flag was not given on
 // the command line (a.command tells which were).
@@ -17,4 +17,4 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene);
 // [coupling] (FILE) set: inputs = "linear", ..." for an error message.
 std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
 
-}  // namespace railcosim
+}  // namespace railcosim::cli

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 void Accelerator::set_weights(const std::vector<double>&) {}
 
@@ -211,4 +211,4 @@ std::unique_ptr<Accelerator> make_accelerator(const AcceleratorOptions& o,
   throw std::logic_error("make_accelerator: no accelerator '" + to_string(o.kind) + "'");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 // An accelerator, by the name it is registered under: the table
 // kAccelerators in accelerator.cpp, where a new accelerator is one line
@@ -66,4 +66,4 @@ class Accelerator {
 // `blocks` gives the length of each block; their sum is the vector length.
 std::unique_ptr<Accelerator> make_accelerator(const AcceleratorOptions& o, std::vector<int> blocks);
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 struct ConvergenceRow {
   long step = 0;                 // macro step n: the window [nH, (n+1)H]
@@ -22,4 +22,4 @@ struct ConvergenceLog {
   long first_not_converged = -1;
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -8,7 +8,7 @@
 #include "engine/step_plan.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 CouplingData zero_inputs(const Scene& scene, const ParticipantSpec& participant) {
   CouplingData in;
@@ -132,4 +132,4 @@ StaticsOutcome find_static_state(const std::vector<Participant*>& ps, const Rout
   throw std::runtime_error(s.str());
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

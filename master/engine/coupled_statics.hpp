@@ -10,7 +10,7 @@
 #include "participant.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 struct StaticsOptions {
   // Relative change of each exchanged quantity (2-norm over every interface)
@@ -45,4 +45,4 @@ StaticsOutcome find_static_state(const std::vector<Participant*>& participants,
                                  const Routing& routing, std::vector<CouplingData> inputs,
                                  const StaticsOptions& options = {});
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

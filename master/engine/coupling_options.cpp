@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 std::string to_string(InputMode m) {
   switch (m) {
@@ -100,4 +100,4 @@ void check(const CouplingOptions& o) {
     throw std::invalid_argument("--reused-windows must be in [0, 100]");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -7,7 +7,7 @@
 
 #include "engine/accelerator.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 // Inputs over [t_n, t_n + H]:
 //   hold          the latest known value, held (the paper's zero-order hold);
@@ -69,4 +69,4 @@ struct CouplingOptions {
 // Throws std::invalid_argument for values out of range, naming the option.
 void check(const CouplingOptions& o);
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

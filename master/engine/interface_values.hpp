@@ -9,7 +9,7 @@
 
 #include "participant.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 inline std::array<const std::vector<double>*, 3> arrays(const InterfaceData& d) {
   return {&d.displacement, &d.velocity, &d.force};
@@ -41,4 +41,4 @@ inline void unflatten(const Eigen::VectorXd& f, std::vector<InterfaceData>& v) {
       for (double& e : *a) e = f[at++];
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

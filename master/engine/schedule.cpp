@@ -1,6 +1,6 @@
 #include "engine/schedule.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         std::vector<Participant*> participants, Routing routing) {
@@ -11,4 +11,4 @@ std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
   return std::make_unique<GaussSeidelSchedule>(std::move(participants), std::move(routing));
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

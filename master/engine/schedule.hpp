@@ -15,7 +15,7 @@
 #include "model.hpp"
 #include "participant.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 // A schedule: the executor of a step plan.
 using Schedule = StepExecutor;
@@ -47,4 +47,4 @@ class GaussSeidelSchedule final : public Schedule {
 std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         std::vector<Participant*> participants, Routing routing);
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -6,7 +6,7 @@
 
 #include "engine/interface_values.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 namespace {
 
 using Eigen::VectorXd;
@@ -371,4 +371,4 @@ std::vector<StepResult> StepExecutor::implicit_step(long n) {
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

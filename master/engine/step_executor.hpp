@@ -35,7 +35,7 @@
 #include "engine/coupling_options.hpp"
 #include "engine/step_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 // The macro steps of a run, whichever plane carries them.
 class MacroSteps {
@@ -122,4 +122,4 @@ class StepExecutor : public MacroSteps {
   long last_step_ = -1;               // the macro step of last_
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

@@ -3,7 +3,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 Routing make_routing(const std::vector<ParticipantSpec>& ps) {
   Routing r(ps.size());
@@ -105,4 +105,4 @@ std::string StepPlan::describe(const std::vector<std::string>& roles) const {
   return s.str();
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

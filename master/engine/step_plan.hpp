@@ -24,7 +24,7 @@
 #include "model.hpp"
 #include "participant.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 // Where one input comes from: participant and interface index of the sender.
 struct Route {
@@ -93,4 +93,4 @@ void check(const PlanOptions& options);
 StepPlan plan_steps(const Routing& routing, const PlanOptions& options,
                     const std::vector<bool>& sends_force);
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

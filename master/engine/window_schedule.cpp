@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace railcosim {
+namespace railcosim::engine {
 
 std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         const CouplingOptions& options,
@@ -18,4 +18,4 @@ std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                           std::move(roles), scheme, options, macro_step);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

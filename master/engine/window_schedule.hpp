@@ -22,7 +22,7 @@
 #include "engine/coupling_options.hpp"
 #include "engine/schedule.hpp"
 
-namespace railcosim {
+namespace railcosim::engine {
 
 class WindowSchedule final : public Schedule {
  public:
@@ -44,4 +44,4 @@ std::unique_ptr<Schedule> make_schedule(Scheme scheme, Feedthrough feedthrough,
                                         std::vector<Participant*> participants, Routing routing,
                                         std::vector<std::string> roles, double macro_step);
 
-}  // namespace railcosim
+}  // namespace railcosim::engine

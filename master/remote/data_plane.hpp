@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace railcosim {
+namespace railcosim::remote {
 
 enum class DataPlane {
   kRelay,   // lock-step: every value goes node -> master -> node, one macro step per request
@@ -29,4 +29,4 @@ inline DataPlane parse_data_plane(const std::string& s) {
   throw std::invalid_argument("--data-plane must be relay or direct, not '" + s + "'");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

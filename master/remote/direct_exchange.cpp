@@ -9,7 +9,7 @@
 
 #include "auth.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 using std::chrono::milliseconds;
 
@@ -25,8 +25,8 @@ bool enter_lockstep(const std::vector<Participant*>& ps, long first, long end) {
 }
 
 std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
-                                                     const StepPlan& plan, double bound, long total,
-                                                     DirectOptions options) {
+                                                     const engine::StepPlan& plan, double bound,
+                                                     long total, DirectOptions options) {
   std::vector<RemoteParticipant*> nodes;
   for (Participant* p : ps) {
     auto* r = dynamic_cast<RemoteParticipant*>(p);
@@ -57,19 +57,19 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
   // refreshed.
   for (std::size_t p = 0; p < P; ++p)
     for (std::size_t q = p + 1; q < P; ++q) {
-      const PlanLink* from_q = plan.between(p, q);
-      const PlanLink* from_p = plan.between(q, p);
+      const engine::PlanLink* from_q = plan.between(p, q);
+      const engine::PlanLink* from_p = plan.between(q, p);
       if (!from_q || !from_p) continue;
       wire::PeerLink* mine = links[p].add_links();
       mine->set_peer(nodes[q]->role());
       mine->set_host(nodes[q]->address().host);
       mine->set_port(nodes[q]->address().port);
-      mine->set_ahead(from_q->source == LinkSource::kStepped);
-      mine->set_refreshes(from_q->source == LinkSource::kRefreshed);
+      mine->set_ahead(from_q->source == engine::LinkSource::kStepped);
+      mine->set_refreshes(from_q->source == engine::LinkSource::kRefreshed);
       wire::PeerLink* theirs = links[q].add_links();
       theirs->set_peer(nodes[p]->role());
-      theirs->set_ahead(from_p->source == LinkSource::kStepped);
-      theirs->set_refreshes(from_p->source == LinkSource::kRefreshed);
+      theirs->set_ahead(from_p->source == engine::LinkSource::kStepped);
+      theirs->set_refreshes(from_p->source == engine::LinkSource::kRefreshed);
       for (std::size_t k : plan.into[p])
         if (plan.links[k].q == q) {
           mine->add_interfaces(static_cast<int>(plan.links[k].j));
@@ -367,4 +367,4 @@ void DirectExchange::drain() {
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -25,14 +25,14 @@
 #include "remote/data_plane.hpp"
 #include "remote/remote_participant.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // Puts every participant into lock step for macro steps [first, end) and
 // returns true, if every one is a RemoteParticipant whose node offers it;
 // false (nothing sent) otherwise.
 bool enter_lockstep(const std::vector<Participant*>& participants, long first, long end);
 
-class DirectExchange final : public MacroSteps {
+class DirectExchange final : public engine::MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers
   // the direct data plane; throws NodeFailure naming a participant that
@@ -41,8 +41,8 @@ class DirectExchange final : public MacroSteps {
   // which peer's data it waits for at n + 1, which peer sends twice.
   // `bound`: the divergence bound (m).
   static std::unique_ptr<DirectExchange> make(const std::vector<Participant*>& participants,
-                                              const StepPlan& plan, double bound, long total_steps,
-                                              DirectOptions options = {});
+                                              const engine::StepPlan& plan, double bound,
+                                              long total_steps, DirectOptions options = {});
 
   // The results of macro step n, from the nodes' reports (granting the next
   // window when the last one has ended). Throws StepFailure for a node whose
@@ -117,4 +117,4 @@ class DirectExchange final : public MacroSteps {
   std::chrono::steady_clock::time_point first_peer_failure_{};
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

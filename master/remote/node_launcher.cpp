@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace railcosim {
+namespace railcosim::remote {
 
 namespace {
 
@@ -130,4 +130,4 @@ LaunchedNode::~LaunchedNode() {
   if (pid_ > 0) stop(pid_);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -10,7 +10,7 @@
 
 #include "connection.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // A program to start that is not a node program next to the master (the FE
 // soil: a Python participant, perhaps under mpirun).
@@ -51,4 +51,4 @@ class LaunchedNode {
 // The folder of the running executable (where the node programs are built).
 std::string own_directory();
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -7,7 +7,7 @@
 #include "auth.hpp"
 #include "wire.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 namespace {
 std::string node_label(const SubsystemConfig& c) {
@@ -392,4 +392,4 @@ void RemoteParticipant::fail_at(long step, const std::string& what) {
   fail(what);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

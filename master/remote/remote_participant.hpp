@@ -16,7 +16,7 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // How long the master waits for a node. A step's deadline follows from the
 // cost of the steps seen so far: step_factor times the slowest one, within
@@ -162,4 +162,4 @@ class RemoteParticipant final : public Participant {
   bool pending_restore_ = false;
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

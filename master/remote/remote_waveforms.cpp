@@ -7,7 +7,7 @@
 #include "remote/remote_participant.hpp"
 #include "wire.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 void RemoteParticipant::set_input_waveforms(long n, const InputWaveforms& inputs) {
   step_ = n;
@@ -43,4 +43,4 @@ void RemoteParticipant::keep_samples(const wire::StepReport& report) {
   samples_ = std::move(s);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -8,7 +8,7 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 namespace {
 
 std::string count_text(std::size_t n, const char* what) {
@@ -157,4 +157,4 @@ std::string check_state(const ParticipantState& state) {
   return first_non_finite(state.values, "saved state value");
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

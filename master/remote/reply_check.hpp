@@ -15,11 +15,10 @@
 
 #include "model.hpp"
 #include "participant.hpp"
+#include "scene.hpp"
+#include "subsystem.hpp"
 
-namespace railcosim {
-
-struct Scene;
-struct SubsystemConfig;
+namespace railcosim::remote {
 
 // What the replies of one participant must look like.
 struct ReplyShape {
@@ -69,4 +68,4 @@ std::string check_state(const ParticipantState& state);
 // off by about 10^-4 H), but not name another communication point.
 inline constexpr double kTimeSlack = 1e-3;
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

@@ -7,7 +7,7 @@
 #include "log.hpp"
 #include "remote/remote_participant.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 ParticipantFactory inproc_factory(const Scene& scene) {
   return [scene](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
@@ -152,9 +152,9 @@ std::string other_transport(const std::string& name) {
   throw std::logic_error("other_transport: no remote transport in the table");
 }
 
-void check_transport(const CouplingOptions& o, const std::string& transport) {
+void check_transport(const engine::CouplingOptions& o, const std::string& transport) {
   const Transport* t = find_transport(transport);
-  if (waveform_degree(o.inputs) >= 0 && (t == nullptr || !t->carries_waveforms()))
+  if (engine::waveform_degree(o.inputs) >= 0 && (t == nullptr || !t->carries_waveforms()))
     throw std::invalid_argument("--inputs " + to_string(o.inputs) +
                                 ": substep waveforms travel in process or over tcp (relayed "
                                 "data plane), not over the " +
@@ -175,4 +175,4 @@ SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> 
   return make_transport(kTcp, scene, {std::move(given), &pool, std::move(token)});
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

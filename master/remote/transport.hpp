@@ -18,7 +18,7 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::remote {
 
 // The node program that serves a role by default ("vehicle" -> vehicle_node;
 // the rail alone is served by track_node --role rail).
@@ -101,7 +101,7 @@ bool is_remote_transport(const std::string& name);
 std::string other_transport(const std::string& name);
 // Throws std::invalid_argument for a coupling the transport does not carry:
 // substep waveforms travel in process or relayed over TCP.
-void check_transport(const CouplingOptions& o, const std::string& transport);
+void check_transport(const engine::CouplingOptions& o, const std::string& transport);
 
 // A transport made ready for one scene: its name and participant factory.
 struct SceneTransport {
@@ -117,4 +117,4 @@ SceneTransport inproc_transport(const Scene& scene);
 SceneTransport tcp_transport(const Scene& scene, std::map<std::string, Address> given,
                              NodePool& pool, std::optional<std::string> token = std::nullopt);
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

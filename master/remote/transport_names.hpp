@@ -5,9 +5,9 @@
 // name means.
 #pragma once
 
-namespace railcosim {
+namespace railcosim::remote {
 
 inline constexpr char kInprocTransport[] = "inproc";  // the participants in the master
 inline constexpr char kTcpTransport[] = "tcp";        // each in a node process, over TCP
 
-}  // namespace railcosim
+}  // namespace railcosim::remote

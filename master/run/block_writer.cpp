@@ -8,7 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace railcosim {
+namespace railcosim::run {
 
 BlockWriter::BlockWriter(std::filesystem::path path, Limits limits,
                          std::function<Clock::time_point()> now)
@@ -83,4 +83,4 @@ void BlockWriter::write_block() {
   lines_held_ = 0;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

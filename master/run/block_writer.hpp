@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace railcosim {
+namespace railcosim::run {
 
 // When a block is written: at `rows` lines, or once its first line has
 // waited `age`.
@@ -68,4 +68,4 @@ class BlockWriter {
   void write_block();
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::run

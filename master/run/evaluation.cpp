@@ -10,7 +10,7 @@
 #include "monolithic.hpp"
 #include "track_model.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 DeflectionError deflection_error(const std::vector<double>& w, const std::vector<double>& ref) {
   DeflectionError e;
@@ -173,4 +173,4 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -2,18 +2,17 @@
 #pragma once
 
 #include "model.hpp"
+#include "monolithic.hpp"
 #include "run/run_record.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct DeflectionError {
   double max_abs = 0;  // max_k |w_k - w_k,ref|, m
   double rel_l2 = 0;   // ||w - w_ref||_2 / ||w_ref||_2
 };
 DeflectionError deflection_error(const std::vector<double>& w, const std::vector<double>& ref);
-
-class MonolithicModel;
 
 // The RMS, over the common rows of the two histories, of the contact force
 // error divided by the static load m_tot g, combined with the wheel
@@ -70,4 +69,4 @@ double divergence_bound(const Scene& scene, double largest_static_displacement);
 // added to its message).
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -6,14 +6,14 @@
 #include "run/run_output.hpp"
 #include "run/stability.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 namespace {
 
 RunRecord made_run(const RunJob& job, const RunOptions& o) {
   const Scene& scene = *job.scene;
   if (job.spec.monolithic) return run_monolithic(scene, o);
-  const SceneTransport t =
-      make_transport(parse_transport(job.transport, "transport"), scene, job.nodes);
+  const remote::SceneTransport t =
+      remote::make_transport(remote::parse_transport(job.transport, "transport"), scene, job.nodes);
   RunRecord r = run_cosim(scene, job.spec, o, t.factory, t.name);
   if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o);
   return r;
@@ -67,4 +67,4 @@ RunOutcome execute(const RunJob& job) {
   return out;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

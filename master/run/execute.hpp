@@ -11,16 +11,16 @@
 #include "run/runner.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunJob {
   const Scene* scene = nullptr;
   CaseSpec spec;
-  RunOptions options;         // its stop flag is kept; its callbacks are execute()'s
-  std::string transport;      // a name of the transport table
-  TransportSetup nodes;       // the nodes given, the pool, the secret
-  std::filesystem::path out;  // the run writes OUT/FOLDER/
-  std::string folder;         // the case name for `master run`
+  RunOptions options;            // its stop flag is kept; its callbacks are execute()'s
+  std::string transport;         // a name of the transport table
+  remote::TransportSetup nodes;  // the nodes given, the pool, the secret
+  std::filesystem::path out;     // the run writes OUT/FOLDER/
+  std::string folder;            // the case name for `master run`
   // The monolithic reference a co-simulation is judged against (not called
   // for the monolithic case, nor for a soil outside the master's models).
   std::function<const RunRecord&()> reference;
@@ -41,4 +41,4 @@ struct RunOutcome {
 // steps it made; execute() does not throw for it but says why in `error`.
 RunOutcome execute(const RunJob& job);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include "spectra.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 namespace {
 
 // Shortest text that reads back to the same double.
@@ -397,4 +397,4 @@ void RunWriter::finish(const RunRecord& run) {
   if (!error.empty()) throw std::runtime_error(error);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

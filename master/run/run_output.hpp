@@ -16,7 +16,7 @@
 #include "run/block_writer.hpp"
 #include "run/run_record.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 // Writes `text` beside `path` (PATH.part) and renames it into place. Every
 // write is checked: on failure the .part file is removed and
@@ -92,4 +92,4 @@ inline std::string sci(double v, int digits = 2) {
   return buf;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

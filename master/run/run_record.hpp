@@ -11,7 +11,7 @@
 #include "participant.hpp"
 #include "remote/transport_names.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunRecord {
   std::string case_name;
@@ -37,7 +37,7 @@ struct RunRecord {
   // its rate (1/s) and the probe's length (s).
   std::string stability;
   std::optional<double> error_growth, error_growth_rate, probe_time;
-  std::string transport = kInprocTransport;
+  std::string transport = remote::kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string data_plane_mode;         // direct: "windows" or "lock step"
   std::string restart = "consistent";  // at communication points: consistent or carry
@@ -49,7 +49,7 @@ struct RunRecord {
   std::optional<double> iterations_mean;
   std::optional<long> iterations_max, not_converged_steps;
   std::vector<std::string> convergence_quantities;
-  using ConvergenceRow = railcosim::ConvergenceRow;  // engine/convergence.hpp
+  using ConvergenceRow = engine::ConvergenceRow;  // engine/convergence.hpp
   std::vector<ConvergenceRow> convergence;
 
   std::vector<double> x;           // rail node positions
@@ -70,4 +70,4 @@ inline bool ran_to_end(const RunRecord& r) {
   return r.status == "ok" || r.status == "inaccurate" || r.status == "amplified";
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -15,7 +15,16 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
+
+using engine::CouplingMethod;
+using engine::MacroSteps;
+
+using remote::DataPlane;
+using remote::DirectExchange;
+using remote::is_remote_transport;
+using remote::ParticipantFactory;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -48,7 +57,7 @@ void check_stop(const RunOptions& o, long n) {
 
 // The iterations of an implicit run into its record; a run with macro steps
 // that did not converge is not ok.
-void record_convergence(RunRecord& r, const ConvergenceLog& log, const RunOptions& o) {
+void record_convergence(RunRecord& r, const engine::ConvergenceLog& log, const RunOptions& o) {
   r.convergence_quantities = log.quantities;
   r.convergence = log.rows;
   long sum = 0, most = 0;
@@ -197,8 +206,8 @@ struct Participants {
   std::vector<ParticipantSpec> specs;
   std::vector<std::unique_ptr<Participant>> owned;
   std::vector<Participant*> ps;
-  Routing routing;
-  StaticsOutcome statics;
+  engine::Routing routing;
+  engine::StaticsOutcome statics;
 };
 
 // Set-up: the case's participants, made by `make`, and their static state.
@@ -216,10 +225,10 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
     P.owned.push_back(make(c));
     P.ps.push_back(P.owned.back().get());
   }
-  P.routing = make_routing(P.specs);
+  P.routing = engine::make_routing(P.specs);
   std::vector<CouplingData> zero;
-  for (const ParticipantSpec& p : P.specs) zero.push_back(zero_inputs(scene, p));
-  P.statics = find_static_state(P.ps, P.routing, zero);
+  for (const ParticipantSpec& p : P.specs) zero.push_back(engine::zero_inputs(scene, p));
+  P.statics = engine::find_static_state(P.ps, P.routing, zero);
   logger("master")->debug("{}: static state after {} interface iterations (residual {})", case_name,
                           P.statics.iterations, P.statics.residual);
   return P;
@@ -231,18 +240,19 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
 // plane the run took.
 std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions& o,
                                                  const std::string& transport,
-                                                 const Participants& P, const Schedule& schedule,
-                                                 double bound, long N) {
+                                                 const Participants& P,
+                                                 const engine::Schedule& schedule, double bound,
+                                                 long N) {
   std::unique_ptr<DirectExchange> direct;
   bool lockstep = false;
   if (o.data_plane == DataPlane::kDirect && is_remote_transport(transport)) {
     // A node that offers neither is worth a word.
-    const bool windows =
-        o.coupling.method == CouplingMethod::kExplicit && o.coupling.inputs == InputMode::kHold;
+    const bool windows = o.coupling.method == CouplingMethod::kExplicit &&
+                         o.coupling.inputs == engine::InputMode::kHold;
     if (windows)
       direct = DirectExchange::make(P.ps, schedule.plan(), bound, N, o.direct);
     else
-      lockstep = enter_lockstep(P.ps, 0, N);
+      lockstep = remote::enter_lockstep(P.ps, 0, N);
     if (!direct && !lockstep)
       logger("master")->info("{}: relayed data plane (a node does not offer the direct one)",
                              r.case_name);
@@ -336,20 +346,20 @@ void complete_record(RunRecord& r, const Scene& scene, const Participants& P) {
 RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
                     const ParticipantFactory& make, const std::string& transport) {
   const auto t0 = Clock::now();
-  check_transport(o.coupling, transport);  // before any node is started
+  remote::check_transport(o.coupling, transport);  // before any node is started
   RunRecord r = failed_record(scene, spec, o, transport, "");
   r.status = "ok";
   r.restart = scene.restart;
   const Participants P = start_participants(scene, spec, o, make, r.case_name);
 
-  require_distinct_channels(P.ps);  // reply_check.hpp
+  remote::require_distinct_channels(P.ps);  // reply_check.hpp
   HistoryAssembler history(P.ps);
   r.extra_channels = history.extra_names();
   if (o.on_channels) o.on_channels(r.extra_channels);
   std::vector<std::string> roles;
   for (const ParticipantSpec& p : P.specs) roles.push_back(p.role);
-  auto schedule =
-      make_schedule(spec.scheme, o.feedthrough, o.coupling, P.ps, P.routing, roles, o.macro_step);
+  auto schedule = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, P.ps, P.routing,
+                                        roles, o.macro_step);
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
     r.history.push_back(row);
@@ -376,4 +386,4 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   return r;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -15,17 +15,17 @@
 #include "scene.hpp"
 #include "subsystem.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct RunOptions {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // micro-step local error bound, m
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
+  engine::CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
   // Over TCP: the nodes exchange directly in windows of macro steps where every
   // node can and the coupling is explicit with held inputs; otherwise relayed.
-  DataPlane data_plane = DataPlane::kDirect;
-  DirectOptions direct;  // windows and reports of the direct data plane
+  remote::DataPlane data_plane = remote::DataPlane::kDirect;
+  remote::DirectOptions direct;  // windows and reports of the direct data plane
   // Called with every history row as soon as it is known (t = 0 first), so
   // that the history reaches the disk while the run goes on.
   std::function<void(const HistoryRow&)> on_row;
@@ -49,6 +49,6 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& options);
 // "diverged" and a message naming the macro step and time; errors and the
 // amplification check are left to judge().
 RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
-                    const ParticipantFactory& make, const std::string& transport);
+                    const remote::ParticipantFactory& make, const std::string& transport);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

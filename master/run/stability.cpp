@@ -5,7 +5,7 @@
 
 #include "run/evaluation.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 Stability classify_growth(const std::vector<double>& deviation, double dt, double floor) {
   Stability s;
@@ -74,8 +74,9 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
   o.on_row = nullptr;
   o.on_channels = nullptr;
   o.on_progress = nullptr;
-  const RunRecord r = run_cosim(parked, spec, o, inproc_factory(parked), kInprocTransport);
-  const double floor = options.coupling.method == CouplingMethod::kImplicit
+  const RunRecord r =
+      run_cosim(parked, spec, o, remote::inproc_factory(parked), remote::kInprocTransport);
+  const double floor = options.coupling.method == engine::CouplingMethod::kImplicit
                            ? std::max(kProbeFloor, options.coupling.convergence)
                            : kProbeFloor;
   Stability s = classify_growth(deviation_from_rest(r), options.macro_step, floor);
@@ -95,4 +96,4 @@ void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, cons
   judge(run, reference, scene);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::run

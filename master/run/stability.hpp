@@ -18,7 +18,7 @@
 #include "run/runner.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::run {
 
 struct Stability {
   bool unstable = false;
@@ -62,4 +62,4 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
             const RunOptions& options);
 
-}  // namespace railcosim
+}  // namespace railcosim::run

@@ -18,7 +18,7 @@
 #include "scene.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 // Runs a shell command; true on exit status 0.
@@ -99,15 +99,15 @@ void scene_sections(std::ostringstream& md, const std::string& h, const Scene& s
      << "|---|---|---|---|---|---|---|\n";
   for (const auto& r : runs) {
     if (r.group != "case") continue;
-    const RunRecord& x = r.record;
+    const run::RunRecord& x = r.record;
     std::string micro;
     for (const auto& [k, v] : x.micro_steps)
       micro += (micro.empty() ? "" : ", ") + k + " " + std::to_string(v);
     md << "| " << r.method << " | " << x.status << " | "
-       << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–") << " | "
-       << (x.max_abs_error_m ? sci(*x.max_abs_error_m) : "–") << " | "
-       << (x.history_error ? sci(*x.history_error) : "–") << " | " << sci(x.wall_s) << " | "
-       << micro << " |\n";
+       << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
+       << (x.max_abs_error_m ? run::sci(*x.max_abs_error_m) : "–") << " | "
+       << (x.history_error ? run::sci(*x.history_error) : "–") << " | " << run::sci(x.wall_s)
+       << " | " << micro << " |\n";
   }
 
   md << "\n" << h << " Figures\n\n";
@@ -176,7 +176,7 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
         md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
     md << "\n";
   }
-  const std::string other = other_transport(info.transport);
+  const std::string other = remote::other_transport(info.transport);
   if (info.stage2_pending)
     md << "Stage 2 of the plan, the cheapest methods rerun over `" << other
        << "`, is written to `plan-2.txt` and not run yet: run its commands like those of "
@@ -246,17 +246,18 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
         "error vs converged | status |\n|---|"
      << (swept ? "---|" : "") << "---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : runs) {
-    const RunRecord& x = r.record;
+    const run::RunRecord& x = r.record;
     long micro = 0;
     for (const auto& [k, v] : x.micro_steps) micro += v;
-    const bool has = ran_to_end(x);
+    const bool has = run::ran_to_end(x);
     md << "| " << r.folder << " | " << (swept ? r.variant + " | " : "") << x.case_name << " | "
        << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
-       << sci(x.wall_s) << " | " << micro << " | " << (x.rel_l2_error ? sci(*x.rel_l2_error) : "–")
-       << " | " << (has ? sci(r.rel_l2_error_converged) : "–") << " | " << x.status
+       << run::sci(x.wall_s) << " | " << micro << " | "
+       << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
+       << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | " << x.status
        << (x.status == "failed" || x.status == "missing" ? " (" + x.message + ")" : "") << " |\n";
   }
-  write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
+  run::write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

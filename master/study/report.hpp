@@ -10,7 +10,7 @@
 #include "remote/transport_names.hpp"
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // One of the paper's conclusions, checked against this study's runs.
 struct Finding {
@@ -29,7 +29,7 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs);
 struct StudyReportInfo {
   std::filesystem::path dir;  // the study's folder: scene.toml, run folders
   std::string source_scene;   // the user's scene file
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   double converged_tolerance = 1e-10;
   std::vector<SweepAxis> sweeps;
   // Each scene variant's label ("key=value;...") and folder, in plan order;
@@ -46,4 +46,4 @@ struct StudyReportInfo {
 // the reason when a file cannot be written.
 void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -11,8 +11,13 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
+
+using run::RunRecord;
+using run::sci;
+
 namespace {
+
 // The runs at the scene's macro step, by method label.
 std::map<std::string, const RunRecord*> cases_of(const std::vector<StudyRun>& runs) {
   std::map<std::string, const RunRecord*> m;
@@ -184,4 +189,4 @@ std::vector<Finding> check_findings(const std::vector<StudyRun>& runs) {
   return f;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -10,13 +10,13 @@
 
 #include "study/report.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // What a measure function sees: the study's runs, and the runs at the
 // scene's macro step by method label (every paper case is there).
 struct FindingRuns {
   const std::vector<StudyRun>& runs;
-  std::map<std::string, const RunRecord*> cases;
+  std::map<std::string, const run::RunRecord*> cases;
   std::vector<Method> methods;  // the paper's cases
 };
 
@@ -65,4 +65,4 @@ Measured lower_error_in_pairs(const FindingRow& row, const FindingRuns& in);
 Measured fewer_unstable_runs(const FindingRow& row, const FindingRuns& in);
 Measured stable_and_below_factor(const FindingRow& row, const FindingRuns& in);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

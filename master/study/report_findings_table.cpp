@@ -2,7 +2,7 @@
 // one row here plus, at most, one measure function in report_findings.cpp.
 #include "study/report_findings.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 // Why the rail/sleepers X-T Gauss–Seidel case breaks two of the paper's
@@ -109,4 +109,4 @@ const std::vector<FindingRow> kFindingTable = {
      .tolerance = 2.0},
 };
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -8,7 +8,13 @@
 #include "run/run_output.hpp"
 #include "study/report_methods.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
+
+using run::format_double;
+using run::RunRecord;
+using run::sci;
+using run::write_file_atomically;
+
 namespace {
 
 std::string shortg(double v) {
@@ -91,9 +97,9 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::
 std::string front_column(const FrontRow& row, const std::string& transport) {
   if (row.cut == "monolithic") return "monolithic (no cut)";
   return row.cut + " cut" +
-         (row.transport == transport          ? ""
-          : row.transport == kInprocTransport ? ", in process"
-                                              : ", over " + row.transport);
+         (row.transport == transport                  ? ""
+          : row.transport == remote::kInprocTransport ? ", in process"
+                                                      : ", over " + row.transport);
 }
 
 void write_front_csv(const std::filesystem::path& file, const std::vector<FrontRow>& front) {
@@ -197,7 +203,7 @@ void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
 void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
                        const std::vector<StudyRun>& runs, const std::string& transport,
                        const std::string& h) {
-  const std::string other = other_transport(transport);
+  const std::string other = remote::other_transport(transport);
   md << "\n"
      << h << " Cheapest method per accuracy\n\n"
      << "Per cut, among the runs of the sweep that end `ok`, the one that reaches each relative "
@@ -233,8 +239,8 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
        << (row.cut == "monolithic" ? "–"
            : x.iterations_mean     ? sci(*x.iterations_mean)
                                    : "1 (explicit)")
-       << " | " << (row.cut == "monolithic" ? kInprocTransport : x.transport) << " |\n";
+       << " | " << (row.cut == "monolithic" ? remote::kInprocTransport : x.transport) << " |\n";
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -11,7 +11,7 @@
 #include "remote/transport_names.hpp"
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // One row of front.csv. `cut` is "wr", "rs", "ss", "wr+ss", ..., or
 // "monolithic" for the monolithic tolerance sweep (the reference).
@@ -37,7 +37,7 @@ std::string cut_of(const std::string& method);
 // end `ok` with rel_l2_error_converged <= level, the one with the least wall
 // time (the first in plan order on a tie).
 std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs,
-                                  const std::string& transport = kTcpTransport);
+                                  const std::string& transport = remote::kTcpTransport);
 
 // The column of a front row in the report: "wr cut", "wr cut, in process"
 // (a row over another transport than the study's), "monolithic (no cut)".
@@ -59,4 +59,4 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
                        const std::vector<StudyRun>& runs, const std::string& transport,
                        const std::string& h);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

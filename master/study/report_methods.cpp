@@ -7,7 +7,7 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 bool is_cosim(const StudyRun& r) {
@@ -63,11 +63,11 @@ void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
     for (const auto& [H, s] : status[m]) {  // ascending H
       const bool holds = s == "ok" || s == "inaccurate";
       if (holds && broke == "–") stable = H;
-      if (!holds && broke == "–" && stable) broke = sci(H) + ": " + s;
+      if (!holds && broke == "–" && stable) broke = run::sci(H) + ": " + s;
       if (s == "ok" && broke == "–") ok = H;
     }
-    md << "| " << m << " | " << (stable ? sci(*stable) : "none") << " | " << broke << " | "
-       << (ok ? sci(*ok) : "none") << " |\n";
+    md << "| " << m << " | " << (stable ? run::sci(*stable) : "none") << " | " << broke << " | "
+       << (ok ? run::sci(*ok) : "none") << " |\n";
   }
 
   const auto consistent = restart_ratio(runs, "consistent");
@@ -83,10 +83,10 @@ void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
        << "| convention | ratio (ours) | paper | reproduces \"almost 10\" |\n|---|---|---|---|\n";
     for (const auto& [name, v] :
          {std::pair{"consistent (default)", consistent}, std::pair{"carry", carry}}) {
-      md << "| " << name << " | " << (v ? sci(*v) : "–") << " | almost 10 | "
+      md << "| " << name << " | " << (v ? run::sci(*v) : "–") << " | almost 10 | "
          << (v ? (*v >= 5 && *v <= 20 ? "yes" : "no") : "not run") << " |\n";
     }
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

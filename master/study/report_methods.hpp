@@ -9,7 +9,7 @@
 
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // The accuracy levels of the cheapest-method table (relative L2 error of the
 // deflection at t_end against the monolithic run at the same H).
@@ -33,4 +33,4 @@ void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
 // convention, from the study's "restart" runs.
 std::optional<double> restart_ratio(const std::vector<StudyRun>& runs, const std::string& restart);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -8,7 +8,7 @@
 
 #include "run/run_output.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 int input_order(const std::string& inputs) {
@@ -43,9 +43,9 @@ std::vector<SlopeRow> error_slopes(const std::vector<StudyRun>& runs) {
   std::vector<std::string> cases;
   std::vector<SlopeRow> rows;
   for (const StudyRun& r : runs) {
-    const RunRecord& x = r.record;
+    const run::RunRecord& x = r.record;
     if ((r.group != "case" && r.group != "sweep") || r.method == "monolithic" ||
-        x.method != "implicit" || x.accelerator.value_or("") != "iqn-ils" || !ran_to_end(x) ||
+        x.method != "implicit" || x.accelerator.value_or("") != "iqn-ils" || !run::ran_to_end(x) ||
         !(r.rel_l2_error_converged > 0))
       continue;
     if (std::find(cases.begin(), cases.end(), x.case_name) == cases.end())
@@ -77,10 +77,10 @@ void write_slopes_csv(const std::filesystem::path& file, const std::vector<Slope
   f << "case,inputs,points,slope,h_min_s,h_max_s\n";
   for (const SlopeRow& s : rows)
     f << s.case_name << "," << s.inputs << "," << s.errors.size() << ","
-      << (s.slope ? format_double(*s.slope) : std::string()) << ","
-      << format_double(s.errors.front().first) << "," << format_double(s.errors.back().first)
-      << "\n";
-  write_file_atomically(file, f.str());
+      << (s.slope ? run::format_double(*s.slope) : std::string()) << ","
+      << run::format_double(s.errors.front().first) << ","
+      << run::format_double(s.errors.back().first) << "\n";
+  run::write_file_atomically(file, f.str());
 }
 
 void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
@@ -108,7 +108,7 @@ void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
     for (double H : hs) {
       const auto it = std::find_if(s.errors.begin(), s.errors.end(),
                                    [&](const auto& e) { return e.first == H; });
-      md << " " << (it == s.errors.end() ? std::string("–") : sci(it->second)) << " |";
+      md << " " << (it == s.errors.end() ? std::string("–") : run::sci(it->second)) << " |";
     }
     char b[32];
     std::snprintf(b, sizeof b, "%.2f", s.slope ? *s.slope : 0.0);
@@ -116,4 +116,4 @@ void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

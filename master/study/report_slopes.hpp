@@ -13,7 +13,7 @@
 
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 struct SlopeRow {
   std::string case_name;                          // "rs-xx-jacobi"
@@ -39,4 +39,4 @@ void write_slopes_csv(const std::filesystem::path& file, const std::vector<Slope
 void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
                           const std::string& h);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

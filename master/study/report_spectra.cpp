@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 struct Band {
@@ -74,4 +74,4 @@ void write_spectra_section(std::ostream& md, const std::filesystem::path& dir,
   }
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -7,11 +7,11 @@
 #include <ostream>
 #include <string>
 
-namespace railcosim {
+namespace railcosim::study {
 
 // Writes "H Spectra" (H: "##" or "###") when DIR/monolithic/spectra.csv
 // exists; `figure` is the drawn figure's path relative to the report, or empty.
 void write_spectra_section(std::ostream& md, const std::filesystem::path& dir,
                            const std::string& figure, const std::string& h);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

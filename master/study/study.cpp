@@ -26,8 +26,18 @@
 #include "study/report_methods.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {}  // namespace
+
+using run::execute;
+using run::format_double;
+using run::ran_to_end;
+using run::run_monolithic;
+using run::RunJob;
+using run::RunOptions;
+using run::RunOutcome;
+using run::RunRecord;
+using run::write_file_atomically;
 
 std::string Method::label() const {
   std::string s = spec.name();
@@ -68,15 +78,15 @@ std::vector<Method> methods_for(const Scene& scene) {
         base.feedthrough != Feedthrough::kLagged)
       continue;
     Method implicit = base;
-    implicit.coupling.method = CouplingMethod::kImplicit;
-    implicit.coupling.inputs = InputMode::kLinear;
-    implicit.coupling.accelerator.kind = AcceleratorKind::kIqnIls;
+    implicit.coupling.method = engine::CouplingMethod::kImplicit;
+    implicit.coupling.inputs = engine::InputMode::kLinear;
+    implicit.coupling.accelerator.kind = engine::AcceleratorKind::kIqnIls;
     Method extrapolated = base;
-    extrapolated.coupling.inputs = InputMode::kExtrapolate1;
+    extrapolated.coupling.inputs = engine::InputMode::kExtrapolate1;
     // The same implicit coupling with each sender's micro-step outputs as a
     // cubic waveform (in process only: run_transport()).
     Method waveform = implicit;
-    waveform.coupling.inputs = InputMode::kWaveform3;
+    waveform.coupling.inputs = engine::InputMode::kWaveform3;
     m.push_back(implicit);
     m.push_back(extrapolated);
     m.push_back(waveform);
@@ -84,8 +94,8 @@ std::vector<Method> methods_for(const Scene& scene) {
   return m;
 }
 
-std::string run_transport(const CouplingOptions& coupling, const std::string& transport) {
-  return waveform_degree(coupling.inputs) >= 0 ? kInprocTransport : transport;
+std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport) {
+  return engine::waveform_degree(coupling.inputs) >= 0 ? remote::kInprocTransport : transport;
 }
 
 std::vector<double> default_macro_steps(const Scene& scene) {
@@ -156,7 +166,7 @@ struct PlanScenes {
 // execute()); the monolithic reference of its scene, H and tolerance is
 // computed once, by whichever worker needs it first.
 void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
-                 NodePool& pool, PlanScenes& shared) {
+                 remote::NodePool& pool, PlanScenes& shared) {
   const Scene& scene = shared.scenes.at(run.scene);
   RunJob job;
   job.scene = &scene;
@@ -198,7 +208,7 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
 
   const std::size_t total = plan.runs.size();
   const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(total)));
-  std::vector<NodePool> pools(static_cast<std::size_t>(workers));
+  std::vector<remote::NodePool> pools(static_cast<std::size_t>(workers));
   logger("master")->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene,
                          plan.stage, total, workers);
   std::atomic<std::size_t> next{0}, done{0};
@@ -254,4 +264,4 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
   return collect_study(opt.out, opt.figure_script);
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -16,13 +16,13 @@
 #include "run/run_record.hpp"
 #include "scene.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 // A co-simulation method: a case, its feedthrough and how it couples.
 struct Method {
   CaseSpec spec;
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;  // explicit with held inputs: the paper's methods
+  engine::CouplingOptions coupling;  // explicit with held inputs: the paper's methods
   // Case name, "-resolved" appended for the resolved variant, and
   // "+implicit-linear-iqn-ils" or "+explicit-extrapolate1" for other couplings.
   std::string label() const;
@@ -39,7 +39,7 @@ std::vector<Method> methods_for(const Scene& scene);
 
 // The transport a study runs a coupling over: the study's, except for
 // substep waveforms, which the study runs in process ("inproc").
-std::string run_transport(const CouplingOptions& coupling, const std::string& transport);
+std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport);
 
 // --sweep KEY=V1,V2,...: a scene value (dotted TOML key) and its values.
 struct SweepAxis {
@@ -53,7 +53,7 @@ struct StudyOptions {
   std::filesystem::path out = "results";
   int jobs = 1;
   // The transport of the co-simulation runs.
-  std::string transport = kTcpTransport;
+  std::string transport = remote::kTcpTransport;
   std::vector<double> macro_steps;     // the sweep (each must divide t_end)
   std::vector<double> tolerances;      // of the monolithic reference curve
   double converged_tolerance = 1e-10;  // the reference all accuracies are measured against
@@ -79,7 +79,7 @@ struct StudyRun {
   std::string variant;  // the swept scene values, "key=value;..." ("" without a sweep)
   std::string method;   // Method::label(), or "monolithic"
   double tolerance = 0;
-  RunRecord record;                   // status "missing" when the run left no readable summary.json
+  run::RunRecord record;              // status "missing" when the run left no readable summary.json
   double rel_l2_error_converged = 0;  // deflection at t_end against the converged reference
 };
 
@@ -114,4 +114,4 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opti
 // and the reason when it cannot be written whole.
 void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -14,7 +14,7 @@
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -110,7 +110,7 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-RunRecord record_of(const fs::path& json) {
+run::RunRecord record_of(const fs::path& json) {
   const auto m = FlatJson(read_text(json), json.string()).read();
   auto str = [&](const char* k) -> std::optional<std::string> {
     const auto it = m.find(k);
@@ -124,7 +124,7 @@ RunRecord record_of(const fs::path& json) {
     if (*end != '\0') throw std::invalid_argument(json.string() + ": " + k + " is not a number");
     return v;
   };
-  RunRecord r;
+  run::RunRecord r;
   r.case_name = str("case").value_or("");
   r.split = str("split");
   r.coupling = str("coupling");
@@ -158,12 +158,12 @@ RunRecord record_of(const fs::path& json) {
   return r;
 }
 
-bool has_deflection(const RunRecord& r) {
-  return ran_to_end(r);
+bool has_deflection(const run::RunRecord& r) {
+  return run::ran_to_end(r);
 }
 
 // deflection.csv: x_m,w_m per rail node.
-void read_deflection(const fs::path& file, RunRecord& r) {
+void read_deflection(const fs::path& file, run::RunRecord& r) {
   std::istringstream in(read_text(file));
   std::string line;
   std::getline(in, line);
@@ -178,11 +178,11 @@ void read_deflection(const fs::path& file, RunRecord& r) {
 
 // What a run folder holds, or a record with status "missing" saying why
 // there is nothing to read.
-RunRecord read_run(const fs::path& dir, const PlannedRun& run) {
+run::RunRecord read_run(const fs::path& dir, const PlannedRun& run) {
   const fs::path folder = dir / run.folder;
   const fs::path json = folder / "summary.json";
   auto missing = [&](const std::string& why) {
-    RunRecord r;
+    run::RunRecord r;
     r.case_name = run.case_name;
     r.macro_step = run.macro_step;
     r.transport = run.transport;
@@ -195,7 +195,7 @@ RunRecord read_run(const fs::path& dir, const PlannedRun& run) {
   if (!fs::exists(json))
     return missing("no summary.json in " + run.folder + ": the run has not finished");
   try {
-    RunRecord r = record_of(json);
+    run::RunRecord r = record_of(json);
     if (has_deflection(r)) read_deflection(folder / "deflection.csv", r);
     return r;
   } catch (const std::exception& e) {
@@ -249,7 +249,7 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
   }
 
   // The converged reference of each variant, and every run against it.
-  std::map<std::string, const RunRecord*> converged;
+  std::map<std::string, const run::RunRecord*> converged;
   for (std::size_t i = 0; i < stage1; ++i)
     if (c.runs[i].group == "converged" && has_deflection(c.runs[i].record))
       converged[c.runs[i].variant] = &c.runs[i].record;
@@ -260,7 +260,7 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
     if (it != converged.end() && has_deflection(s.record) &&
         s.record.deflection.size() == it->second->deflection.size())
       s.rel_l2_error_converged =
-          deflection_error(s.record.deflection, it->second->deflection).rel_l2;
+          run::deflection_error(s.record.deflection, it->second->deflection).rel_l2;
   }
   if (!write) return c;
   write_summary_csv(dir / "summary.csv", c.runs);
@@ -281,4 +281,4 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
   return c;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

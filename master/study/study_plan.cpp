@@ -17,7 +17,7 @@
 #include "scene_text.hpp"
 #include "study/report_methods.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -246,7 +246,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   for (double H : sweep) {
     if (H == scene.macro_step) continue;  // the cases are that column of the sweep
     for (const Method& m : methods)
-      if (m.coupling.method != CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
+      if (m.coupling.method != engine::CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
         to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
   }
   add_restart_runs(to, scene, base, scene_path);
@@ -304,7 +304,7 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   p.stage = 2;
   p.runs.clear();
   p.scene_files.clear();
-  const std::string other = other_transport(stage1.transport);
+  const std::string other = remote::other_transport(stage1.transport);
   std::map<std::string, std::vector<StudyRun>> by_variant;
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
   std::vector<std::string> order;
@@ -339,4 +339,4 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   return p;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -23,7 +23,7 @@
 #include "engine/coupling_options.hpp"
 #include "study/study.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 
 constexpr int kPlanFormat = 1;
 
@@ -38,7 +38,7 @@ struct PlannedRun {
   std::string scene;        // the scene file, relative to the study's folder
   std::string case_name;
   Feedthrough feedthrough = Feedthrough::kLagged;
-  CouplingOptions coupling;
+  engine::CouplingOptions coupling;
   std::string transport;  // of a co-simulation run
   double macro_step = 0;
   double tolerance = 0;
@@ -87,4 +87,4 @@ void write_plan(const StudyPlan& plan, const std::filesystem::path& copy = {});
 // tolerance and variant); throws std::invalid_argument naming file and line.
 StudyPlan read_plan(const std::filesystem::path& file);
 
-}  // namespace railcosim
+}  // namespace railcosim::study

@@ -9,7 +9,7 @@
 #include "run/run_output.hpp"
 #include "study/study_plan.hpp"
 
-namespace railcosim {
+namespace railcosim::study {
 namespace {
 
 namespace fs = std::filesystem;
@@ -30,7 +30,7 @@ std::string join(const std::vector<double>& v) {
   std::string s;
   for (double x : v) {
     if (!s.empty()) s += ',';
-    s += format_double(x);
+    s += run::format_double(x);
   }
   return s;
 }
@@ -103,15 +103,15 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
     } else if (k == "--tolerance") {
       r.tolerance = number(v, what);
     } else if (k == "--transport") {
-      r.transport = parse_transport(v, what).name();
+      r.transport = remote::parse_transport(v, what).name();
     } else if (k == "--feedthrough") {
       r.feedthrough = parse_feedthrough(v).value_or(Feedthrough::kLagged);
     } else if (k == "--coupling") {
-      r.coupling.method = parse_coupling_method(v, what);
+      r.coupling.method = engine::parse_coupling_method(v, what);
     } else if (k == "--inputs") {
-      r.coupling.inputs = parse_input_mode(v, what);
+      r.coupling.inputs = engine::parse_input_mode(v, what);
     } else if (k == "--accelerator") {
-      r.coupling.accelerator.kind = parse_accelerator(v, what);
+      r.coupling.accelerator.kind = engine::parse_accelerator(v, what);
     } else if (k == "--relaxation") {
       r.coupling.accelerator.relaxation = number(v, what);
     } else if (k == "--max-iterations") {
@@ -142,19 +142,20 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
   std::string c = shell_word(plan.master);
   c += " run --scene ";
   c += shell_word((plan.out / r.scene).string());
-  c += " --case " + r.case_name + " --macro-step " + format_double(r.macro_step) + " --tolerance " +
-       format_double(r.tolerance);
+  c += " --case " + r.case_name + " --macro-step " + run::format_double(r.macro_step) +
+       " --tolerance " + run::format_double(r.tolerance);
   if (r.case_name != "monolithic") {
     c += " --transport " + r.transport;
     if (r.feedthrough == Feedthrough::kResolved) c += " --feedthrough resolved";
-    const CouplingOptions& k = r.coupling;
+    const engine::CouplingOptions& k = r.coupling;
     if (!k.is_plain()) {
       c += " --coupling " + to_string(k.method) + " --inputs " + to_string(k.inputs);
-      if (k.method == CouplingMethod::kImplicit)
+      if (k.method == engine::CouplingMethod::kImplicit)
         c += " --accelerator " + to_string(k.accelerator.kind) + " --relaxation " +
-             format_double(k.accelerator.relaxation) + " --max-iterations " +
-             std::to_string(k.max_iterations) + " --convergence " + format_double(k.convergence) +
-             " --reused-windows " + std::to_string(k.accelerator.windows_reused);
+             run::format_double(k.accelerator.relaxation) + " --max-iterations " +
+             std::to_string(k.max_iterations) + " --convergence " +
+             run::format_double(k.convergence) + " --reused-windows " +
+             std::to_string(k.accelerator.windows_reused);
     }
   }
   c += " --out ";
@@ -176,7 +177,7 @@ std::string plan_text(const StudyPlan& p) {
     << "#% transport = " << p.transport << "\n"
     << "#% macro_steps = " << (p.macro_steps.empty() ? "default" : join(p.macro_steps)) << "\n"
     << "#% tolerances = " << join(p.tolerances) << "\n"
-    << "#% converged_tolerance = " << format_double(p.converged_tolerance) << "\n";
+    << "#% converged_tolerance = " << run::format_double(p.converged_tolerance) << "\n";
   for (const SweepAxis& a : p.sweeps) {
     s << "#% sweep = " << a.key << "=";
     for (std::size_t i = 0; i < a.values.size(); ++i) s << (i ? "," : "") << a.values[i];
@@ -197,14 +198,14 @@ void write_plan(const StudyPlan& plan, const fs::path& copy) {
     fs::create_directories(f.parent_path(), ec);
     if (ec)
       throw std::runtime_error("cannot create " + f.parent_path().string() + ": " + ec.message());
-    write_file_atomically(f, text);
+    run::write_file_atomically(f, text);
   }
   fs::create_directories(plan.out, ec);
   if (ec) throw std::runtime_error("cannot create " + plan.out.string() + ": " + ec.message());
   const std::string text = plan_text(plan);
   const fs::path own = plan_file(plan.out, plan.stage);
-  write_file_atomically(own, text);
-  if (!copy.empty() && !fs::equivalent(copy, own, ec)) write_file_atomically(copy, text);
+  run::write_file_atomically(own, text);
+  if (!copy.empty() && !fs::equivalent(copy, own, ec)) run::write_file_atomically(copy, text);
 }
 
 StudyPlan read_plan(const fs::path& file) {
@@ -235,7 +236,7 @@ StudyPlan read_plan(const fs::path& file) {
       } else if (key == "out") {
         p.out = value;
       } else if (key == "transport") {
-        p.transport = parse_transport(value, where + ": transport").name();
+        p.transport = remote::parse_transport(value, where + ": transport").name();
       } else if (key == "macro_steps") {
         if (value != "default") p.macro_steps = numbers(value, where);
       } else if (key == "tolerances") {
@@ -274,4 +275,4 @@ StudyPlan read_plan(const fs::path& file) {
   return p;
 }
 
-}  // namespace railcosim
+}  // namespace railcosim::study
