@@ -18,6 +18,17 @@
 namespace railcosim {
 namespace findings_table_test {
 
+using study::amplified_and_biggest;
+using study::error_ratio;
+using study::fewer_unstable_runs;
+using study::FindingMeasure;
+using study::FindingRow;
+using study::history_error_between;
+using study::kFindingTable;
+using study::lower_error_in_pairs;
+using study::RunPair;
+using study::stable_and_below_factor;
+
 const char* measure_name(FindingMeasure m) {
   if (m == amplified_and_biggest) return "amplified_and_biggest";
   if (m == history_error_between) return "history_error_between";

@@ -16,6 +16,8 @@
 namespace railcosim {
 namespace model_tables_test {
 
+using cli::conform_case;
+
 Scene scene_with_soil() {
   return load_scene(test::source_path("scenes/soil.toml"));
 }
