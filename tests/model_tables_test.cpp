@@ -10,6 +10,7 @@
 #include "cli/conform.hpp"
 #include "cosim_case.hpp"
 #include "model.hpp"
+#include "process_support.hpp"
 #include "scene.hpp"
 #include "test_support.hpp"
 
@@ -90,6 +91,21 @@ TEST(RoleTable, EveryHeldRangeHasARoleAndEveryRoleItsConformCase) {
       for (int c = first; c <= last; ++c) p.add(static_cast<Component>(c));
       EXPECT_NE(find_role(role_of(p)), nullptr) << first << ".." << last;
     }
+}
+
+TEST(RoleTable, ANodeServesTheTablesRolesAndNoOther) {
+  for (const std::string& role : role_names()) {
+    const test::Outcome o = test::run_program("vehicle_node", "--role " + role + " --check");
+    EXPECT_EQ(o.status, 0) << role << ": " << o.output;
+    EXPECT_NE(o.output.find("would serve the " + role + " participant"), std::string::npos)
+        << o.output;
+  }
+  const test::Outcome o = test::run_program("vehicle_node", "--role bridge --check");
+  EXPECT_NE(o.status, 0) << o.output;
+  EXPECT_NE(o.output.find("bridge"), std::string::npos) << o.output;
+  const test::Outcome help = test::run_program("vehicle_node", "--help");
+  EXPECT_NE(help.output.find("vehicle, track, rail, soil, or any"), std::string::npos)
+      << help.output;
 }
 
 TEST(RoleTable, ConformCasesComeFromTheTable) {

@@ -1,5 +1,5 @@
-// Test helpers: the master program run as a user runs it, and the files it
-// writes.
+// Test helpers: the programs run as a user runs them, and the files they
+// write.
 #pragma once
 
 #include <sys/wait.h>
@@ -20,9 +20,9 @@ struct Outcome {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `master ARGS` from the build's bin folder and waits for it.
-inline Outcome run_master(const std::string& args) {
-  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/master " + args + " 2>&1";
+// Runs `PROGRAM ARGS` from the build's bin folder and waits for it.
+inline Outcome run_program(const std::string& program, const std::string& args) {
+  const std::string cmd = std::string(RAILCOSIM_BIN_DIR) + "/" + program + " " + args + " 2>&1";
   Outcome o;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return o;
@@ -31,6 +31,11 @@ inline Outcome run_master(const std::string& args) {
   const int st = pclose(p);
   o.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return o;
+}
+
+// Runs `master ARGS` as a user runs it.
+inline Outcome run_master(const std::string& args) {
+  return run_program("master", args);
 }
 
 // A fresh, empty temporary folder named after `name` and this process.
