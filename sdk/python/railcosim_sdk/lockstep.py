@@ -44,15 +44,17 @@ class Kept:
             {q: np.array(o[q], dtype=float) for q in i.sends}
             for i, o in zip(s.interfaces, s.last)]
 
-    def restore(self, session):
+    def restore(self, session, held=True):
+        """Back to the snapshot; `held` False: leave the held inputs to the
+        step that restores, which brings its own."""
         s = session
         # A fresh array every time: restore() may keep it and change it.
         s.p.restore(self.values.copy())
         s.step = self.step
         s.p.micro_steps = self.micro_steps
-        if held_from(self.held) == self.step * s.H:  # decoded once, read-only arrays
-            s.held, s.held_wire = self.held, self.held_wire
-        else:  # inputs held since an earlier step: over this one, as a State brings them
+        if held and held_from(self.held) == self.step * s.H:
+            s.held, s.held_wire = self.held, self.held_wire  # decoded once, read-only arrays
+        elif held:  # inputs held since an earlier step: over this one, as a State brings them
             s.set_inputs(*self.held_wire)
         s.last = None if self.last is None else [
             {q: a.copy() for q, a in o.items()} for o in self.last]
@@ -110,12 +112,12 @@ class LockstepSession(Session):
     def keep(self):
         self.kept = Kept(self)
 
-    def restore_kept(self):
+    def restore_kept(self, held=True):
         if self.kept is None:
             raise ProtocolError(E.OUT_OF_ORDER, "restore of the kept checkpoint, but none was "
                                 "kept (a save with keep, or a step with keep_checkpoint, comes "
                                 "first)")
-        self.kept.restore(self)
+        self.kept.restore(self, held)
 
     def on_save(self, req, out):
         if not req.save.keep:
@@ -142,5 +144,5 @@ class LockstepSession(Session):
             if s.keep_checkpoint:
                 self.keep()
             if s.restore_checkpoint:
-                self.restore_kept()
+                self.restore_kept(held=not s.HasField("inputs"))
         return super().on_step(req, out)
