@@ -56,8 +56,7 @@ class Kept:
             s.held, s.held_wire = self.held, self.held_wire  # decoded once, read-only arrays
         elif held:  # inputs held since an earlier step: over this one, as a State brings them
             s.set_inputs(*self.held_wire)
-        s.last = None if self.last is None else [
-            {q: a.copy() for q, a in o.items()} for o in self.last]
+        s.last = self.last  # the session never changes these; a step replaces them
 
 
 def held_from(held):
