@@ -77,6 +77,24 @@ def frame(env):
     return struct.pack(">I", len(b)) + b
 
 
+def floor(steps):
+    """The baseline measured in the same run: a Step frame's bytes -> Envelope,
+    and a StepReport of the same shape -> bytes, with nothing in between
+    (the protobuf work any Python participant does per macro step)."""
+    s = session(NoPhysics)
+    report = s.handle(pb.Envelope(id=9, step=pb.Step(step=0, h=H, inputs=inputs(0))))
+    frames = [frame(pb.Envelope(id=10 + n, step=pb.Step(step=n, t=n * H, h=H, inputs=inputs(n))))
+              for n in range(steps)]
+    t0 = time.process_time()
+    for f in frames:
+        (length,) = struct.unpack_from(">I", f)
+        req = pb.Envelope.FromString(f[4:4 + length])
+        report.id = req.id
+        reply = report.SerializeToString()
+        struct.pack(">I", len(reply)) + reply
+    return (time.process_time() - t0) / steps
+
+
 def physics(steps):
     s = session()
     held = s.held
@@ -158,7 +176,7 @@ def main():
         for name, f in (("physics", physics), ("relayed", relayed), ("direct", direct),
                         ("relayed0", lambda n: relayed(n, NoPhysics)),
                         ("direct0", lambda n: direct(n, NoPhysics)),
-                        ("lockstep0", lambda n: lockstep(n, NoPhysics))):
+                        ("lockstep0", lambda n: lockstep(n, NoPhysics)), ("floor", floor)):
             best[name] = min(best.get(name, 1e9), f(steps))
     us = {k: v * 1e6 for k, v in best.items()}
     print("per macro step (best of 3 x %d steps): physics %.1f us, relayed %.1f us, "
@@ -169,6 +187,10 @@ def main():
           % (us["relayed0"], us["direct0"]))
     print("an implicit iteration in lock step (Step with ramped inputs and the checkpoint "
           "flag), a physics that computes nothing: %.1f us" % us["lockstep0"])
+    print("baseline (frame -> Envelope, StepReport -> bytes, nothing else): %.1f us; the "
+          "empty-physics steps as multiples of it: relayed %.2f, direct %.2f, lock step %.2f"
+          % (us["floor"], us["relayed0"] / us["floor"], us["direct0"] / us["floor"],
+             us["lockstep0"] / us["floor"]))
 
 
 if __name__ == "__main__":
