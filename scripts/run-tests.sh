@@ -14,7 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-scripts/build.sh -DRAILCOSIM_BUILD_BENCH=OFF -DRAILCOSIM_UNITY=ON
+scripts/build.sh -DRAILCOSIM_BUILD_TESTS=ON -DRAILCOSIM_BUILD_BENCH=OFF
 (cd build && ctest --output-on-failure -j "$(nproc)")
 
 [[ "${RAILCOSIM_QUICK:-0}" == 1 ]] && exit 0
