@@ -33,6 +33,7 @@ import numpy as np
 
 from . import config as fe_config
 from . import measures, two_step
+from . import progress as fe_progress
 
 # (key, label, case, extra options of master run)
 COSIMS = [
@@ -59,20 +60,32 @@ def read_vibration(path):
     return [{k: (v if k == "receiver" else float(v)) for k, v in r.items()} for r in rows]
 
 
-def run_master(master, scene, out, case, extra):
+def run_master(master, scene, out, case, extra, progress=None):
     """One master run; (its folder, wall seconds, load at the start, its
-    summary.json)."""
+    summary.json). Its output goes to OUT/master.log; its progress lines
+    (once a second, or every RAILCOSIM_PROGRESS_SECONDS) move `progress` on."""
     t0, l0 = time.perf_counter(), load()
     cmd = [master, "run", "--scene", scene, "--case", case, "--out", out] + extra
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    os.makedirs(out, exist_ok=True)
+    log_path = os.path.join(out, "master.log")
+    env = dict(os.environ, RAILCOSIM_PROGRESS_SECONDS=os.environ.get("RAILCOSIM_PROGRESS_SECONDS", "1"))
+    with open(log_path, "w") as log:
+        p = subprocess.Popen(cmd, stdout=log, stderr=subprocess.PIPE, text=True, env=env)
+        for line in p.stderr:
+            m = fe_progress.STEP_LINE.match(line)
+            if m and progress is not None:
+                progress.at(int(m.group(1)), int(m.group(2)))
+            if not line.startswith("progress: "):
+                log.write(line)
+                log.flush()
+        p.wait()
     wall = time.perf_counter() - t0
     folder = os.path.join(out, case)
-    with open(os.path.join(out, "master.log"), "w") as f:
-        f.write(p.stdout + p.stderr)
     if p.returncode != 0:
+        with open(log_path) as f:
+            text = f.read()
         raise StudyError("%s failed (exit %d); its output is in %s:\n%s"
-                         % (" ".join(cmd), p.returncode, os.path.join(out, "master.log"),
-                            (p.stdout + p.stderr)[-2000:]))
+                         % (" ".join(cmd), p.returncode, log_path, text[-2000:]))
     with open(os.path.join(folder, "summary.json")) as f:
         summary = json.load(f)
     if summary.get("status") != "ok":
@@ -107,7 +120,7 @@ class Snapshots:
                  vz=np.array(self.vz), receivers=np.array(receivers))
 
 
-def run_two_step(a, scene, out, reference_folder, names, xs):
+def run_two_step(a, scene, out, reference_folder, names, xs, progress):
     """The two-step method; its folder (vibration.csv, receivers.csv like a
     co-simulation's), its costs, and what the checks need."""
     folder = os.path.join(out, "runs", "two-step")
@@ -119,12 +132,17 @@ def run_two_step(a, scene, out, reference_folder, names, xs):
     fit = time.perf_counter() - t0
     lumped = two_step.lumped_scene(a.scene, scene, cfg, kf, kc, os.path.join(out, "lumped.toml"))
     mono, lumped_wall, l1, _ = run_master(a.master, lumped, os.path.join(out, "runs", "lumped"),
-                                          "monolithic", [])
+                                          "monolithic", [], progress)
     _, forces = two_step.read_csv(os.path.join(mono, "soil_forces.csv"))
     t, H = forces[:, 0], float(forces[1, 0] - forces[0, 0])
     t1, l2 = time.perf_counter(), load()
     snaps = Snapshots(soil, os.path.join(folder, "velocity.xdmf"), len(t) - 1, a.snapshots)
-    tr, v = two_step.one_way(soil, forces[:, 1:], t, H, after_step=snaps)
+
+    def after_step(k, s):
+        snaps(k, s)
+        progress.at(k, len(t) - 1)
+
+    tr, v = two_step.one_way(soil, forces[:, 1:], t, H, after_step=after_step)
     one_way = time.perf_counter() - t1
     snaps.save(os.path.join(folder, "surface.npz"), soil.p.receivers)
     s = two_step.summaries(v, H)
@@ -251,20 +269,29 @@ def main(argv=None):
         sys.exit("%s: %s" % (a.scene, e))
     started = time.perf_counter()
     runs = {}
+    progress = fe_progress.Progress("ground-vibration study", len(COSIMS) + 1)
     try:
         for key, label, case, extra in COSIMS:
-            print("study: %s (%s %s)" % (label, case, " ".join(extra)), flush=True)
+            progress.say("study: %s (%s %s)" % (label, case, " ".join(extra)))
+            progress.begin(label)
             folder, wall, l0, summary = run_master(a.master, a.scene,
-                                                   os.path.join(out, "runs", key), case, extra)
+                                                   os.path.join(out, "runs", key), case, extra,
+                                                   progress)
+            progress.run_done()
             runs[key] = {"label": label, "case": case, "extra": extra, "folder": folder,
                          "wall": wall, "load": l0, "summary": summary,
                          "vibration": read_vibration(os.path.join(folder, "vibration.csv"))}
         names = [r["receiver"] for r in runs["jacobi"]["vibration"]]
         xs = [r["x_m"] for r in runs["jacobi"]["vibration"]]
-        print("study: two-step method", flush=True)
-        folder, cost, ts = run_two_step(a, scene, out, runs["jacobi"]["folder"], names, xs)
+        progress.say("study: two-step method")
+        progress.begin("two-step: the lumped run, then the FE soil one way")
+        folder, cost, ts = run_two_step(a, scene, out, runs["jacobi"]["folder"], names, xs,
+                                        progress)
+        progress.run_done()
     except StudyError as e:
+        progress.end()
         sys.exit(str(e))
+    progress.end()
     runs["two-step"] = {"label": "two-step", "folder": folder, "cost": cost,
                         "wall": cost["fit"] + cost["lumped"] + cost["one_way"],
                         "load": cost["load"][0],

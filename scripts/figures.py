@@ -180,7 +180,8 @@ def read_front(study):
 def speed_accuracy(study, runs, out):
     """One panel per cut: every method of the cut over the macro-step sweep,
     the monolithic tolerance sweep as reference, and the report's answer
-    (front.csv) bold and labelled. Returns the front drawn."""
+    (front.csv) as numbered stars, each number a row of the answer table
+    under the panels. Returns the front drawn."""
     front = read_front(study)
     cosim = [r for r in runs if r["group"] in ("case", "sweep", "other-transport") and r["method"] != "monolithic"]
     cuts = []
@@ -190,8 +191,15 @@ def speed_accuracy(study, runs, out):
     levels = sorted({num(f["level"]) for f in front}, reverse=True) or [1e-3, 1e-4, 1e-5]
     ncols = 1 if len(cuts) == 1 else 2
     nrows = max(1, math.ceil(len(cuts) / ncols))
-    fig, axes = plt.subplots(nrows, ncols, figsize=(7.5 * ncols, 5.2 * nrows + 1.2), sharex=True, sharey=True,
-                             squeeze=False)
+    answers = sum(1 for f in front if f["method"] and f["cut"] in cuts)
+    table_h = 0.24 * (answers + 1) + 0.2  # inches: a row per answer and the header
+    legend_h = 1.0
+    fig = plt.figure(figsize=(7.5 * ncols, 5.2 * nrows + table_h + legend_h + 0.6))
+    grid = fig.add_gridspec(nrows + 1, ncols, height_ratios=[5.2] * nrows + [table_h])
+    axes = [[None] * ncols for _ in range(nrows)]
+    for k in range(nrows * ncols):
+        first = axes[0][0]
+        axes[k // ncols][k % ncols] = fig.add_subplot(grid[k // ncols, k % ncols], sharex=first, sharey=first)
     tol = sorted(  # along the tolerance, loosest first
         (num(r["wall_s"]), num(r["rel_l2_error_converged"]), r["tolerance_m"], r["transport"])
         for r in runs
@@ -199,7 +207,7 @@ def speed_accuracy(study, runs, out):
         and num(r["rel_l2_error_converged"]) > 0
     )
     tol = sorted(dict((t[2], t) for t in tol).values(), key=lambda t: -float(t[2]))
-    state = {"drawn": [], "families": set(), "unstable": False}
+    state = {"drawn": [], "families": set(), "unstable": False, "answers": []}
     for k, cut in enumerate(cuts):
         panel(axes[k // ncols][k % ncols], cut, cosim, tol, front, levels, state)
     for k in range(len(cuts), nrows * ncols):
@@ -208,13 +216,34 @@ def speed_accuracy(study, runs, out):
         row[0].set_ylabel("rel. L2 error of the deflection at t_end\n(against the converged monolithic run)")
     for ax in axes[-1]:
         ax.set_xlabel("wall time (s)")
+    answer_table(fig.add_subplot(grid[nrows, :]), state["answers"])
     legend(fig, state, cosim, tol)
-    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; the bold star is the method to use",
-                 fontsize=12)
-    fig.tight_layout(rect=(0, 0.1 if nrows == 1 else 0.06, 1, 0.97))
+    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; "
+                 "a numbered star is the method to use (table below)", fontsize=12)
+    bottom = legend_h / fig.get_figheight()
+    fig.tight_layout(rect=(0, bottom, 1, 0.97))
     fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
     plt.close(fig)
     return state["drawn"]
+
+
+def answer_table(ax, answers):
+    """The answer as a table: one row per numbered star."""
+    ax.axis("off")
+    if not answers:
+        ax.text(0.5, 0.5, "no co-simulation reaches any error level", ha="center", va="center", fontsize=9)
+        return
+    rows = [[str(n), cut, f"\u2264 {levels}", method, f"{h:g}", f"{x:.3g}", transport]
+            for n, cut, levels, method, h, x, transport in answers]
+    t = ax.table(cellText=rows, colLabels=["#", "cut", "error", "method to use", "H (s)", "wall (s)", "over"],
+                 loc="upper center", cellLoc="left", colLoc="left", edges="horizontal")
+    t.auto_set_font_size(False)
+    t.set_fontsize(8.5)
+    t.auto_set_column_width(list(range(7)))
+    for (r, _), cell in t.get_celld().items():
+        cell.set_height(1.0 / (len(rows) + 1))
+        if r == 0:
+            cell.set_text_props(fontweight="bold")
 
 
 def panel(ax, cut, cosim, tol, front, levels, state):
@@ -271,12 +300,13 @@ def panel(ax, cut, cosim, tol, front, levels, state):
                                r["transport"]))
         labels.setdefault((x, y, r["method"], num(r["macro_step_s"]), r["transport"]), []).append(
             f"{num(f['level']):g}")
-    for i, ((x, y, m, h, t), lv) in enumerate(labels.items()):
+    for (x, y, m, h, t), lv in labels.items():
+        n = len(state["answers"]) + 1
+        state["answers"].append((n, cut, ", ".join(lv), m, h, x, t))
         ax.plot(x, y, "*", ms=18, color="gold", mec="k", mew=1.2, zorder=8)
-        ax.annotate(f"error \u2264 {', '.join(lv)}: {m}\nH = {h:g} s, {x:.3g} s over {t}", (x, y), fontsize=7.5,
-                    fontweight="bold", xytext=(40 + 25 * i, -22 - 8 * i), textcoords="offset points",
-                    va="top", zorder=7, arrowprops=dict(arrowstyle="-", color="0.4", lw=0.8),
-                    bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.6", alpha=0.9))
+        ax.annotate(str(n), (x, y), fontsize=9, fontweight="bold", xytext=(7, 5), textcoords="offset points",
+                    ha="left", va="bottom", zorder=9,
+                    bbox=dict(boxstyle="circle,pad=0.15", fc="white", ec="k", lw=0.8))
     several = len({f.get("transport", "") for f in front if f["cut"] == cut}) > 1
     missing = [f"{num(f['level']):g}" + (f" over {f['transport']}" if several else "")
                for f in front if f["cut"] == cut and not f["method"]]
@@ -309,7 +339,7 @@ def legend(fig, state, cosim, tol):
         handles.append(Line2D([], [], ls="", marker="o", ms=11, mfc="none", mec="#d50000", mew=2,
                               label="amplified (unstable)"))
     handles.append(Line2D([], [], ls="", marker="*", ms=16, color="gold", mec="k",
-                          label="the answer: cheapest to reach each error level"))
+                          label="the answer, numbered as in the table: cheapest to reach each error level"))
     transports = sorted({r["transport"] for r in cosim} | {t[3] for t in tol})
     fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
                title="markers: " + ", ".join(f"{MARKERS.get(t, 'o').replace('o', 'circle').replace('s', 'square')} "

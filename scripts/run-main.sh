@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the study of a scene (default:
+# Installs what is missing, builds the programs and the benchmarks (not the
+# tests: scripts/run-tests.sh builds those), and runs the study of a scene (default:
 # the paper scene): the monolithic reference, every co-simulation case over
 # TCP (with nodes the master starts), the macro-step sweeps, figures and
 # OUT/REPORT.md. A scene on the FE soil ([soil] model = "fe") gets the
@@ -9,7 +10,7 @@
 # Arguments: [OUT_DIR] [SCENE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/build.sh
+scripts/build.sh -DRAILCOSIM_BUILD_TESTS=OFF -DRAILCOSIM_BUILD_BENCH=ON
 out="${1:-results}"
 scene="${2:-scenes/paper.toml}"
 soil_model=$(/usr/bin/python3 -c '

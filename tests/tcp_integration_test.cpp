@@ -184,9 +184,9 @@ TEST(TcpMaster, ARunWithAGivenSoilNodeEqualsTheInProcessRun) {
   const std::string c = "wr-xx+ss-xt-gauss-seidel";
   {
     LaunchedNode soil("soil_node", std::chrono::seconds(10));
-    const Outcome tcp =
-        run_master("run --scene " + scene.string() + " --case " + c +
-                   " --node soil=" + soil.address().str() + " --out " + (dir / "tcp").string());
+    const Outcome tcp = run_master("run --scene " + scene.string() + " --case " + c +
+                                   " --node soil=" + soil.address().str() + " --verbose --out " +
+                                   (dir / "tcp").string());
     ASSERT_EQ(tcp.status, 0) << tcp.output;
     // The master started the vehicle and track nodes, and no soil node of its own.
     EXPECT_NE(tcp.output.find("started vehicle_node"), std::string::npos) << tcp.output;

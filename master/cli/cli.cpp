@@ -11,6 +11,7 @@
 #include "cli/cli_run.hpp"
 #include "cli/cli_study.hpp"
 #include "cli/conform.hpp"
+#include "log.hpp"
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
 
@@ -41,6 +42,13 @@ void add_check_flag(CLI::App& command, bool& check) {
                    "Read the command line and the files it names (scene, secret, node addresses) "
                    "as the command would, print what it would do, and stop: no node is started, "
                    "no run made, no file written");
+}
+
+void add_verbose_flag(CLI::App& command) {
+  command.add_flag_callback(
+      "--verbose", [] { logger("master")->set_level(spdlog::level::debug); },
+      "Also log the master's details on stderr: the nodes it starts, where they listen, the "
+      "coupled static state");
 }
 
 const std::atomic<int>* stop_flag() {

@@ -10,6 +10,10 @@ namespace railcosim::cli {
 // Adds --check to a command: read and check everything, do nothing.
 void add_check_flag(CLI::App& command, bool& check);
 
+// Adds --verbose to a command: the master's details (the nodes it starts,
+// the static state) on stderr too.
+void add_verbose_flag(CLI::App& command);
+
 // Set by SIGINT or SIGTERM once master_main has installed its handlers: runs
 // stop at the next macro step and leave a summary saying so.
 const std::atomic<int>* stop_flag();

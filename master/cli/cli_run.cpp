@@ -30,6 +30,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/execute.hpp"
+#include "run/progress.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
 #include "run/stability.hpp"
@@ -101,37 +102,6 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
   }
   return given;
 }
-
-// A progress line on stderr, redrawn at most five times a second, when stderr
-// is a terminal; nothing otherwise.
-class Progress {
- public:
-  Progress(std::string label, double macro_step)
-      : label_(std::move(label)), H_(macro_step), enabled_(::isatty(STDERR_FILENO) != 0) {}
-  // Ends the line, if one was drawn.
-  void end() {
-    if (drawn_) std::fputs("\n", stderr);
-    drawn_ = false;
-  }
-  void operator()(long done, long total) {
-    if (!enabled_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (done != total && now - last_ < std::chrono::milliseconds(200)) return;
-    last_ = now;
-    const double wall = std::chrono::duration<double>(now - start_).count();
-    const double t = static_cast<double>(done) * H_;
-    std::fprintf(stderr, "\r%s: step %ld/%ld, t = %.4f s, real-time factor %.3g   ", label_.c_str(),
-                 done, total, t, wall > 0 ? t / wall : 0.0);
-    drawn_ = true;
-  }
-
- private:
-  std::string label_;
-  double H_;
-  bool enabled_;
-  bool drawn_ = false;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
-};
 
 // Parses a case name; an unknown one is an error that lists this scene's cases.
 CaseSpec parse_case_of(const std::string& name, const Scene& scene) {
@@ -214,8 +184,9 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
   run->add_option("--convergence", a.c.convergence,
-                  "Implicit: converged when ||G(x) - x|| <= this x ||G(x)|| for every exchanged "
-                  "quantity")
+                  "Implicit: a macro step has converged when, for every exchanged quantity, "
+                  "||G(x) - x|| <= this x the largest norm the quantity has had in the run (a "
+                  "velocity: or its displacement's / H)")
       ->check(CLI::Range(1e-15, 0.5))
       ->capture_default_str();
   run->add_option("--reused-windows", a.c.accelerator.windows_reused,
@@ -292,6 +263,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       "--accelerator, --relaxation, --max-iterations, --convergence, --reused-windows, "
       "--feedthrough, --data-plane and --window-steps; a flag given wins.");
   add_check_flag(*run, a.check);
+  add_verbose_flag(*run);
   a.command = run;
 }
 
@@ -349,9 +321,12 @@ int do_run(const RunArgs& command_line) {
     job.on_folder = [&](const std::filesystem::path& dir) {
       pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string()});
     };
-  auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
-  job.on_progress = [progress](long done, long total) { (*progress)(done, total); };
+  auto progress = std::make_shared<run::Progress>(spec.name(), 1, 1);
+  job.on_progress = [progress, name = spec.name()](long done, long total) {
+    progress->step(0, name, done, total);
+  };
   const run::RunOutcome outcome = run::execute(job);
+  progress->run_done(0);
   progress->end();
   if (!outcome.error.empty()) {
     std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",

@@ -148,6 +148,7 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
   study->add_option("--master", a.master,
                     "With --plan: the master program the command lines call (default: this one)");
   add_check_flag(*study, a.check);
+  add_verbose_flag(*study);
   a.command = study;
 }
 

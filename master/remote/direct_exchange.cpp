@@ -24,6 +24,21 @@ bool enter_lockstep(const std::vector<Participant*>& ps, long first, long end) {
   return true;
 }
 
+std::string relay_reason(const std::vector<Participant*>& ps, bool lockstep) {
+  std::string lacking;
+  for (Participant* p : ps) {
+    auto* r = dynamic_cast<RemoteParticipant*>(p);
+    if (r && (lockstep ? r->lockstep_capable() : r->direct_capable())) continue;
+    lacking += lacking.empty() ? "" : ", ";
+    lacking += r ? r->name() : p->name();
+  }
+  if (lacking.empty()) return "";
+  return lockstep ? "the lock step, which implicit coupling and ramped inputs need on the direct "
+                    "plane, is not offered by " +
+                        lacking
+                  : "the direct plane's windows are not offered by " + lacking;
+}
+
 std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participant*>& ps,
                                                      const engine::StepPlan& plan, double bound,
                                                      long total, DirectOptions options) {

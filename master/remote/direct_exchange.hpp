@@ -32,6 +32,11 @@ namespace railcosim::remote {
 // false (nothing sent) otherwise.
 bool enter_lockstep(const std::vector<Participant*>& participants, long first, long end);
 
+// Why a run stays relayed: the nodes that lack what its coupling needs on
+// the direct plane ("lockstep" for the couplings the master decides step by
+// step, "direct" for windows), by name and address; "" when none lacks it.
+std::string relay_reason(const std::vector<Participant*>& participants, bool lockstep);
+
 class DirectExchange final : public engine::MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers

@@ -53,8 +53,8 @@ const Address& NodePool::address(const std::string& role) {
   auto it = nodes_.find(role);
   if (it == nodes_.end() && role == "soil" && fe_) {
     auto node = std::make_unique<LaunchedNode>(fe_soil_command(*fe_, token_file_), kFeSoilStart);
-    logger("master")->info("started the FE soil ({} rank{}) on {}", fe_->ranks,
-                           fe_->ranks > 1 ? "s" : "", node->address().str());
+    logger("master")->debug("started the FE soil ({} rank{}) on {}", fe_->ranks,
+                            fe_->ranks > 1 ? "s" : "", node->address().str());
     it = nodes_.emplace(role, std::move(node)).first;
   }
   if (it == nodes_.end()) {
@@ -64,8 +64,8 @@ const Address& NodePool::address(const std::string& role) {
     auto node =
         std::make_unique<LaunchedNode>(program, std::chrono::seconds(10), "127.0.0.1:0",
                                        program == role + "_node" ? "" : role, token_file_, extra);
-    logger("master")->info("started {} for the {} participant on {}", program, role,
-                           node->address().str());
+    logger("master")->debug("started {} for the {} participant on {}", program, role,
+                            node->address().str());
     it = nodes_.emplace(role, std::move(node)).first;
   }
   return it->second->address();

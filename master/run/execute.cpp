@@ -14,8 +14,15 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   if (job.spec.monolithic) return run_monolithic(scene, o);
   const remote::SceneTransport t =
       remote::make_transport(remote::parse_transport(job.transport, "transport"), scene, job.nodes);
-  RunRecord r = run_cosim(scene, job.spec, o, t.factory, t.name);
-  if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o);
+  // The probe builds the scene's own participants in process: it cannot
+  // build one served by a node the user started, whatever runs there.
+  bool given_node = false;
+  const remote::ParticipantFactory factory = [&](const SubsystemConfig& c) {
+    if (job.nodes.given.count(c.participant.role) != 0) given_node = true;
+    return t.factory(c);
+  };
+  RunRecord r = run_cosim(scene, job.spec, o, factory, t.name);
+  if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o, !given_node);
   return r;
 }
 

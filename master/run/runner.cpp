@@ -254,8 +254,8 @@ std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions&
     else
       lockstep = remote::enter_lockstep(P.ps, 0, N);
     if (!direct && !lockstep)
-      logger("master")->info("{}: relayed data plane (a node does not offer the direct one)",
-                             r.case_name);
+      logger("master")->info("{}: relayed data plane ({})", r.case_name,
+                             remote::relay_reason(P.ps, !windows));
     else if (lockstep)
       logger("master")->debug(
           "{}: direct data plane in lock step (the master decides every macro step)", r.case_name);

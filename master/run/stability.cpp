@@ -85,8 +85,10 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
 }
 
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
-            const RunOptions& options) {
-  if (run.status != "failed") {
+            const RunOptions& options, bool probe) {
+  if (run.status != "failed" && !probe) {
+    run.stability = kNotJudged;
+  } else if (run.status != "failed") {
     const Stability s = probe_stability(scene, spec, options);
     run.stability = s.unstable ? "unstable" : "stable";
     run.error_growth = s.growth;

@@ -57,9 +57,15 @@ Scene parked_scene(const Scene& scene, double macro_step);
 // Runs the probe for a co-simulation case with the run's options.
 Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
 
-// Probes the case and judges the run (evaluation.hpp): what `master run`
-// and the study do for a co-simulation whose soil runs in the master.
+// The stability of a run whose participants the probe cannot build: one
+// served by a node the user started (--node ROLE=HOST:PORT), which may run
+// a model of its own behind the scene's name.
+inline constexpr const char* kNotJudged = "not judged";
+
+// Probes the case (unless `probe` is false: then its stability is
+// kNotJudged) and judges the run (evaluation.hpp): what `master run` and the
+// study do for a co-simulation whose soil is one of the master's models.
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
-            const RunOptions& options);
+            const RunOptions& options, bool probe = true);
 
 }  // namespace railcosim::run

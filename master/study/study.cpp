@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -19,6 +20,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/execute.hpp"
+#include "run/progress.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
 #include "run/stability.hpp"
@@ -166,7 +168,8 @@ struct PlanScenes {
 // execute()); the monolithic reference of its scene, H and tolerance is
 // computed once, by whichever worker needs it first.
 void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRun& run,
-                 remote::NodePool& pool, PlanScenes& shared) {
+                 remote::NodePool& pool, PlanScenes& shared,
+                 std::function<void(long, long)> on_progress) {
   const Scene& scene = shared.scenes.at(run.scene);
   RunJob job;
   job.scene = &scene;
@@ -180,6 +183,7 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
   job.nodes = {{}, &pool, {}};
   job.out = plan.out / std::filesystem::path(run.folder).parent_path();
   job.folder = run.case_name;
+  job.on_progress = std::move(on_progress);
   job.reference = [&]() -> const RunRecord& {
     Reference& ref = shared.references.at({run.scene, run.macro_step, run.tolerance});
     std::call_once(ref.once, [&] {
@@ -211,23 +215,23 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
   std::vector<remote::NodePool> pools(static_cast<std::size_t>(workers));
   logger("master")->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene,
                          plan.stage, total, workers);
-  std::atomic<std::size_t> next{0}, done{0};
-  std::mutex out_mutex;
-  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  std::atomic<std::size_t> next{0};
+  run::Progress progress("study, stage " + std::to_string(plan.stage), static_cast<long>(total),
+                         workers);
   auto work = [&](int w) {
     for (std::size_t j; (j = next++) < total;) {
-      execute_run(plan, opt, plan.runs[j], pools[static_cast<std::size_t>(w)], shared);
-      const std::size_t d = ++done;
-      if (tty) {
-        std::lock_guard lock(out_mutex);
-        std::fprintf(stderr, "\rstudy: %zu/%zu runs done   ", d, total);
-        if (d == total) std::fputs("\n", stderr);
-      }
+      const std::string& folder = plan.runs[j].folder;
+      execute_run(plan, opt, plan.runs[j], pools[static_cast<std::size_t>(w)], shared,
+                  [&progress, w, &folder](long done, long steps) {
+                    progress.step(w, folder, done, steps);
+                  });
+      progress.run_done(w);
     }
   };
   std::vector<std::thread> threads;
   for (int w = 0; w < workers; ++w) threads.emplace_back(work, w);
   for (auto& t : threads) t.join();
+  progress.end();
 }
 
 }  // namespace

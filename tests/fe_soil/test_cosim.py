@@ -70,7 +70,7 @@ class CoSimulation(unittest.TestCase):
         return path
 
     def test_runs_the_master_starts(self):
-        direct, log = self.run_master(CI_SCENE, "direct")
+        direct, log = self.run_master(CI_SCENE, "direct", "--verbose")
         self.assertIn("started the FE soil (1 rank)", log)
         summary, hist = self.assert_ok(direct)
         self.assertIn('"data_plane": "direct"', summary)
@@ -94,7 +94,7 @@ class CoSimulation(unittest.TestCase):
         # Two MPI ranks: the same run to the order of parallel sums (5e-11
         # relative measured).
         two = self.scene_variant("two.toml", "ranks = 1\n", "ranks = 2\n")
-        folder, log = self.run_master(two, "two")
+        folder, log = self.run_master(two, "two", "--verbose")
         self.assertIn("started the FE soil (2 ranks)", log)
         _, hist_two = self.assert_ok(folder)
         scale = np.abs(hist).max(axis=0)
