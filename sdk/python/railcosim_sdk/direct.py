@@ -1,6 +1,7 @@
 """The direct data plane (docs/protocol.md §17): Links, peer links, and the
 Window the participant runs on its own, streaming its reports."""
 
+import secrets
 import select
 import socket
 import time
@@ -9,7 +10,7 @@ import numpy as np
 
 from . import packed
 from .handshake import Acceptor
-from .session import auth_answer
+from .auth import auth_answer, proof_failure
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
 
 
@@ -119,11 +120,14 @@ class Plane:
                 who, str(e) or "no answer to the hello in time"))
 
     def handshake(self, l, ch, who, deadline):
+        token = self.s.token
+        mine = secrets.token_bytes(32) if token is not None else b""
         ch.send(pb.Envelope(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer",
                                            participant=l.peer, peer_of=self.s.p.name,
-                                           session=self.key, name=self.s.name)))
+                                           session=self.key, name=self.s.name, nonce=mine)))
         left = lambda: max(deadline - time.monotonic(), 0.001)
         reply = ch.receive(left())
+        challenge = reply.challenge.nonce if reply.HasField("challenge") else None
         if reply.HasField("challenge"):
             if self.s.token is None:
                 raise ProtocolError(E.UNAUTHORIZED, "peer link to %s: that participant requires "
@@ -138,6 +142,10 @@ class Plane:
         if not reply.HasField("hello_reply") or reply.hello_reply.participant != l.peer:
             raise ProtocolError(E.WRONG_ROLE, "peer link to %s: the program there does not "
                                 "serve %s" % (who, l.peer))
+        why = token is not None and proof_failure(token, l.peer, mine, challenge,
+                                                  reply.hello_reply.proof)
+        if why:
+            raise ProtocolError(E.UNAUTHORIZED, "peer link to %s: %s" % (who, why))
         return ch
 
     def master_gone(self):

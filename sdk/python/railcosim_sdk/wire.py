@@ -17,7 +17,7 @@ import subprocess
 import tempfile
 import time
 
-PROTOCOL_VERSION = 3
+PROTOCOL_VERSION = 4
 MAX_FRAME = 8 << 20
 
 
