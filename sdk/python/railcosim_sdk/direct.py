@@ -11,7 +11,7 @@ import numpy as np
 from . import packed
 from .handshake import Acceptor
 from .auth import auth_answer, proof_failure
-from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
+from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, SendTimeout, pb
 
 
 class Link:
@@ -100,6 +100,7 @@ class Plane:
             self.inbox.stop_waiting()
         for l in self.links:
             l.chan.what = "the %s participant" % l.peer
+            l.chan.send_seconds = self.timeout  # a peer that stops reading: PEER_FAILED
         self.opened = True
 
     def connect(self, l, deadline):
@@ -165,8 +166,12 @@ class Plane:
         """Sends the outputs at self.point (encoded InterfaceData, one per
         interface) to every peer, each its link's interfaces."""
         for l in self.links:
-            l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
-                                               last, refresh))
+            try:
+                l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
+                                                   last, refresh))
+            except SendTimeout as e:
+                raise ProtocolError(E.PEER_FAILED, "%s at macro step %d (t = %g s)" % (
+                    e, self.point, self.point * self.s.H), sender=l.peer)
         if not refresh:
             self.sent = self.point
         self.sent_last = self.sent_last or last
@@ -177,8 +182,9 @@ class Plane:
         self.sent_last = True
         for l in self.links:
             try:
-                l.chan.send(pb.Envelope(peer_data=pb.PeerData(point=self.point, last=True)))
-            except OSError:
+                l.chan.send_bytes(pb.Envelope(peer_data=pb.PeerData(
+                    point=self.point, last=True)).SerializeToString(), 1.0)
+            except (OSError, SendTimeout):
                 pass
 
     def flush(self, waiting_for=""):
