@@ -58,7 +58,14 @@ LinksPlan links_from_wire(const wire::Links& w, std::size_t interface_count,
 }
 
 PeerInbox::~PeerInbox() {
-  for (const Offered& o : queue_) ::close(o.fd);
+  // Connections never taken up (a master that came while the session ended)
+  // hear BUSY, which a master asks again after, rather than a bare close.
+  const std::string busy = encode_frame(error_envelope(0, wire::Error::BUSY, kBusyText));
+  for (const Offered& o : queue_) {
+    [[maybe_unused]] const auto sent =
+        ::send(o.fd, busy.data(), busy.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    ::close(o.fd);
+  }
 }
 
 void PeerInbox::set_waiting(bool waiting) {
