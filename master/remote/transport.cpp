@@ -32,8 +32,8 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
   // -P: nothing from the working directory (a numpy.py where the user runs
   // the master) comes before the product's own folder on the module path;
   // fe_soil is found through PYTHONPATH alone.
-  c.argv.insert(c.argv.end(), {"/usr/bin/python3", "-P", "-m", "fe_soil.participant", "--listen",
-                               "127.0.0.1:0"});
+  c.argv.insert(c.argv.end(),
+                {"/usr/bin/python3", "-P", "-m", "fe_soil.participant", "--listen", "127.0.0.1:0"});
   if (!fe.output_dir.empty()) c.argv.insert(c.argv.end(), {"--output-dir", fe.output_dir});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
   const char* path = std::getenv("PYTHONPATH");
