@@ -340,7 +340,7 @@ int do_run(const RunArgs& command_line) {
   };
   if (scene.soil_model == "fe")  // it writes its measures next to the run's files
     job.on_folder = [&](const std::filesystem::path& dir) {
-      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string()});
+      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string(), scene.source});
     };
   auto progress = std::make_shared<Progress>(spec.name(), o.macro_step);
   job.on_progress = [progress](long done, long total) { (*progress)(done, total); };

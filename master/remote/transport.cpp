@@ -35,6 +35,7 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
   c.argv.insert(c.argv.end(),
                 {"/usr/bin/python3", "-P", "-m", "fe_soil.participant", "--listen", "127.0.0.1:0"});
   if (!fe.output_dir.empty()) c.argv.insert(c.argv.end(), {"--output-dir", fe.output_dir});
+  if (!fe.scene.empty()) c.argv.insert(c.argv.end(), {"--scene-file", fe.scene});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
   const char* path = std::getenv("PYTHONPATH");
   c.env = {"PYTHONPATH=" + root + (path != nullptr && *path != '\0' ? ":" + std::string(path) : ""),
