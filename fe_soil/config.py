@@ -26,6 +26,7 @@ the checks run without dolfinx.
 from __future__ import annotations
 
 import math
+import os
 
 from .params import (Footprint, Layer, SoilParams, graded_nodes, rayleigh_speed,
                      uniform_nodes)
@@ -41,6 +42,16 @@ LAYER_KEYS = {"thickness", "density", "shear_wave_speed", "poisson", "damping"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0]}
 MAX_RANKS = 256
+# What one configuration may ask of the machine, derived from its keys before
+# anything is meshed. Memory: measured on one rank (scenes/ground_vibration_ci
+# .toml at mesh_size 1.0, 0.5 and 0.35 m: 6,216, 39,312 and 110,466 DOFs in
+# 118, 224 and 463 MiB peak) as about 3.4 KiB a DOF over a base of about
+# 100 MiB; the bound counts 4 KiB a DOF over 128 MiB.
+MAX_DOFS = 2_000_000
+MAX_AXIS_ELEMENTS = 4096     # along one axis: a list of node planes, not yet a mesh
+MAX_RECEIVERS = 64           # each a point search at configure and a channel per step
+BYTES_PER_DOF = 4096
+BASE_BYTES = 128 << 20
 
 
 def _number(table, key, where, lo=None, hi=None, lo_open=True, default=None):
@@ -92,6 +103,11 @@ def parse(table):
     if out["growth"] > 1.0 and out["mesh_size"] is not None:
         raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
                           "with mesh_size (remove one of them)" % out["growth"])
+    receivers = table.get("receivers", DEFAULTS["receivers"])
+    if isinstance(receivers, list) and len(receivers) > MAX_RECEIVERS:
+        raise ConfigError("[soil] receivers lists %d distances; at most %d (each costs a point "
+                          "search when the soil is built and a history channel at every step)"
+                          % (len(receivers), MAX_RECEIVERS))
     out["receivers"] = _numbers(table, "receivers")
     out["receiver_x"] = _number(table, "receiver_x", "") if "receiver_x" in table else None
     band = _numbers(table, "damping_band", 2)
@@ -188,6 +204,7 @@ def block_params(cfg, footprints):
     else:
         c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
         h = c_min / cfg["f_max"] / cfg["elements_per_wavelength"]
+    check_size(cfg, h, [length, half_width, cfg["depth"]])
     if cfg["growth"] > 1.0:
         g = cfg["growth"]
         p.x_nodes = graded_nodes(0.0, length, 0.5 * length, h, 0.5 * (x1 - x0), g)
@@ -198,7 +215,46 @@ def block_params(cfg, footprints):
         p.x_nodes = uniform_nodes(0.0, length, h)
         p.y_nodes = uniform_nodes(0.0, half_width, h)
         p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
+    check_size(cfg, h, [length, half_width, cfg["depth"]],
+               [len(p.x_nodes) - 1, len(p.y_nodes) - 1, len(p.z_nodes) - 1])
     return p, x0 - margin
+
+
+def memory_bytes():
+    """The machine's physical memory (0 if unknown)."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 0
+
+
+def check_size(cfg, h, extents, elements=None):
+    """Refuses, naming the key that sets the element size, a block of more
+    than MAX_AXIS_ELEMENTS along an axis (before the node planes are listed;
+    `elements` None: the uniform count at h, an upper bound) or, once they
+    are listed (`elements` per axis), of more DOFs than the bound:
+    MAX_DOFS, and no more than half the machine's memory at BYTES_PER_DOF."""
+    key = ("[soil] mesh_size = %g m" % h if cfg["mesh_size"] is not None else
+           "[soil] f_max = %g Hz with elements_per_wavelength = %g (elements of %.3g m)"
+           % (cfg["f_max"], cfg["elements_per_wavelength"], h))
+    if elements is None:
+        elements = [max(1, math.ceil(e / h - 1e-9)) for e in extents]
+        if max(elements) > MAX_AXIS_ELEMENTS:
+            raise ConfigError("%s gives %s elements along the block (%s m); at most %d along "
+                              "an axis: raise the element size" % (
+                                  key, " x ".join(map(str, elements)),
+                                  " x ".join("%g" % e for e in extents), MAX_AXIS_ELEMENTS))
+        return  # the node planes (graded: fewer) are counted once listed
+    dofs = 3 * math.prod(n + 1 for n in elements)
+    need = BASE_BYTES + BYTES_PER_DOF * dofs
+    ram = memory_bytes()
+    limit = min(MAX_DOFS, (ram // 2 - BASE_BYTES) // BYTES_PER_DOF if ram else MAX_DOFS)
+    if dofs > limit:
+        raise ConfigError("%s gives %s elements, %d DOFs, about %.1f GiB (%d KiB a DOF); this "
+                          "machine holds %d DOFs (at most %d, and half its %.1f GiB): raise the "
+                          "element size or shrink depth, margin or receivers" % (
+                              key, " x ".join(map(str, elements)), dofs, need / 2**30,
+                              BYTES_PER_DOF // 1024, limit, MAX_DOFS, ram / 2**30))
 
 
 def channel_names(distances):

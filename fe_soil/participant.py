@@ -107,9 +107,10 @@ def follow(core):
 class FESoilParticipant(rc.Participant):
     name = "soil"
 
-    def __init__(self, core, output_dir=None):
+    def __init__(self, core, output_dir=None, scene_file=None):
         self.core = core
         self.output_dir = output_dir
+        self.where = "%s: " % scene_file if scene_file else ""  # in configuration errors
         self.history = ()
         self.results_fields = ()
         self.save_count = 0
@@ -119,7 +120,7 @@ class FESoilParticipant(rc.Participant):
         try:
             cfg = fe_config.parse(config)
         except fe_config.ConfigError as e:
-            raise rc.BadRequest(str(e))
+            raise rc.BadRequest(self.where + str(e))
         if len(interfaces) != 1 or interfaces[0].cut != "ss" or interfaces[0].upper:
             raise rc.BadInterface(
                 "the FE soil serves one interface, the lower side of the ss cut (the ballast); "
@@ -139,7 +140,7 @@ class FESoilParticipant(rc.Participant):
         try:
             params, self.x_offset = fe_config.block_params(cfg, i.footprints)
         except fe_config.ConfigError as e:
-            raise rc.BadRequest(str(e))
+            raise rc.BadRequest(self.where + str(e))
         self.n = i.n
         self.distances = cfg["receivers"]
         self.receiver_x = [x + self.x_offset for x, _ in params.receivers]
@@ -249,6 +250,7 @@ def write(path, text):
 def main(argv=None):
     parser = argparse.ArgumentParser(add_help=False)
     parser.add_argument("--output-dir")
+    parser.add_argument("--scene-file")  # named in configuration errors
     mine, rest = parser.parse_known_args(argv)
     from . import model  # noqa: F401  (dolfinx loads before the address is printed)
 
@@ -258,7 +260,7 @@ def main(argv=None):
         follow(core)
         return
     try:
-        rc.serve(FESoilParticipant(core, mine.output_dir), rest)
+        rc.serve(FESoilParticipant(core, mine.output_dir, mine.scene_file), rest)
     finally:
         core.release()
 

@@ -200,6 +200,9 @@ bool PeerHandshakes::admit(Pending& p) {
   r->set_protocol_version(kProtocolVersion);
   r->set_participant(me_.participant);
   r->set_name(me_.name);
+  // This end proves the secret too, to a connecting end that asked.
+  if (me_.token && !h.nonce().empty())
+    r->set_proof(auth_proof(*me_.token, me_.participant, h.nonce(), p.nonce));
   auto ch = std::make_unique<FdChannel>(p.fd, participant_text(h.peer_of()) + " at " + p.from,
                                         me_.max_frame_bytes);
   p.fd = -1;  // the channel owns it now

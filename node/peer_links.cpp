@@ -58,7 +58,14 @@ LinksPlan links_from_wire(const wire::Links& w, std::size_t interface_count,
 }
 
 PeerInbox::~PeerInbox() {
-  for (const Offered& o : queue_) ::close(o.fd);
+  // Connections never taken up (a master that came while the session ended)
+  // hear BUSY, which a master asks again after, rather than a bare close.
+  const std::string busy = encode_frame(error_envelope(0, wire::Error::BUSY, kBusyText));
+  for (const Offered& o : queue_) {
+    [[maybe_unused]] const auto sent =
+        ::send(o.fd, busy.data(), busy.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    ::close(o.fd);
+  }
 }
 
 void PeerInbox::set_waiting(bool waiting) {
@@ -141,8 +148,11 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
   h->set_peer_of(me.participant);
   h->set_session(plan.session);
   h->set_name(me.name);
+  const std::string mine = me.token ? random_nonce() : std::string();
+  h->set_nonce(mine);
   ch->send(hello, left(deadline));
   wire::Envelope reply = ch->receive(left(deadline));
+  const std::string challenge = reply.has_challenge() ? reply.challenge().nonce() : "";
   if (reply.has_challenge()) {
     if (!me.token)
       throw ProtocolError(wire::Error::UNAUTHORIZED,
@@ -161,6 +171,13 @@ std::unique_ptr<FdChannel> connect_link(const LinksPlan& plan, const LinkPlan& l
   if (!reply.has_hello_reply() || reply.hello_reply().participant() != l.peer)
     throw ProtocolError(wire::Error::WRONG_ROLE,
                         "peer link to " + who + ": the node there does not serve " + l.peer);
+  // With a secret, the accepting end must prove it holds it too.
+  if (me.token) {
+    const std::string why =
+        proof_failure(*me.token, l.peer, mine, challenge, reply.hello_reply().proof());
+    if (!why.empty())
+      throw ProtocolError(wire::Error::UNAUTHORIZED, "peer link to " + who + ": " + why);
+  }
   return ch;
 }
 

@@ -208,6 +208,7 @@ wire::Envelope NodeSession::on_hello(const wire::Envelope& req) {
   peer_hello_ = h.role() == "peer";
   peer_of_ = h.peer_of();
   fingerprint_ = h.scene_fingerprint();
+  hello_nonce_ = h.nonce();
   // Before a node with a secret has its answer, it says nothing but the
   // challenge: not whom it serves, not its scene.
   if (options_.token) {
@@ -225,8 +226,9 @@ wire::Envelope NodeSession::on_hello(const wire::Envelope& req) {
 }
 
 wire::Envelope NodeSession::on_auth(const wire::Envelope& req) {
-  const std::string expected = auth_answer(*options_.token, participant_, nonce_);
+  const std::string nonce = std::move(nonce_);
   nonce_.clear();  // one answer per challenge
+  const std::string expected = auth_answer(*options_.token, participant_, nonce);
   if (req.body_case() != wire::Envelope::kAuth || !constant_time_equal(req.auth().mac(), expected))
     throw ProtocolError(wire::Error::UNAUTHORIZED,
                         "this node requires the shared secret of its --token-file; the answer "
@@ -234,7 +236,12 @@ wire::Envelope NodeSession::on_auth(const wire::Envelope& req) {
   check_hello_target();
   check_pinned_scene();
   state_ = State::kAwaitConfigure;
-  return hello_reply(req.id());
+  wire::Envelope reply = hello_reply(req.id());
+  // The other half: the node proves to the master that it holds the secret.
+  if (!hello_nonce_.empty())
+    reply.mutable_hello_reply()->set_proof(
+        auth_proof(*options_.token, participant_, hello_nonce_, nonce));
+  return reply;
 }
 
 Scene NodeSession::configured_scene(const wire::Configure& c) const {

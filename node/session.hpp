@@ -125,6 +125,7 @@ class NodeSession {
   State state_ = State::kAwaitHello;
   std::uint64_t fingerprint_ = 0;
   std::string participant_;  // named by the hello
+  std::string hello_nonce_;  // the master's challenge, which the node's proof covers
   bool peer_hello_ = false;  // the hello came from a peer, not a master
   std::string peer_of_;
   std::string nonce_;

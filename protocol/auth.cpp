@@ -1,8 +1,13 @@
 #include "auth.hpp"
 
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 namespace railcosim {
@@ -111,6 +116,31 @@ std::string auth_answer(std::string_view secret, std::string_view participant,
   return std::string(d.begin(), d.end());
 }
 
+std::string auth_proof(std::string_view secret, std::string_view participant,
+                       std::string_view hello_nonce, std::string_view challenge_nonce) {
+  std::string msg = "railcosim-proof-v4";
+  msg += participant;
+  msg += '\0';
+  msg += hello_nonce;
+  msg += challenge_nonce;
+  const Digest d = hmac_sha256(secret, msg);
+  return std::string(d.begin(), d.end());
+}
+
+std::string proof_failure(std::string_view secret, std::string_view participant,
+                          std::string_view hello_nonce, std::string_view challenge,
+                          std::string_view proof) {
+  if (challenge.empty())
+    return "it asked no challenge, so it cannot prove that it holds the shared secret of "
+           "--token-file (start it with the same --token-file, or find out what listens there)";
+  if (!constant_time_equal(proof, auth_proof(secret, participant, hello_nonce, challenge)))
+    return std::string(
+               "it did not prove that it holds the shared secret of --token-file (its "
+               "proof was ") +
+           (proof.empty() ? "missing" : "wrong") + "): whatever listens there does not hold it";
+  return "";
+}
+
 bool constant_time_equal(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   unsigned char diff = 0;
@@ -118,20 +148,64 @@ bool constant_time_equal(std::string_view a, std::string_view b) {
   return diff == 0;
 }
 
+namespace {
+
+// Opens without blocking (a FIFO's open waits for a writer otherwise) and
+// takes only a regular file that its owner alone may read.
+int open_token_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0)
+    throw std::runtime_error("cannot read the token file " + path + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw std::runtime_error("the token file " + path +
+                             " is not a regular file (a FIFO, device or folder); put the secret "
+                             "in a plain file");
+  }
+  if ((st.st_mode & 077) != 0) {
+    ::close(fd);
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    throw std::runtime_error("the token file " + path + " has mode " + mode +
+                             ": others than its owner may read or change it; `chmod 600 " + path +
+                             "`");
+  }
+  if (st.st_size > static_cast<off_t>(kMaxTokenFileBytes)) {
+    ::close(fd);
+    throw std::runtime_error("the token file " + path + " holds " + std::to_string(st.st_size) +
+                             " bytes; a secret is at most " + std::to_string(kMaxTokenFileBytes));
+  }
+  return fd;
+}
+
+}  // namespace
+
 std::string read_token_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read the token file " + path);
-  std::stringstream s;
-  s << in.rdbuf();
-  std::string t = s.str();
+  const int fd = open_token_file(path);
+  // One byte more than allowed tells a file that grew since fstat.
+  std::string t(kMaxTokenFileBytes + 1, '\0');
+  std::size_t got = 0;
+  while (got < t.size()) {
+    const ssize_t n = ::read(fd, t.data() + got, t.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  ::close(fd);
+  if (got > kMaxTokenFileBytes)
+    throw std::runtime_error("the token file " + path + " holds more than " +
+                             std::to_string(kMaxTokenFileBytes) +
+                             " bytes; a secret is not that long");
+  t.resize(got);
   const auto first = t.find_first_not_of(" \t\r\n");
   const auto last = t.find_last_not_of(" \t\r\n");
   t = first == std::string::npos ? "" : t.substr(first, last - first + 1);
   if (t.size() < 16)
     throw std::runtime_error("the token file " + path +
-                             " must hold a secret of at least 16 characters (e.g. `head -c 32 "
-                             "/dev/urandom | base64 > " +
-                             path + "`)");
+                             " must hold a secret of at least 16 characters (e.g. `(umask 077; "
+                             "head -c 32 /dev/urandom | base64 > " +
+                             path + ")`)");
   return t;
 }
 

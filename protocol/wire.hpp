@@ -19,7 +19,7 @@
 
 namespace railcosim {
 
-inline constexpr std::uint32_t kProtocolVersion = 3;
+inline constexpr std::uint32_t kProtocolVersion = 4;
 inline constexpr std::size_t kFrameHeaderBytes = 4;
 // The largest frame accepted by default: a saved state of a 2,500-sleeper
 // track (3 x 12,500 doubles) fits 25 times over.

@@ -206,6 +206,8 @@ TEST(TokenNodeProgram, RefusesANonLoopbackAddressWithoutAToken) {
 TEST(TokenFile, ShortSecretsAreRefused) {
   const auto path = std::filesystem::temp_directory_path() / "railcosim_short.token";
   std::ofstream(path) << "short\n";
+  std::filesystem::permissions(
+      path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
   EXPECT_THROW(read_token_file(path.string()), std::runtime_error);
   std::ofstream(path) << "  a long enough secret, really  \n";
   EXPECT_EQ(read_token_file(path.string()), "a long enough secret, really");

@@ -18,7 +18,7 @@ sed -e 's/^end_time = .*/end_time = 0.02/' "$src/scenes/soil.toml" >"$work/soil.
 # The Python soil integrates with fixed micro steps.
 sed -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$work/soil.toml" >"$work/soil10.toml"
 export RAILCOSIM_SDK_CACHE=$work/cache
-head -c 32 /dev/urandom | base64 >"$work/token"
+(umask 077; head -c 32 /dev/urandom | base64 >"$work/token")
 
 serve() {  # NAME PROGRAM [ARGS]: starts a node, sets $address
   local name=$1
@@ -50,7 +50,7 @@ for role in vehicle track soil; do
 done
 serve secret "$bin/soil_node" --token-file "$work/token"
 conform 0 secret.log --node "soil=$address" --token-file "$work/token"
-grep -q '^17 passed, 0 failed, 0 skipped$' "$work/secret.log" || { cat "$work/secret.log"; exit 1; }
+grep -q '^18 passed, 0 failed, 0 skipped$' "$work/secret.log" || { cat "$work/secret.log"; exit 1; }
 
 # The example soil on the Python SDK.
 scene=$work/soil10.toml

@@ -319,9 +319,10 @@ TEST_F(PeerRefusal, BadDataFromAPeerIsBlamedOnItAndTheReportsAreKept) {
   EXPECT_EQ(reply.error().sender(), "vehicle") << "the sender is the root cause";
 }
 
-// A vehicle node without the secret that the track node requires: the run
-// fails with the vehicle's word that it needs the track node's --token-file.
-TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearError) {
+// A vehicle node without the secret that the track node requires: the
+// master, which holds the secret, refuses the vehicle at its hello (it cannot
+// prove the secret), before any peer link, naming it and what to pass.
+TEST(DirectPlane, ANodeWithoutTheSecretIsRefusedBeforeItsPeerLinksWithAClearError) {
   const std::string secret = "the track node's shared secret";
   NodeOptions v;
   v.role = "vehicle";
@@ -345,7 +346,7 @@ TEST(DirectPlane, APeerWithoutTheSecretOfTheNodeItConnectsToIsRefusedWithAClearE
     const std::string what = e.what();
     EXPECT_NE(what.find("vehicle node at " + vehicle.local_address().str()), std::string::npos)
         << what;
-    EXPECT_NE(what.find("peer link to the track participant"), std::string::npos) << what;
+    EXPECT_NE(what.find("it asked no challenge"), std::string::npos) << what;
     EXPECT_NE(what.find("same --token-file"), std::string::npos) << what;
   }
   vehicle.stop();

@@ -155,6 +155,7 @@ def main():
         shutil.copytree(os.path.join(source, "scenes"), os.path.join(cwd, "scenes"))
         with open(os.path.join(cwd, "cosim.token"), "w") as f:
             f.write("a shared secret of the docs' examples\n")
+        os.chmod(os.path.join(cwd, "cosim.token"), 0o600)  # the programs refuse others' reading
         os.mkdir(os.path.join(cwd, "study"))  # what `master study --collect study` reads
         for doc in docs:
             name = os.path.relpath(doc, source)

@@ -63,7 +63,7 @@ fi
 echo 1 >/proc/sys/net/ipv4/ip_forward || { echo "SKIP: cannot route between the hosts"; exit 77; }
 
 # Nodes off loopback require a shared secret.
-head -c 32 /dev/urandom | base64 >"$out/token"
+(umask 077; head -c 32 /dev/urandom | base64 >"$out/token")
 start_node() {  # ns program address logfile
   ip netns exec "$1" "$bin/$2" --listen "$3" --token-file "$out/token" >"$4" 2>"$4.err" &
   pids+=($!)

@@ -246,6 +246,32 @@ TEST_F(PeerLinks, BeforeAuthenticationNothingIsRevealed) {
   EXPECT_EQ(busy.error().message(), kBusyText);
 }
 
+// Mutual on a link: the accepting node, after a right answer, proves it holds
+// the secret too (HelloReply.proof over the connecting end's nonce and its own).
+TEST_F(PeerLinks, TheAcceptingNodeProvesTheSecret) {
+  start(kSecret, 10000);
+  auto c = Connection::connect(at_, milliseconds(5000));
+  wire::Envelope e;
+  auto* h = e.mutable_hello();
+  h->set_protocol_version(kProtocolVersion);
+  h->set_role("peer");
+  h->set_participant("track");
+  h->set_peer_of("vehicle");
+  h->set_session(kSession);
+  const std::string mine = random_nonce();
+  h->set_nonce(mine);
+  c->send(e);
+  const wire::Envelope challenge = c->receive(milliseconds(5000));
+  ASSERT_TRUE(challenge.has_challenge()) << body_name(challenge);
+  wire::Envelope auth;
+  auth.mutable_auth()->set_mac(auth_answer(kSecret, "track", challenge.challenge().nonce()));
+  c->send(auth);
+  const wire::Envelope reply = c->receive(milliseconds(5000));
+  ASSERT_TRUE(reply.has_hello_reply()) << body_name(reply);
+  EXPECT_EQ(reply.hello_reply().proof(),
+            auth_proof(kSecret, "track", mine, challenge.challenge().nonce()));
+}
+
 // Under --max-frame-bytes 4000, the node's report blocks (64 steps of a track
 // report over 2 KB each, before) come in frames of at most 4,000 bytes,
 // every step reported once and in order.

@@ -19,6 +19,7 @@ import time
 
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
+from railcosim_sdk.auth import auth_proof  # noqa: E402
 from railcosim_sdk.session import auth_answer  # noqa: E402
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, pb  # noqa: E402
 
@@ -93,8 +94,9 @@ except Exception as e:
           getattr(e, "code", None) == E.BAD_REQUEST and "own_config is not TOML" in str(e), str(e))
 
 work = tempfile.mkdtemp()
-with open(os.path.join(work, "token"), "w") as f:
-    f.write("  s3cret\n")
+SECRET = "s3cret of the test run"
+with open(os.open(os.path.join(work, "token"), os.O_WRONLY | os.O_CREAT, 0o600), "w") as f:
+    f.write("  %s\n" % SECRET)
 with open(os.path.join(work, "soil.toml"), "w") as f:
     f.write("[soil]\nmass = 699.6\nstiffness = 121.08e6\ndamping = 341.9e3\n"
             "coupling_stiffness = 43.72e6\ncoupling_damping = 0.0\n")
@@ -130,7 +132,7 @@ try:
             self.buf = self.buf[4 + n:]
             return e
 
-        def hello(self, participant="soil", secret="s3cret"):
+        def hello(self, participant="soil", secret=SECRET):
             r = self.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master",
                                          participant=participant))
             if not r.HasField("challenge"):
@@ -268,7 +270,7 @@ try:
                                  peer_of="track", session=b"f" * 16))
     check("the real peer is challenged under a flood", c is not None and
           c.HasField("challenge"), str(c))
-    r = peer.send(auth=pb.Auth(mac=auth_answer("s3cret", "soil", c.challenge.nonce)))
+    r = peer.send(auth=pb.Auth(mac=auth_answer(SECRET, "soil", c.challenge.nonce)))
     check("the real peer is answered under a flood", r is not None and
           r.HasField("hello_reply") and r.hello_reply.participant == "soil", str(r))
     check("within 1.5 s of 100 silent connections", time.monotonic() - t0 < 1.5,
@@ -308,9 +310,11 @@ try:
           h.hello.participant == "track" and h.hello.peer_of == "soil" and
           h.hello.session == b"k" * 16, str(h))
     a = peer.send(challenge=pb.Challenge(nonce=bytes(32)))
-    check("peer auth", a.HasField("auth") and a.auth.mac == auth_answer("s3cret", "track",
+    check("peer auth", a.HasField("auth") and a.auth.mac == auth_answer(SECRET, "track",
                                                                          bytes(32)), str(a))
-    first = peer.send(hello_reply=pb.HelloReply(protocol_version=PROTOCOL_VERSION, participant="track"))
+    first = peer.send(hello_reply=pb.HelloReply(
+        protocol_version=PROTOCOL_VERSION, participant="track",
+        proof=auth_proof(SECRET, "track", h.hello.nonce, bytes(32))))
     check("the soil's outputs at point 0", first.HasField("peer_data") and
           first.peer_data.point == 0 and len(first.peer_data.data.interfaces) == 1 and
           len(first.peer_data.data.interfaces[0].displacement) == 4, str(first))

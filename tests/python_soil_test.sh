@@ -75,7 +75,7 @@ gives_up=$address
 # With a shared secret: the upper node and the SDK soil authenticate the
 # master and each other (the vehicle node, holding the track down to the
 # sleepers in ss-only cases, opens the peer link to the soil).
-echo "a shared secret of the run" >"$work/token"
+(umask 077; echo "a shared secret of the run" >"$work/token")
 start secret-soil "$src/examples/python_soil/soil_participant.py" --token-file "$work/token"
 secret_soil=$address
 start secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "$work/token"

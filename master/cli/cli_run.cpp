@@ -319,7 +319,7 @@ int do_run(const RunArgs& command_line) {
   };
   if (scene.soil_model == "fe")  // it writes its measures next to the run's files
     job.on_folder = [&](const std::filesystem::path& dir) {
-      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string()});
+      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string(), scene.source});
     };
   auto progress = std::make_shared<run::Progress>(spec.name(), 1, 1);
   job.on_progress = [progress, name = spec.name()](long done, long total) {

@@ -202,6 +202,26 @@ void check_hello(Checks& checks) {
     return is_error(reply, wire::Error::WRONG_ROLE);
   });
   if (s.o.token)
+    checks.item(
+        "§4", "with a secret, a hello for another participant gets the challenge first", [&] {
+          auto c = Connection::connect(s.o.address, std::chrono::milliseconds(5000));
+          c->send(
+              hello_envelope(role == "vehicle" ? "soil" : "vehicle", scene_fingerprint(s.scene)));
+          const wire::Envelope r = c->receive(s.o.reply);
+          if (!r.has_challenge()) return "answered " + body_name(r) + " before the answer";
+          // A wrong answer ends the session; its close frees the node
+          // for the next check.
+          wire::Envelope auth;
+          auth.mutable_auth()->set_mac(std::string(32, 'x'));
+          c->send(auth);
+          c->receive(s.o.reply);
+          try {
+            c->receive(s.o.reply);
+          } catch (const NetError&) {
+          }
+          return std::string();
+        });
+  if (s.o.token)
     checks.item("§4", "auth: a wrong answer to the challenge is refused (UNAUTHORIZED)", [&] {
       auto c = Connection::connect(s.o.address, std::chrono::milliseconds(5000));
       c->send(hello_envelope(role, scene_fingerprint(s.scene)));

@@ -41,29 +41,32 @@ RemoteParticipant::RemoteParticipant(ChannelOpener open, std::string peer, const
 }
 
 void RemoteParticipant::start(const Scene& scene, const std::optional<std::string>& token) {
-  const wire::Envelope reply = open_session(scene);
-  if (reply.has_challenge()) {
-    if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
-    wire::Envelope auth;
-    auth.mutable_auth()->set_mac(
-        auth_answer(*token, config_.participant.role, reply.challenge().nonce()));
-    send(auth, false);
-    const wire::Envelope accepted = await(wire::Envelope::kHelloReply, "auth");
-    for (const auto& c : accepted.hello_reply().capabilities()) {
-      direct_ = direct_ || c == "direct";
-      lockstep_capable_ = lockstep_capable_ || c == "lockstep";
-    }
-  } else if (reply.has_error()) {
+  // With a secret, the hello carries this master's challenge too (mutual).
+  const std::string mine = token ? random_nonce() : std::string();
+  wire::Envelope reply = open_session(scene, mine);
+  std::string challenge;
+  if (reply.has_error())
     fail("hello failed: " + wire::Error::Code_Name(reply.error().code()) + ": " +
          reply.error().message());
+  if (reply.has_challenge()) {
+    if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
+    challenge = reply.challenge().nonce();
+    wire::Envelope auth;
+    auth.mutable_auth()->set_mac(auth_answer(*token, config_.participant.role, challenge));
+    send(auth, false);
+    reply = await(wire::Envelope::kHelloReply, "auth");
   } else if (!reply.has_hello_reply()) {
     fail("unexpected " + body_name(reply) + " in reply to hello");
   }
-  if (reply.has_hello_reply())
-    for (const auto& c : reply.hello_reply().capabilities()) {
-      direct_ = direct_ || c == "direct";
-      lockstep_capable_ = lockstep_capable_ || c == "lockstep";
-    }
+  if (token) {
+    const std::string why = proof_failure(*token, config_.participant.role, mine, challenge,
+                                          reply.hello_reply().proof());
+    if (!why.empty()) fail(why);
+  }
+  for (const auto& c : reply.hello_reply().capabilities()) {
+    direct_ = direct_ || c == "direct";
+    lockstep_capable_ = lockstep_capable_ || c == "lockstep";
+  }
 
   wire::Envelope configure = configure_envelope(scene, config_);
   configure.mutable_configure()->set_progress_ms(
@@ -75,7 +78,7 @@ void RemoteParticipant::start(const Scene& scene, const std::optional<std::strin
   check(declare_channels(shape_, channels_));
 }
 
-wire::Envelope RemoteParticipant::open_session(const Scene& scene) {
+wire::Envelope RemoteParticipant::open_session(const Scene& scene, const std::string& nonce) {
   using Clock = std::chrono::steady_clock;
   const auto give_up = Clock::now() + timeouts_.busy;
   auto pause = std::chrono::milliseconds(50);
@@ -85,7 +88,9 @@ wire::Envelope RemoteParticipant::open_session(const Scene& scene) {
     } catch (const NetError& e) {
       throw NodeFailure(node_label(config_) + ": " + e.what());
     }
-    send(hello_envelope(config_.participant.role, scene_fingerprint(scene)), false);
+    wire::Envelope hello = hello_envelope(config_.participant.role, scene_fingerprint(scene));
+    hello.mutable_hello()->set_nonce(nonce);
+    send(hello, false);
     wire::Envelope reply;
     try {
       reply = conn_->receive(timeouts_.reply);

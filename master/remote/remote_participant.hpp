@@ -139,7 +139,7 @@ class RemoteParticipant final : public Participant {
 
   // Connects and says hello, again while the node answers BUSY; returns its
   // reply to the hello. Throws NodeFailure.
-  wire::Envelope open_session(const Scene& scene);
+  wire::Envelope open_session(const Scene& scene, const std::string& nonce);
   // Says hello, authenticates and configures (both constructors).
   void start(const Scene& scene, const std::optional<std::string>& token);
 

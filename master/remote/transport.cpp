@@ -31,12 +31,17 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
   c.name = "the FE soil (" + root + "/fe_soil/participant.py" +
            (fe.ranks > 1 ? ", " + std::to_string(fe.ranks) + " MPI ranks" : "") + ")";
   if (fe.ranks > 1) c.argv = {"/usr/bin/mpirun", "-n", std::to_string(fe.ranks)};
+  // -P: nothing from the working directory (a numpy.py where the user runs
+  // the master) comes before the product's own folder on the module path;
+  // fe_soil is found through PYTHONPATH alone.
   c.argv.insert(c.argv.end(),
-                {"/usr/bin/python3", "-m", "fe_soil.participant", "--listen", "127.0.0.1:0"});
+                {"/usr/bin/python3", "-P", "-m", "fe_soil.participant", "--listen", "127.0.0.1:0"});
   if (!fe.output_dir.empty()) c.argv.insert(c.argv.end(), {"--output-dir", fe.output_dir});
+  if (!fe.scene.empty()) c.argv.insert(c.argv.end(), {"--scene-file", fe.scene});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
   const char* path = std::getenv("PYTHONPATH");
   c.env = {"PYTHONPATH=" + root + (path != nullptr && *path != '\0' ? ":" + std::string(path) : ""),
+           "PYTHONSAFEPATH=1",  // the same for any Python the soil starts
            // One thread per rank: the other participants share the cores.
            "OMP_NUM_THREADS=1", "OPENBLAS_NUM_THREADS=1",
            // Open MPI refuses root without these, and more ranks than cores

@@ -29,10 +29,12 @@ std::string node_program(const std::string& role);
 // /usr/bin/python3, with `mpirun -n RANKS` when ranks > 1, the fe_soil
 // package found in the source tree the master was built from (or in
 // $RAILCOSIM_FE_SOIL, a folder holding fe_soil/ and sdk/python/). It
-// writes its vibration measures into `output_dir`.
+// writes its vibration measures into `output_dir`, and names `scene` (the
+// scene file) in its configuration errors.
 struct FeSoilLaunch {
   int ranks = 1;
   std::string output_dir;
+  std::string scene;
 };
 LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_file);
 // The FE soil may take this long to print its address (Python and dolfinx

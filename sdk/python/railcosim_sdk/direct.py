@@ -1,6 +1,7 @@
 """The direct data plane (docs/protocol.md §17): Links, peer links, and the
 Window the participant runs on its own, streaming its reports."""
 
+import secrets
 import select
 import socket
 import time
@@ -10,8 +11,8 @@ import numpy as np
 from . import packed
 from . import participant as api
 from .handshake import Acceptor
-from .session import auth_answer
-from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
+from .auth import auth_answer, proof_failure
+from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, SendTimeout, pb
 
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
@@ -103,6 +104,7 @@ class Plane:
             self.inbox.stop_waiting()
         for l in self.links:
             l.chan.what = "the %s participant" % l.peer
+            l.chan.send_seconds = self.timeout  # a peer that stops reading: PEER_FAILED
         self.opened = True
 
     def connect(self, l, deadline):
@@ -123,11 +125,14 @@ class Plane:
                 who, str(e) or "no answer to the hello in time"))
 
     def handshake(self, l, ch, who, deadline):
+        token = self.s.token
+        mine = secrets.token_bytes(32) if token is not None else b""
         ch.send(pb.Envelope(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer",
                                            participant=l.peer, peer_of=self.s.p.name,
-                                           session=self.key, name=self.s.name)))
+                                           session=self.key, name=self.s.name, nonce=mine)))
         left = lambda: max(deadline - time.monotonic(), 0.001)
         reply = ch.receive(left())
+        challenge = reply.challenge.nonce if reply.HasField("challenge") else None
         if reply.HasField("challenge"):
             if self.s.token is None:
                 raise ProtocolError(E.UNAUTHORIZED, "peer link to %s: that participant requires "
@@ -142,6 +147,10 @@ class Plane:
         if not reply.HasField("hello_reply") or reply.hello_reply.participant != l.peer:
             raise ProtocolError(E.WRONG_ROLE, "peer link to %s: the program there does not "
                                 "serve %s" % (who, l.peer))
+        why = token is not None and proof_failure(token, l.peer, mine, challenge,
+                                                  reply.hello_reply.proof)
+        if why:
+            raise ProtocolError(E.UNAUTHORIZED, "peer link to %s: %s" % (who, why))
         return ch
 
     def master_gone(self):
@@ -161,8 +170,12 @@ class Plane:
         """Sends the outputs at self.point (encoded InterfaceData, one per
         interface) to every peer, each its link's interfaces."""
         for l in self.links:
-            l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
-                                               last, refresh))
+            try:
+                l.chan.send_bytes(packed.peer_data(self.point, [encoded[i] for i in l.interfaces],
+                                                   last, refresh))
+            except SendTimeout as e:
+                raise ProtocolError(E.PEER_FAILED, "%s at macro step %d (t = %g s)" % (
+                    e, self.point, self.point * self.s.H), sender=l.peer)
         if not refresh:
             self.sent = self.point
         self.sent_last = self.sent_last or last
@@ -173,8 +186,9 @@ class Plane:
         self.sent_last = True
         for l in self.links:
             try:
-                l.chan.send(pb.Envelope(peer_data=pb.PeerData(point=self.point, last=True)))
-            except OSError:
+                l.chan.send_bytes(pb.Envelope(peer_data=pb.PeerData(
+                    point=self.point, last=True)).SerializeToString(), 1.0)
+            except (OSError, SendTimeout):
                 pass
 
     def flush(self, waiting_for=""):

@@ -11,7 +11,7 @@ import select
 import socket
 import time
 
-from .session import auth_answer
+from .auth import auth_answer, auth_proof
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
 
 HANDSHAKE_SECONDS = 2.0  # a connection's whole handshake
@@ -118,8 +118,11 @@ class Acceptor:
             raise c.refuse(E.WRONG_ROLE, "this participant expects peer links from %s, not "
                            "from the %s participant" % (
                                ", ".join(l.peer for l in waiting) or "nobody", h.peer_of))
-        c.ch.send(pb.Envelope(id=c.id, hello_reply=pb.HelloReply(
-            protocol_version=PROTOCOL_VERSION, participant=self.me, name=self.name)))
+        reply = pb.Envelope(id=c.id, hello_reply=pb.HelloReply(
+            protocol_version=PROTOCOL_VERSION, participant=self.me, name=self.name))
+        if self.token is not None and h.nonce:  # this end proves the secret too
+            reply.hello_reply.proof = auth_proof(self.token, self.me, h.nonce, c.nonce)
+        c.ch.send(reply)
         match[0].chan = c.ch
         self.incoming.remove(c)
 

@@ -9,6 +9,7 @@ import threading
 import tomllib
 import traceback
 
+from .auth import read_token_file
 from .direct import Plane
 from .lockstep import LockstepSession as Session  # the session, with the lock step
 from .wire import E, Channel, LinkClosed, ProtocolError
@@ -195,11 +196,12 @@ def serve(participant, argv=None):
     token = None
     if a.token_file:
         try:
-            token = open(a.token_file).read().strip()
+            token = read_token_file(a.token_file)
         except OSError as e:
+            sys.exit("--token-file: cannot read the token file %s: %s"
+                     % (a.token_file, e.strerror or e))
+        except ValueError as e:
             sys.exit("--token-file: %s" % e)
-        if not token:
-            sys.exit("--token-file %s is empty" % a.token_file)
     try:
         server = Server(participant, a.listen, token, config, a.name, not a.relayed_only)
     except (OSError, ValueError) as e:

@@ -1,7 +1,6 @@
 """One session with a master: the order of messages (docs/protocol.md §3)
 and the translation between the wire and the participant's arrays."""
 
-import hashlib
 import hmac
 import math
 import secrets
@@ -11,15 +10,10 @@ import numpy as np
 
 from . import packed
 from . import participant as api
+from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's name)
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 
-AUTH_TAG = b"railcosim-auth-v2"
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
-
-
-def auth_answer(secret, participant, nonce):
-    message = AUTH_TAG + participant.encode() + b"\0" + nonce
-    return hmac.new(secret.encode(), message, hashlib.sha256).digest()
 
 
 class Session:
@@ -185,29 +179,42 @@ class Session:
             raise ProtocolError(E.VERSION_MISMATCH, "this participant speaks protocol version "
                                 "%d, the hello version %d" % (PROTOCOL_VERSION,
                                                               h.protocol_version))
+        self.asked = pb.Hello()
+        self.asked.CopyFrom(h)
+        # Before a participant with a secret has its answer, it says nothing
+        # but the challenge: not whom it serves.
+        if self.token is not None:
+            self.nonce = secrets.token_bytes(32)
+            self.state = "auth"
+            out.challenge.nonce = self.nonce
+            return out
+        self.check_target(h)
+        self.state = "configure"
+        return self.hello_reply(out)
+
+    def check_target(self, h):
         if h.role == "peer":
             raise ProtocolError(E.WRONG_ROLE, "a peer link for the %s participant, but this "
                                 "one expects no peer links now" % (h.participant or "unnamed"))
         if h.participant != self.p.name:
             raise ProtocolError(E.WRONG_ROLE, "this program serves the %s participant, not the "
                                 "%s participant" % (self.p.name, h.participant or "unnamed"))
-        if self.token is not None:
-            self.nonce = secrets.token_bytes(32)
-            self.state = "auth"
-            out.challenge.nonce = self.nonce
-            return out
-        self.state = "configure"
-        return self.hello_reply(out)
 
     def auth(self, req, kind, out):
         nonce, self.nonce = self.nonce, b""
+        h = self.asked
         if kind != "auth" or not hmac.compare_digest(
-                req.auth.mac, auth_answer(self.token, self.p.name, nonce)):
+                req.auth.mac, auth_answer(self.token, h.participant, nonce)):
             raise ProtocolError(E.UNAUTHORIZED, "this participant requires the shared secret "
                                 "of its --token-file; the answer to its challenge was missing "
                                 "or wrong")
+        self.check_target(h)
         self.state = "configure"
-        return self.hello_reply(out)
+        self.hello_reply(out)
+        # The other half: this participant proves it holds the secret too.
+        if h.nonce:
+            out.hello_reply.proof = auth_proof(self.token, self.p.name, h.nonce, nonce)
+        return out
 
     def hello_reply(self, out):
         r = out.hello_reply

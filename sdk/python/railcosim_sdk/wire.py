@@ -17,7 +17,12 @@ import subprocess
 import tempfile
 import time
 
-PROTOCOL_VERSION = 3
+PROTOCOL_VERSION = 4
+# Write deadlines: a frame to a master (a reply, a report) must be read within
+# SEND_SECONDS, as the C++ node's --message-timeout; a last error within
+# ERROR_SEND_SECONDS; a peer link's frames within the link's timeout.
+SEND_SECONDS = 10.0
+ERROR_SEND_SECONDS = 1.0
 MAX_FRAME = 8 << 20
 
 
@@ -89,6 +94,14 @@ class ProtocolError(Exception):
         self.sender = sender  # PEER_FAILED: the peer whose data were refused
 
 
+class SendTimeout(ProtocolError):
+    """The other end did not read a frame within the channel's send deadline
+    (it stopped reading): the connection is no longer usable."""
+
+    def __init__(self, message):
+        super().__init__(E.TIMEOUT, message)
+
+
 class LinkClosed(Exception):
     """The other end closed the connection (between frames, or inside one)."""
 
@@ -101,9 +114,10 @@ class Channel:
     """Frames over one TCP connection: 4-byte big-endian length, then an
     Envelope. Reads in large chunks and hands out every complete frame."""
 
-    def __init__(self, sock, what):
+    def __init__(self, sock, what, send_seconds=SEND_SECONDS):
         self.sock = sock
         self.what = what
+        self.send_seconds = send_seconds  # a whole frame's write deadline
         self.buf = bytearray()
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
 
@@ -150,16 +164,26 @@ class Channel:
     def send(self, env):
         self.send_bytes(env.SerializeToString())
 
-    def send_bytes(self, payload):
-        """Sends one frame holding an already serialised Envelope."""
-        self.sock.settimeout(None)
-        self.sock.sendall(struct.pack(">I", len(payload)) + payload)
+    def send_bytes(self, payload, seconds=None):
+        """Sends one frame holding an already serialised Envelope, whole
+        within `seconds` (the channel's send deadline by default); raises
+        SendTimeout, after which the connection is closed."""
+        seconds = self.send_seconds if seconds is None else seconds
+        self.sock.settimeout(seconds)  # since Python 3.5: for the whole sendall
+        try:
+            self.sock.sendall(struct.pack(">I", len(payload)) + payload)
+        except socket.timeout:
+            self.close()  # part of the frame may have left: the stream is broken
+            raise SendTimeout("%s did not read a frame of %d bytes within %g s (it stopped "
+                              "reading)" % (self.what, len(payload) + 4, seconds)) from None
 
     def send_error(self, req_id, code, message, step=-1, t=0.0, sender=""):
+        """Best effort, within ERROR_SEND_SECONDS: the session ends anyway."""
+        e = pb.Envelope(id=req_id, error=pb.Error(code=code, message=message, step=step, t=t,
+                                                  sender=sender))
         try:
-            self.send(pb.Envelope(id=req_id, error=pb.Error(code=code, message=message,
-                                                             step=step, t=t, sender=sender)))
-        except OSError:
+            self.send_bytes(e.SerializeToString(), ERROR_SEND_SECONDS)
+        except (OSError, SendTimeout):
             pass
 
     def close(self):
