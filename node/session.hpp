@@ -109,6 +109,9 @@ class NodeSession {
   // step's inputs as waveforms; a participant that refuses is BAD_REQUEST.
   wire::Envelope record_samples(const wire::Envelope& request);
   void take_waveforms(long n, const wire::InputWaveforms& waveforms, bool with_inputs);
+  // Refuses (BAD_REQUEST) waveforms whose counts do not fit this participant
+  // or whose times lie outside macro step n, before anything is allocated.
+  void check_waveforms(long n, const wire::InputWaveforms& waveforms) const;
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -119,6 +122,8 @@ class NodeSession {
   std::string nonce_;
   std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
+  InputShape in_shape_;          // the counts of the inputs, from the scene
+  std::size_t max_samples_ = 0;  // of an input waveform in one macro step
   long step_ = -1;
   bool record_ = false;  // step reports carry the step's samples
   std::string description_ = "not configured";

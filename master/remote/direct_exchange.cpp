@@ -134,6 +134,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     last_useful_ = now;
   }
   if (e.has_reports()) {
+    node.p->accept_reports_frame(e.id());
     node.waiting_for = e.reports().waiting_for();
     for (const auto& w : e.reports().reports()) {
       node.reports.push_back(node.p->accept_report(w));
@@ -361,10 +362,15 @@ void DirectExchange::drain() {
   while (std::chrono::steady_clock::now() < deadline) {
     bool any = false;
     for (const Node& node : nodes_) any = any || (node.in_window && !node.closed);
-    if (!any) return;
+    if (!any) break;
     if (!read(milliseconds(200))) continue;
     for (Node& node : nodes_) node.reports.clear();
   }
+  // A run that reached its end still fails for a node that lied on the way
+  // (a report past the window, an end its reports did not reach).
+  if (step_ + 1 == total_)
+    for (const Node& node : nodes_)
+      if (node.failed && !node.step_failure) throw NodeFailure(node.fail_text);
 }
 
 }  // namespace railcosim::remote
