@@ -213,7 +213,7 @@ bool DirectExchange::read(milliseconds timeout) {
       node.fail_step = node.reported;
       std::string what = "the node closed the connection in the middle of a window";
       if (!node.fail_text.empty()) what += " (" + node.fail_text + ")";
-      what += "; its last step report was for macro step " + std::to_string(node.reported);
+      // "at macro step N" below is its last step report's: said once.
       node.fail_text = node.p->failure_text(node.reported, what);
     }
   }
@@ -238,8 +238,13 @@ void DirectExchange::silence(long n, milliseconds waited) {
     if (other.waiting_for == slow->p->role())
       waiters += (waiters.empty() ? "" : ", ") + other.p->role();
   std::ostringstream s;
-  s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
-    << slow->reported;
+  s << "no reply within " << waited.count() << " ms (";
+  // The failure names macro step n: the last report is said only where it
+  // differs.
+  if (slow->reported != n)
+    s << "its last step report was for macro step " << slow->reported;
+  else
+    s << "its step reports reached this macro step";
   // A node that keeps its stream busy without reporting a step.
   if (slow->idle_frames > 0)
     s << "; since then it sent " << slow->idle_frames << " report frame(s) without a step report";
