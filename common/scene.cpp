@@ -10,6 +10,7 @@
 #include "scene_checks.hpp"
 #include "scene_keys.hpp"
 #include "scene_reader.hpp"
+#include "toml_nesting.hpp"
 
 namespace railcosim {
 
@@ -316,6 +317,9 @@ void read_simulation(SceneReader& r, Scene& sc) {
 
 Scene parse_scene(const std::string& toml_text, const std::string& source_name,
                   const SceneFiles* files) {
+  // Before the parser, whose recursion a text nested deeply enough would
+  // take past the stack.
+  check_toml_nesting(toml_text, source_name);
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);

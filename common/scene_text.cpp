@@ -6,10 +6,13 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "toml_nesting.hpp"
+
 namespace railcosim {
 
 std::string edit_scene_text(const std::string& text, const std::string& source,
                             const std::vector<SceneEdit>& edits) {
+  check_toml_nesting(text, source);
   toml::table root = toml::parse(text, source);
   for (const SceneEdit& e : edits) {
     std::vector<std::string> path;

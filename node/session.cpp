@@ -60,7 +60,7 @@ wire::Envelope NodeSession::window(const wire::Envelope& req) {
     };
     runner_ = std::make_unique<WindowRunner>(
         *served_, *links_, open_links(*links_, me, *inbox_, master_gone_, waiting), macro_step_,
-        outputs_, step_, max_frame_bytes_);
+        outputs_, in_shape_, step_, max_frame_bytes_);
   }
   wire::Envelope reply;
   reply.set_id(req.id());
@@ -317,6 +317,11 @@ wire::Envelope NodeSession::on_configure(const wire::Envelope& req) {
   macro_step_ = c.macro_step();
   progress_every_ = std::chrono::milliseconds(
       c.progress_ms() == 0 ? 0 : std::max<std::uint32_t>(c.progress_ms(), kMinProgressMs));
+  in_shape_ = input_shape(scene, cfg.participant);
+  // A step's samples: at its start and after each micro step.
+  max_samples_ =
+      static_cast<std::size_t>(std::max<long>(cfg.max_micro_steps, Newmark::kMaxStepsPerInterval)) +
+      1;
   description_ = served_->name();
   state_ = State::kConfigured;
   const Channels ch = served_->channels();

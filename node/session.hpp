@@ -120,6 +120,9 @@ class NodeSession {
   // being worked on.
   void watch_progress(std::optional<ScopedWorkProgress>& scope, std::uint64_t id,
                       std::function<long()> step);
+  // Refuses (BAD_REQUEST) waveforms whose counts do not fit this participant
+  // or whose times lie outside macro step n, before anything is allocated.
+  void check_waveforms(long n, const wire::InputWaveforms& waveforms) const;
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -131,6 +134,8 @@ class NodeSession {
   std::string nonce_;
   std::unique_ptr<Participant> served_;  // the participant this session drives
   double macro_step_ = 0;
+  InputShape in_shape_;          // the counts of the inputs, from the scene
+  std::size_t max_samples_ = 0;  // of an input waveform in one macro step
   long step_ = -1;
   bool record_ = false;  // step reports carry the step's samples
   std::string description_ = "not configured";

@@ -50,6 +50,16 @@ wire::Envelope NodeSession::lockstep(const wire::Envelope& req, bool& close) {
                   "a lock step cannot follow windows of the direct data plane in one session");
   if (!report_ || !next_request_)
     return refuse(wire::Error::BAD_REQUEST, "this connection cannot serve a lock step");
+  const long first = step_;
+  auto refuse_nested = [&](const wire::Envelope& next) {
+    close = true;
+    return error_envelope(next.id(), wire::Error::OUT_OF_ORDER,
+                          "a lock-step Window inside the lock step entered at macro step " +
+                              std::to_string(first) +
+                              ": a session enters one lock step, which ends with a request "
+                              "of another kind",
+                          step_, static_cast<double>(step_) * macro_step_);
+  };
   WorkBudget& budget = current_work_budget();
   wire::Envelope reply;
   reply.set_id(req.id());
@@ -62,6 +72,10 @@ wire::Envelope NodeSession::lockstep(const wire::Envelope& req, bool& close) {
         return refuse(wire::Error::INTERNAL,
                       "the master closed its connection during the lock step at macro step " +
                           std::to_string(step_));
+      // A lock step is entered once: a second one inside it is refused, not
+      // served by a nested loop (one stack frame per window until the stack
+      // ran out).
+      if (next.has_window() && next.window().lockstep()) return refuse_nested(next);
       if (!step_request(next)) return handle(next, close);
       // Each request has the whole budget of a macro step's work.
       if (budget.limit.count() > 0)

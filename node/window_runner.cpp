@@ -9,15 +9,28 @@ namespace railcosim {
 
 using Clock = std::chrono::steady_clock;
 
+InputShape input_shape(const Scene& scene, const ParticipantSpec& participant) {
+  InputShape shape;
+  for (const InterfaceSpec& i : participant.interfaces) {
+    std::array<std::size_t, 3> counts{0, 0, 0};
+    for (Quantity q : i.receives())
+      counts[static_cast<std::size_t>(q)] = static_cast<std::size_t>(interface_points(scene, i));
+    shape.push_back(counts);
+  }
+  return shape;
+}
+
 WindowRunner::WindowRunner(Participant& participant, LinksPlan plan,
                            std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
-                           CouplingData outputs, long point, std::size_t max_frame_bytes)
+                           CouplingData outputs, InputShape shape, long point,
+                           std::size_t max_frame_bytes)
     : sub_(participant),
       max_frame_bytes_(max_frame_bytes),
       refresh_(plan.refresh),
       timeout_(plan.timeout),
       macro_step_(macro_step),
       outputs_(std::move(outputs)),
+      shape_(std::move(shape)),
       point_(point) {
   // Every link's data starts at the current point.
   for (std::size_t k = 0; k < links.size(); ++k)
@@ -74,6 +87,9 @@ bool WindowRunner::await(Link& l, long need, bool fresh) {
         e = l.channel->receive(std::min(patience, timeout_ - waited));
         break;
       } catch (const LinkError& x) {
+        // A frame that is not a message, or one over the limit: the sender's.
+        if (x.kind() == LinkError::Kind::kProtocol)
+          throw LinkError(x.kind(), x.what(), l.plan.peer);
         if (x.kind() != LinkError::Kind::kTimeout) throw;
         if (waited + patience >= timeout_)  // the whole wait, not its last slice
           throw LinkError(LinkError::Kind::kTimeout,
@@ -139,10 +155,21 @@ void WindowRunner::take(Link& l, const wire::PeerData& d) {
     throw bad(std::to_string(d.data().interfaces_size()) + " interfaces on a link of " +
               std::to_string(l.plan.interfaces.size()));
   CouplingData values = from_wire(d.data());
+  // Every count is checked here, against the scene's interfaces, so that a
+  // wrong one is the sender's fault and not the receiving participant's.
+  for (std::size_t e = 0; e < values.size(); ++e) {
+    const auto j = static_cast<std::size_t>(l.plan.interfaces[e]);
+    const InterfaceData& v = values[e];
+    const std::size_t got[3] = {v.displacement.size(), v.velocity.size(), v.force.size()};
+    static const char* const kName[3] = {"displacement", "velocity", "force"};
+    for (int q = 0; q < 3; ++q)
+      if (got[q] != shape_[j][static_cast<std::size_t>(q)])
+        throw bad(std::to_string(got[q]) + " " + kName[q] + " values for point " +
+                  std::to_string(p) + " on interface " + std::to_string(j) + ", where " +
+                  std::to_string(shape_[j][static_cast<std::size_t>(q)]) + " are expected");
+  }
   // A peer's last data may hold its divergence (values not finite); it
   // ends the run there.
-  // The lengths are the participant's to check (set_inputs names the peers
-  // when it refuses them).
   if (!d.last())
     for (const InterfaceData& i : values)
       for (const auto* v : {&i.displacement, &i.velocity, &i.force})

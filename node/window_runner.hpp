@@ -16,6 +16,7 @@
 // A participant stops when it reaches the point a peer said it stops at.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -29,14 +30,23 @@
 
 namespace railcosim {
 
+// The counts a participant's inputs have, per interface: displacements,
+// velocities, forces (one per coupling point of a quantity it receives, none
+// of the others), as the scene sets them.
+using InputShape = std::vector<std::array<std::size_t, 3>>;
+InputShape input_shape(const Scene& scene, const ParticipantSpec& participant);
+
 class WindowRunner {
  public:
   // `outputs`: the participant's outputs at communication point `point` (its
   // initialize() result before the first window). Report frames stay within
   // `max_frame_bytes` (the node's --max-frame-bytes): a block of reports is
   // split over as many frames as it needs.
+  // `shape`: the counts of the participant's inputs per interface, from the
+  // scene, against which every peer's data is checked.
   WindowRunner(Participant& participant, LinksPlan plan,
-               std::vector<std::unique_ptr<FdChannel>> links, double macro_step, CouplingData outputs, long point,
+               std::vector<std::unique_ptr<FdChannel>> links, double macro_step,
+               CouplingData outputs, InputShape shape, long point,
                std::size_t max_frame_bytes = kDefaultMaxFrameBytes);
 
   // Runs steps from the current point to w.end_step(). `report` sends one
@@ -84,6 +94,7 @@ class WindowRunner {
   std::chrono::milliseconds timeout_;
   double macro_step_;
   CouplingData outputs_;
+  InputShape shape_;
   long point_;
   long sent_ = -1;  // the last point whose data went out
   bool sent_last_ = false;

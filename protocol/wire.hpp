@@ -102,7 +102,8 @@ StepResult from_wire(const wire::StepReport& report);
 // Substep waveforms (wire_waveform.cpp): a step's samples in its report, and
 // input waveforms as the receiver rebuilds them, bit for bit. from_wire()
 // throws ProtocolError(BAD_REQUEST) for a degree outside 0..3, values that
-// are not `width` per sample or not finite, or times that do not increase.
+// are not `width` per sample or not finite, times that do not increase, or
+// no sample at all (nothing is allocated for a width before).
 void to_wire(const OutputSamples& samples, wire::StepReport* report);
 OutputSamples samples_from_wire(const wire::StepReport& report);
 wire::InputWaveforms to_wire(const InputWaveforms& waveforms);

@@ -47,6 +47,10 @@ InputWaveforms from_wire(const wire::InputWaveforms& waveforms) {
                           where + "degree " + std::to_string(w.degree()) + " is not 0 to 3");
     const auto width = static_cast<std::size_t>(w.width());
     const auto samples = static_cast<std::size_t>(w.times_size());
+    // With one sample or more, the values in the message bound the width
+    // (width x samples of them); nothing is allocated for a width before.
+    if (samples == 0)
+      throw ProtocolError(wire::Error::BAD_REQUEST, where + "no samples (a waveform needs one)");
     if (static_cast<std::size_t>(w.values_size()) != samples * width)
       throw ProtocolError(wire::Error::BAD_REQUEST, where + std::to_string(w.values_size()) +
                                                         " values for " + std::to_string(samples) +

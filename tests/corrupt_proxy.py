@@ -2,10 +2,14 @@
 """A TCP proxy in front of a node that forwards the master's connection as
 it is and, on every other connection (the peer links other nodes open to
 it), rewrites one PeerData frame the node sends: the AT-th that carries
-data gets a non-finite value (MODE nan) or a point far in the future
-(MODE jump). The node behind it is the sender of the bad data; with
-DIRECTION "to", the frame rewritten is one its peer sends it instead, and
-the node behind the proxy is the receiver.
+data gets a non-finite value (MODE nan), a point far in the future
+(MODE jump), one value less on its first interface (MODE short), or is
+replaced by bytes that are no message (MODE garbage). The node behind it
+is the sender of the bad data; with DIRECTION "to", the frame rewritten is
+one its peer sends it instead, and the node behind the proxy is the
+receiver. MODE shift rewrites the master's connection instead: from the
+AT-th step report that carries substep samples on, every sample's time is
+moved 1000 s later.
 
   corrupt_proxy.py UPSTREAM_HOST:PORT PROTO_FILE MODE AT [from|to]
 
@@ -67,16 +71,28 @@ def rewriting(src, dst):
                 break
             e = pb.Envelope()
             e.ParseFromString(body)
-            if e.WhichOneof("body") == "peer_data" and len(e.peer_data.data.interfaces) > 0:
+            if mode == "shift":
+                if e.WhichOneof("body") == "step_report" and len(e.step_report.samples) > 0:
+                    seen += 1
+                    if seen >= at:
+                        for sample in e.step_report.samples:
+                            sample.t += 1000.0
+                        body = e.SerializeToString()
+                        header = struct.pack(">I", len(body))
+            elif e.WhichOneof("body") == "peer_data" and len(e.peer_data.data.interfaces) > 0:
                 seen += 1
                 if seen == at:
+                    i = e.peer_data.data.interfaces[0]
+                    values = i.displacement if len(i.displacement) else i.force
                     if mode == "nan":
-                        i = e.peer_data.data.interfaces[0]
-                        values = i.displacement if len(i.displacement) else i.force
                         values[0] = float("nan")
-                    else:
+                    elif mode == "short":
+                        del values[-1]
+                    elif mode == "jump":
                         e.peer_data.point += 1000000000
                     body = e.SerializeToString()
+                    if mode == "garbage":
+                        body = b"\xff" * 8
                     header = struct.pack(">I", len(body))
             dst.sendall(header + body)
     except OSError:
@@ -100,6 +116,8 @@ while True:
     for s in (client, upstream):
         s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
     rewrite_in, rewrite_out = (not first and inbound), (not first and not inbound)
+    if mode == "shift":
+        rewrite_in, rewrite_out = False, first
     threading.Thread(target=rewriting if rewrite_in else plain, args=(client, upstream),
                      daemon=True).start()
     threading.Thread(target=rewriting if rewrite_out else plain, args=(upstream, client),

@@ -97,6 +97,10 @@ std::pair<std::string, double> run_against_trickle(bool bytes) {
               std::string::npos)
         << m;
     EXPECT_NE(m.find("the track participant(s) wait for its data"), std::string::npos) << m;
+    // The step is named once (it said "its last step report was for macro
+    // step 20 ... at macro step 20").
+    EXPECT_NE(m.find("ms (its step reports reached this macro step; "), std::string::npos) << m;
+    EXPECT_EQ(m.find("its last step report was for"), std::string::npos) << m;
     return {m, std::chrono::duration<double>(Clock::now() - t0).count()};
   }
   ADD_FAILURE() << "the run went through";

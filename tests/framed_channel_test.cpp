@@ -170,9 +170,9 @@ TEST(FramedChannel, ANodeThatHangsUpOnTheHelloFailsAlikeOverBothChannels) {
   } catch (const NodeFailure& e) {
     EXPECT_EQ(std::string(e.what()),
               "track node at in-process track node: hello: the peer closed "
-              "the connection at macro step 0 (t = 0 s)");
+              "the connection before the run");
     EXPECT_EQ(over_tcp, "track node at " + peer.address().str() +
-                            ": hello: the peer closed the connection at macro step 0 (t = 0 s)");
+                            ": hello: the peer closed the connection before the run");
   }
   node.join();
 }

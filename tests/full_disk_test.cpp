@@ -68,6 +68,24 @@ TEST_F(FullDiskTest, ARunFailsWithTheReasonAndLeavesItsSummary) {
   expect_no_empty_or_partial_files();
 }
 
+// A disk so full that not even the run's folder can be made (no inode
+// left): the message says where nothing could be written (before, it ended
+// "history so far and summary in " and an empty path).
+TEST_F(FullDiskTest, ARunWhoseFolderCannotBeMadeSaysSo) {
+  ASSERT_EQ(::umount2(dir_.c_str(), MNT_DETACH), 0);
+  ASSERT_EQ(::mount("tmpfs", dir_.c_str(), "tmpfs", 0, "size=64k,nr_inodes=1"), 0)
+      << std::strerror(errno);
+  const Outcome o = run_master("run --scene " + test::source_path("scenes/paper.toml") +
+                               " --case monolithic --out " + dir_.string());
+  EXPECT_EQ(o.status, 1) << o.output;
+  EXPECT_NE(o.output.find("No space left on device"), std::string::npos) << o.output;
+  EXPECT_NE(o.output.find("\n  no history or summary could be written under " +
+                          (dir_ / "monolithic").string() + "\n"),
+            std::string::npos)
+      << o.output;
+  EXPECT_EQ(o.output.find("summary in \n"), std::string::npos) << o.output;
+}
+
 TEST_F(FullDiskTest, AStudyNeverLeavesAnEmptyReport) {
   const Outcome o =
       run_master("study --scene " + test::source_path("scenes/paper.toml") + " --out " +

@@ -220,7 +220,7 @@ TEST(TcpWaveformRefused, ANodeThatTakesNoWaveformsIsNamed) {
           ": record_samples failed: BAD_REQUEST: participant track takes no substep "
           "waveforms (held-only track (rs-xx lower): record_samples() rejected: this participant "
           "records no samples): run it with --inputs hold or linear, not waveform0 "
-          "to waveform3 at macro step 0 (t = 0 s)");
+          "to waveform3 before the run");
 }
 
 }  // namespace

@@ -329,8 +329,13 @@ int do_run(const RunArgs& command_line) {
   progress->run_done(0);
   progress->end();
   if (!outcome.error.empty()) {
-    std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
-                 spec.name().c_str(), outcome.error.c_str(), outcome.dir.string().c_str());
+    // A folder that could not be made (a full disk) holds nothing to point at.
+    const std::string where = outcome.dir.empty()
+                                  ? "no history or summary could be written under " +
+                                        (std::filesystem::path(a.out) / spec.name()).string()
+                                  : "history so far and summary in " + outcome.dir.string();
+    std::fprintf(stderr, "master: %s failed: %s\n  %s\n", spec.name().c_str(),
+                 outcome.error.c_str(), where.c_str());
     return 1;
   }
   print_summary(outcome.record, outcome.dir);

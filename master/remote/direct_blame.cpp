@@ -81,7 +81,12 @@ void DirectExchange::silence(long n, milliseconds waited, bool budget) {
     s << "no progress for " << waited.count() << " ms";
   else
     s << "no reply within " << waited.count() << " ms";
-  s << " (its last step report was for macro step " << slow->reported << claim;
+  // The failure names macro step n: the last report is said only where it
+  // differs.
+  if (slow->reported != n)
+    s << " (its last step report was for macro step " << slow->reported << claim;
+  else
+    s << " (its step reports reached this macro step" << claim;
   if (slow->counted_progress > 0)
     s << "; its last progress frame that counted was at micro step " << slow->progress_micro
       << " of macro step " << slow->progress_step;

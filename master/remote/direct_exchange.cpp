@@ -157,6 +157,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     last_useful_ = now;
   }
   if (e.has_reports()) {
+    node.p->accept_reports_frame(e.id());
     node.waiting_for = e.reports().waiting_for();
     for (const auto& w : e.reports().reports()) {
       node.reports.push_back(node.p->accept_report(w));
@@ -235,7 +236,7 @@ bool DirectExchange::read(milliseconds timeout) {
       node.fail_step = node.reported;
       std::string what = "the node closed the connection in the middle of a window";
       if (!node.fail_text.empty()) what += " (" + node.fail_text + ")";
-      what += "; its last step report was for macro step " + std::to_string(node.reported);
+      // "at macro step N" below is its last step report's: said once.
       node.fail_text = node.p->failure_text(node.reported, what);
     }
   }
@@ -357,10 +358,15 @@ void DirectExchange::drain() {
   while (std::chrono::steady_clock::now() < deadline) {
     bool any = false;
     for (const Node& node : nodes_) any = any || (node.in_window && !node.closed);
-    if (!any) return;
+    if (!any) break;
     if (!read(milliseconds(200))) continue;
     for (Node& node : nodes_) node.reports.clear();
   }
+  // A run that reached its end still fails for a node that lied on the way
+  // (a report past the window, an end its reports did not reach).
+  if (step_ + 1 == total_)
+    for (const Node& node : nodes_)
+      if (node.failed && !node.step_failure) throw NodeFailure(node.fail_text);
 }
 
 }  // namespace railcosim::remote

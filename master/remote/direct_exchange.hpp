@@ -58,6 +58,8 @@ class DirectExchange final : public engine::MacroSteps {
   ~DirectExchange();
   // Waits (a few seconds at most) for every window in progress to end, so
   // the sessions take requests again (final results after a divergence).
+  // Throws NodeFailure, once the run has reached its end, for a node whose
+  // window broke the rules on the way (its reports or its end).
   void drain();
 
  private:

@@ -140,8 +140,13 @@ void RemoteParticipant::fail(const std::string& what) const {
 
 std::string RemoteParticipant::failure_text(long step, const std::string& what) const {
   std::ostringstream s;
-  s << name() << ": " << what << " at macro step " << step
-    << " (t = " << static_cast<double>(step) * config_.macro_step << " s)";
+  s << name() << ": " << what;
+  // Before the first step there is no macro step to name (the protocol's -1).
+  if (!stepping_ || step < 0)
+    s << " before the run";
+  else
+    s << " at macro step " << step << " (t = " << static_cast<double>(step) * config_.macro_step
+      << " s)";
   return s.str();
 }
 
@@ -224,6 +229,7 @@ StepResult RemoteParticipant::initialize(const CouplingData& inputs) {
 
 void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
   step_ = n;
+  stepping_ = true;
   pending_inputs_ = inputs;  // sent with the step, or flushed before any other request
   pending_end_.reset();
   pending_waves_.reset();
@@ -231,6 +237,7 @@ void RemoteParticipant::set_inputs(long n, const CouplingData& inputs) {
 
 void RemoteParticipant::set_inputs(long n, const CouplingData& start, const CouplingData& end) {
   step_ = n;
+  stepping_ = true;
   pending_inputs_ = start;
   pending_end_ = end;
   pending_waves_.reset();
@@ -340,54 +347,6 @@ void RemoteParticipant::restore(const ParticipantState& state) {
   for (double v : state.values) r->add_values(v);
   send(e, true);
   await(wire::Envelope::kAck, "restore");
-}
-
-void RemoteParticipant::enter_lockstep(long first_step, long end_step) {
-  wire::Envelope e;
-  auto* w = e.mutable_window();
-  w->set_first_step(first_step);
-  w->set_end_step(end_step);
-  w->set_lockstep(true);
-  send(e, true);  // its ack is read with the next reply
-  lockstep_ = true;
-}
-
-void RemoteParticipant::set_links(const wire::Links& links) {
-  wire::Envelope e;
-  *e.mutable_links() = links;
-  send(e, true);
-  await(wire::Envelope::kAck, "links");
-}
-
-void RemoteParticipant::grant(const wire::Window& window) {
-  step_ = static_cast<long>(window.first_step());
-  wire::Envelope e;
-  *e.mutable_window() = window;
-  send(e, false);
-}
-
-StepResult RemoteParticipant::accept_report(const wire::StepReport& w) {
-  StepResult r = from_wire(w);
-  check(check_step_report(r, w.step(), w.t(), step_ + 1, shape_));
-  step_ = static_cast<long>(w.step());
-  return r;
-}
-
-void RemoteParticipant::window_reply(const wire::Envelope& reply) {
-  if (!reply.has_error())
-    check(check_reply_id(reply.id(), in_flight_.empty() ? 0 : in_flight_.front()));
-  if (!in_flight_.empty()) in_flight_.pop_front();
-  if (reply.has_error()) {
-    const auto& err = reply.error();
-    if (err.step() >= 0) step_ = static_cast<long>(err.step());
-    if (err.code() == wire::Error::STEP_FAILED) {
-      std::ostringstream s;
-      s << name() << ": " << err.message() << " at macro step " << step_;
-      throw StepFailure(s.str());
-    }
-    fail("window failed: " + wire::Error::Code_Name(err.code()) + ": " + err.message());
-  }
-  if (!reply.has_window_done()) fail("unexpected " + body_name(reply) + " in reply to window");
 }
 
 void RemoteParticipant::fail_at(long step, const std::string& what) {

@@ -99,14 +99,18 @@ class RemoteParticipant final : public Participant {
   void set_links(const wire::Links& links);
   // Sends a window; its reports and its reply are read through tcp().
   void grant(const wire::Window& window);
-  // One report of the window, checked as a step's reply is.
+  // A Reports frame of the window: its id must be the window's.
+  void accept_reports_frame(std::uint64_t id) const;
+  // One report of the window, checked as a step's reply is (and not past
+  // the window's end).
   StepResult accept_report(const wire::StepReport& report);
   // The window's reply: true when it is the WindowDone of the window granted;
   // an error reply becomes StepFailure or NodeFailure as a step's would.
   void window_reply(const wire::Envelope& reply);
   // Fails with `what` at macro step `step`.
   [[noreturn]] void fail_at(long step, const std::string& what);
-  // The text of that failure: "NAME at ADDR: WHAT at macro step N (t = T s)".
+  // The text of that failure: "NAME at ADDR: WHAT at macro step N (t = T s)",
+  // or "... WHAT before the run" before the first step's inputs.
   std::string failure_text(long step, const std::string& what) const;
 
  private:
@@ -151,7 +155,9 @@ class RemoteParticipant final : public Participant {
   std::unique_ptr<FramedChannel> conn_;
   std::uint64_t next_id_ = 1;
   int pending_acks_ = 0;
-  long step_ = 0;  // the macro step being done, for messages
+  long step_ = 0;          // the macro step being done, for messages
+  long window_end_ = 0;    // the end of the window granted (direct plane)
+  bool stepping_ = false;  // inputs for a step or a window were given: the run has begun
   std::chrono::steady_clock::time_point step_started_;
   std::chrono::steady_clock::duration slowest_step_{0};
   // set_inputs() keeps its data here; the next step carries it.

@@ -16,6 +16,7 @@
 #include "scene.hpp"
 #include "scene_text.hpp"
 #include "study/report_methods.hpp"
+#include "toml_nesting.hpp"
 
 namespace railcosim::study {
 namespace {
@@ -90,6 +91,7 @@ SceneEdit swept(const std::string& key, const std::string& value, const toml::no
 // rejects keys it does not know, naming them).
 std::string with_values(const std::string& text, const std::string& source,
                         const std::vector<std::pair<std::string, std::string>>& values) {
+  check_toml_nesting(text, source);
   const toml::table root = toml::parse(text, source);
   std::vector<SceneEdit> edits;
   for (const auto& [key, value] : values)

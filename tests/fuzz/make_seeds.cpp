@@ -186,6 +186,48 @@ void write_waveform_session(const Scene& scene, const std::filesystem::path& dir
   std::ofstream(dir / "session_waveform", std::ios::binary) << s;
 }
 
+// Hostile sessions, each refused by the node with an error reply:
+// hostile_nested_lockstep (lock-step windows inside a lock step),
+// hostile_wide_waveform (a waveform of 2^27 values per sample and none),
+// hostile_deep_key, _header, _array, _inline (a Configure's scene nested 40
+// levels deep, past the limit of 32, in each of the ways TOML nests).
+void write_hostile_sessions(const Scene& scene, const std::filesystem::path& dir, Frames& f) {
+  SubsystemConfig cfg;
+  cfg.participant = partition(scene, parse_case("wr-xx-jacobi"))[0];
+  cfg.macro_step = scene.macro_step;
+  cfg.tolerance = scene.tolerance;
+  const CouplingData in = static_inputs(scene, "wr-xx-jacobi")[0];
+  const std::string opening = f.of(hello_envelope(cfg.participant.role, scene_fingerprint(scene)));
+  const std::string started =
+      opening + f.of(configure_envelope(scene, cfg)) +
+      f.make([&](wire::Envelope& e) { *e.mutable_initialize()->mutable_inputs() = to_wire(in); });
+  std::string s = started;
+  for (int k = 0; k < 3; ++k)
+    s += f.make([](wire::Envelope& e) {
+      e.mutable_window()->set_end_step(10);
+      e.mutable_window()->set_lockstep(true);
+    });
+  std::ofstream(dir / "hostile_nested_lockstep", std::ios::binary) << s;
+  s = started + f.make([](wire::Envelope& e) {
+    e.mutable_set_inputs()->mutable_waveforms()->add_interfaces()->set_width(1u << 27);
+  });
+  std::ofstream(dir / "hostile_wide_waveform", std::ios::binary) << s;
+  const int depth = 40;
+  std::string key = "a", header = "[a", array = "x = ", table = "y = ";
+  for (int k = 1; k < depth; ++k) key += ".a", header += ".a";
+  array += std::string(depth, '[') + std::string(depth, ']');
+  for (int k = 0; k < depth; ++k) table += "{z = ";
+  table += "1" + std::string(depth, '}');
+  for (const auto& [name, text] :
+       {std::pair{"key", key + " = 1"}, std::pair{"header", header + "]"},
+        std::pair{"array", array}, std::pair{"inline", table}}) {
+    wire::Envelope c = configure_envelope(scene, cfg);
+    c.mutable_configure()->set_scene(text + "\n" + scene.text);
+    std::ofstream(dir / ("hostile_deep_" + std::string(name)), std::ios::binary)
+        << opening + f.of(c);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -207,5 +249,6 @@ int main(int argc, char** argv) {
   // hello_only: a session that ends after its hello.
   std::ofstream(dir / "hello_only", std::ios::binary)
       << f.of(hello_envelope("track", scene_fingerprint(scene)));
+  write_hostile_sessions(scene, dir, f);
   return 0;
 }
