@@ -85,7 +85,10 @@ void write_stability_map(std::ostringstream& md, const std::vector<StudyRun>& ru
   std::map<std::string, std::map<double, std::string>> map;
   std::vector<std::string> order;
   for (const auto& r : runs) {
-    if (r.group == "tolerance" || r.group == "converged" || r.method == "monolithic") continue;
+    // The restart check's runs (fixed micro steps) are not the method's.
+    if (r.group == "tolerance" || r.group == "converged" || r.group == "restart" ||
+        r.method == "monolithic")
+      continue;
     hs.insert(r.record.macro_step);
     if (!map.count(r.method)) order.push_back(r.method);
     std::string cell = r.record.status;
