@@ -1,11 +1,13 @@
 // A subsystem's checkpoint: its whole state as one vector of numbers
 // (save), and back (restore), for implicit coupling and the node's Save and
 // Restore requests.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "subsystem.hpp"
+#include "subsystem_motion.hpp"
 
 namespace railcosim {
 
@@ -111,6 +113,45 @@ void Subsystem::restore(const ParticipantState& state) {
   s.contact_force = force;
   next_step_ = step;
   phase_ = inputs_set ? Phase::kInputsSet : Phase::kAwaitingInputs;
+}
+
+namespace {
+
+// Where the motion (u, v, a) sits in a Subsystem's snapshot (see save()):
+// after six header values, three counted vectors of n values each.
+std::size_t motion_size(const ParticipantState& state) {
+  constexpr std::size_t kHeader = 6;
+  if (state.values.size() < kHeader + 1)
+    throw BadInputError("not a subsystem's snapshot: " + std::to_string(state.values.size()) +
+                        " values");
+  const double n = state.values[kHeader];
+  if (!(n >= 0) || state.values.size() < kHeader + 3 * (static_cast<std::size_t>(n) + 1))
+    throw BadInputError("not a subsystem's snapshot: its motion does not fit");
+  return static_cast<std::size_t>(n);
+}
+
+}  // namespace
+
+std::vector<double> snapshot_motion(const ParticipantState& state) {
+  const std::size_t n = motion_size(state);
+  std::vector<double> m;
+  m.reserve(3 * n);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto at = state.values.begin() + static_cast<std::ptrdiff_t>(7 + k * (n + 1));
+    m.insert(m.end(), at, at + static_cast<std::ptrdiff_t>(n));
+  }
+  return m;
+}
+
+void set_snapshot_motion(ParticipantState& state, const std::vector<double>& motion) {
+  const std::size_t n = motion_size(state);
+  if (motion.size() != 3 * n)
+    throw BadInputError("set_snapshot_motion: " + std::to_string(motion.size()) +
+                        " values for a motion of " + std::to_string(3 * n));
+  for (std::size_t k = 0; k < 3; ++k)
+    std::copy(motion.begin() + static_cast<std::ptrdiff_t>(k * n),
+              motion.begin() + static_cast<std::ptrdiff_t>((k + 1) * n),
+              state.values.begin() + static_cast<std::ptrdiff_t>(7 + k * (n + 1)));
 }
 
 }  // namespace railcosim

@@ -37,7 +37,7 @@ RunRecord judged_run(const Scene& scene, const char* name, double H) {
 
 // rs-xt-gauss-seidel at H = 5e-4 s: the wheel's history is close to the
 // monolithic one, the deflection 178 % off. It was reported ok; it is not
-// ok, inaccurate or amplified as its stability probe says.
+// ok, inaccurate or amplified as its stability says.
 TEST(Judging, ALargeDeflectionErrorIsNeverOk) {
   const Scene scene = test::paper_scene();
   const RunRecord r = judged_run(scene, "rs-xt-gauss-seidel", 5e-4);
@@ -49,13 +49,17 @@ TEST(Judging, ALargeDeflectionErrorIsNeverOk) {
 
 // The consistent cases at the paper's H stay ok (their rel. L2 errors reach
 // 4.3e-2), and lagged Jacobi X-T at the wheel/rail cut stays amplified.
+// Gauss-Seidel X-T at the wheel/rail cut is as accurate but its map at rest
+// grows slowly (rho = 1.00199, 19.9 1/s): amplified, where the probe, blind
+// below about 100 1/s, called it ok.
 TEST(Judging, ThePaperCasesKeepTheirVerdicts) {
   const Scene scene = test::paper_scene();
   for (const char* name :
        {"wr-xx-jacobi", "wr-xx-gauss-seidel", "wr-xt-gauss-seidel", "rs-xx-jacobi",
         "rs-xx-gauss-seidel", "rs-xt-jacobi", "rs-xt-gauss-seidel"}) {
     const RunRecord r = judged_run(scene, name, scene.macro_step);
-    EXPECT_EQ(r.status, "ok") << name << ": " << r.message;
+    const bool slow = std::string(name) == "wr-xt-gauss-seidel";
+    EXPECT_EQ(r.status, slow ? "amplified" : "ok") << name << ": " << r.message;
     EXPECT_LE(*r.rel_l2_error, 4.3e-2) << name;
   }
   EXPECT_EQ(judged_run(scene, "wr-xt-jacobi", scene.macro_step).status, "amplified");

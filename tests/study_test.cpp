@@ -102,7 +102,7 @@ TEST_F(StudyTest, FinishesAndWritesEveryPromisedFile) {
   // Every case ran, so every conclusion of the paper gets a verdict.
   EXPECT_EQ(report.find("not checked"), std::string::npos) << report.substr(0, 3000);
   for (const char* claim :
-       {"abnormally amplified", "divides the error of Jacobi", "Resolved feedthrough removes"}) {
+       {"abnormally amplified", "divides the error of Jacobi", "Resolved feedthrough reduces"}) {
     EXPECT_NE(report.find(claim), std::string::npos) << claim;
   }
   // Figures, where matplotlib is installed (the install script installs it);

@@ -61,6 +61,20 @@ class StepExecutor : public MacroSteps {
   // Exchanges and steps from nH to (n+1)H as the plan says.
   std::vector<StepResult> advance(long n) override;
 
+  // The master's part of the coupled state between macro steps: every
+  // participant's outputs at t_n and, for extrapolated inputs, at the points
+  // before. With the participants' states it is the state an explicit
+  // coupling's macro step maps (run/spectral.hpp reads and sets it).
+  struct Memory {
+    std::vector<CouplingData> out;
+    std::vector<std::vector<CouplingData>> past;
+  };
+  Memory memory() const { return {out_, past_}; }
+  void set_memory(Memory m) {
+    out_ = std::move(m.out);
+    past_ = std::move(m.past);
+  }
+
   // The plan, once initialize() has compiled it.
   const StepPlan& plan() const { return plan_; }
   // The iterations of an implicit coupling (empty for an explicit one).

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <iomanip>
 #include <sstream>
 
 #include "monolithic.hpp"
@@ -133,6 +135,71 @@ double divergence_bound(const Scene& scene, double largest_static_displacement) 
   return scene.divergence_factor * largest_static_displacement;
 }
 
+// rho with three digits in its distance from 1 (at least four in all).
+std::string rho_words(double rho) {
+  const double off = std::abs(rho - 1);
+  const int digits = off > 0 ? std::max(4, 3 + static_cast<int>(std::ceil(-std::log10(off)))) : 4;
+  std::ostringstream s;
+  s << std::setprecision(std::min(digits, 12)) << rho;
+  return s.str();
+}
+
+namespace {
+
+// A time as a person reads it: ms below a second, three digits.
+std::string duration_words(double seconds) {
+  char buf[32];
+  if (seconds < 1)
+    std::snprintf(buf, sizeof buf, "%.3g ms", seconds * 1e3);
+  else
+    std::snprintf(buf, sizeof buf, "%.3g s", seconds);
+  return buf;
+}
+
+// The map's words: rho, the e-folding time, and which micro steps it takes.
+void map_words(std::ostream& s, const RunRecord& run) {
+  const bool growing = *run.spectral_rate > 0 && run.stability == "unstable";
+  s << (growing ? "at rest: " : "") << "ρ = " << rho_words(*run.spectral_radius)
+    << " per macro step" << (growing ? "" : " at rest");
+  if (*run.spectral_rate > 0)
+    s << ", e-folds every " << duration_words(1 / *run.spectral_rate) << " ("
+      << std::setprecision(3) << *run.spectral_rate << " 1/s; the run lasts "
+      << duration_words(run.t_end) << ")";
+  if (!run.map_micro_steps) return;
+  double most = 0;  // the moving run's micro steps per macro step, on average
+  for (const auto& [who, count] : run.micro_steps)
+    if (run.macro_steps > 0)
+      most = std::max(most, static_cast<double>(count) / static_cast<double>(run.macro_steps));
+  if (most > 1.05 * static_cast<double>(*run.map_micro_steps))
+    s << std::setprecision(3) << "; this is the parked coupling's map, with "
+      << *run.map_micro_steps << " micro step(s) per macro step; the moving run took " << most
+      << " on average, and its map differs";
+}
+
+// What the stability verdict rests on, in words ("" when nothing was judged).
+std::string growth_words(const RunRecord& run) {
+  std::ostringstream s;
+  if (run.stability_basis == "map" && run.spectral_radius && run.spectral_rate) {
+    map_words(s, run);
+  } else if (run.error_growth && run.probe_time) {  // the probe's
+    s << "a perturbation of the static state grew " << *run.error_growth << " times in "
+      << *run.probe_time << " s (rate " << run.error_growth_rate.value_or(0) << " 1/s)";
+  }
+  if (run.defect_growth && (run.defect_grows || run.stability == "unstable")) {
+    s << (s.str().empty() ? "" : "; ") << std::setprecision(3);
+    if (run.defect_grows)
+      s << "along the moving run the coupling's defect grew " << *run.defect_growth
+        << " times over its last eighth (" << run.defect_rate.value_or(0)
+        << " 1/s): the run diverges if it goes on";
+    else
+      s << "along the moving run the coupling's defect did not grow (" << *run.defect_growth
+        << " times over its last eighth)";
+  }
+  return s.str();
+}
+
+}  // namespace
+
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
   if (run.status == "diverged" || run.status == "failed") return;
   const DeflectionError e = deflection_error(run.deflection, reference.deflection);
@@ -147,22 +214,19 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
     size << (size.str().empty() ? "" : "; ") << "rel. L2 deflection error " << e.rel_l2
          << " exceeds " << kMaxDeflectionError;
   std::ostringstream why;
+  const std::string growth = growth_words(run);
   if (*run.history_error > kGrossHistoryError && run.stability != "unstable") {
     why << "unstable at finite amplitude: the history error " << *run.history_error << " is over "
         << kGrossHistoryError << " (errors as large as the static quantities themselves)";
-    if (run.stability == "stable")
-      why << ", although a small perturbation of the static state grew only " << *run.error_growth
-          << " times in " << *run.probe_time << " s";
+    if (!growth.empty()) why << ", although at rest " << growth;
     run.stability = "unstable";
   } else if (run.stability == "unstable") {
-    why << "unstable: a perturbation of the static state grew " << *run.error_growth << " times in "
-        << *run.probe_time << " s under this coupling (rate " << *run.error_growth_rate << " 1/s)";
+    why << "unstable";
+    if (!growth.empty()) why << (growth.rfind("at rest", 0) == 0 ? " " : ": ") << growth;
     if (!size.str().empty()) why << "; " << size.str();
   } else if (!size.str().empty()) {
     why << size.str();
-    if (run.stability == "stable")
-      why << " (stable: a perturbation of the static state grew " << *run.error_growth
-          << " times in " << *run.probe_time << " s)";
+    if (!growth.empty()) why << " (stable: " << growth << ")";
   }
   if (why.str().empty()) return;
   if (run.status == "not_converged") {  // that stays the verdict; the rest is said

@@ -1,6 +1,8 @@
 // How a co-simulation run is judged against the monolithic reference.
 #pragma once
 
+#include <string>
+
 #include "model.hpp"
 #include "monolithic.hpp"
 #include "run/run_record.hpp"
@@ -56,6 +58,10 @@ inline constexpr double kGrossHistoryError = 1.0;
 // The bound beyond which a displacement means divergence:
 // divergence_factor times the largest static displacement.
 double divergence_bound(const Scene& scene, double largest_static_displacement);
+
+// A spectral radius with three digits in its distance from 1 (at least
+// four in all): 1.0000229, 1.0113, 6.214.
+std::string rho_words(double rho);
 
 // Fills the errors and the status of a finished run. Its size: the history
 // error over every coupling quantity against cosim.amplification_threshold,

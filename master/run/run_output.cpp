@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include "run/stability.hpp"
 #include "spectra.hpp"
 
 namespace railcosim::run {
@@ -86,6 +87,9 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 std::string format_double(double v) {
   return std::isfinite(v) ? num(v) : "null";
 }
+std::string json_quoted(const std::string& text) {
+  return json_string(text);
+}
 
 std::string summary_json(const RunRecord& r) {
   std::ostringstream s;
@@ -113,11 +117,7 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
-  if (!r.stability.empty())
-    s << "  \"stability\": {\"verdict\": " << json_string(r.stability)
-      << ", \"growth\": " << json_opt(r.error_growth)
-      << ", \"rate_per_s\": " << json_opt(r.error_growth_rate)
-      << ", \"probe_s\": " << json_opt(r.probe_time) << "},\n";
+  if (!r.stability.empty()) s << "  " << stability_json(r) << ",\n";
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
   if (!r.data_plane.empty()) s << "  \"data_plane\": " << json_string(r.data_plane) << ",\n";
   if (!r.data_plane_mode.empty()) s << "  \"data_plane_mode\": \"" << r.data_plane_mode << "\",\n";

@@ -68,6 +68,8 @@ class RunWriter {
   void put(const std::string& text);
 };
 
+// A string as a JSON string, quoted and escaped.
+std::string json_quoted(const std::string& text);
 std::string summary_json(const RunRecord& run);
 
 // soil_forces.csv: a row per communication point, `t_s` then the force into

@@ -37,6 +37,20 @@ struct RunRecord {
   // its rate (1/s) and the probe's length (s).
   std::string stability;
   std::optional<double> error_growth, error_growth_rate, probe_time;
+  // What the verdict rests on: "map" (the spectral radius of the linearised
+  // macro-step map, spectral.hpp), "probe", or "" when not judged.
+  std::string stability_basis;
+  // The map: its spectral radius rho, ln(rho) / H (1/s), its coordinates
+  // and the seconds it took; or why it was not computed.
+  std::optional<double> spectral_radius, spectral_rate, map_seconds;
+  std::optional<long> map_dimension;
+  std::optional<long> map_micro_steps;  // per macro step, the most of a participant
+  std::string spectral_note;
+  // The check over the moving run (stability.hpp): the growth of the
+  // coupling's defect between the second and the last quarter, its rate
+  // (1/s), and whether it says the run grows.
+  std::optional<double> defect_growth, defect_rate;
+  bool defect_grows = false;
   std::string transport = remote::kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string data_plane_mode;         // direct: "windows" or "lock step"

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <sstream>
+
 #include "run/evaluation.hpp"
+#include "run/run_output.hpp"
+#include "run/spectral.hpp"
 
 namespace railcosim::run {
 
@@ -84,18 +88,114 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
   return s;
 }
 
+double unstable_rate(double t_end) {
+  return 1.0 / (kGrowthHorizon * t_end);
+}
+
+std::vector<double> coupling_defect(const RunRecord& run) {
+  const std::size_t n = run.history.size();
+  std::vector<double> d(n, 0.0);
+  auto add = [&](auto value_at) {
+    double scale = 0;
+    for (std::size_t i = 0; i < n; ++i) scale = std::max(scale, std::abs(value_at(i)));
+    if (!(scale > 0) || !std::isfinite(scale)) return;
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const double r = std::abs(value_at(i + 1) - 2 * value_at(i) + value_at(i - 1)) / scale;
+      d[i] = std::isfinite(r) ? std::max(d[i], r) : HUGE_VAL;
+    }
+  };
+  add([&](std::size_t i) { return run.history[i].wheel; });
+  add([&](std::size_t i) { return run.history[i].contact_force; });
+  const std::size_t extra = n > 0 ? run.history[0].extra.size() : 0;
+  for (std::size_t k = 0; k < extra; ++k)
+    add([&](std::size_t i) {
+      return k < run.history[i].extra.size() ? run.history[i].extra[k] : 0.0;
+    });
+  for (const auto& [cut, values] : run.coupling_history)
+    if (values.size() >= n) add([&](std::size_t i) { return values[i]; });
+  return d;
+}
+
+DefectGrowth defect_growth(const std::vector<double>& defect, double dt) {
+  DefectGrowth g;
+  const std::size_t n = defect.size();
+  if (n < 16) return g;
+  auto largest = [&](std::size_t from, std::size_t to) {
+    double m = 0;
+    for (std::size_t i = from; i < to; ++i) m = std::max(m, defect[i]);
+    return m;
+  };
+  const std::size_t e = n / 8;
+  const double before = largest(2 * e, n - e), last = largest(n - e, n);
+  if (!(before > 0)) return g;
+  g.growth = last / before;
+  // Over one eighth: the spacing of the two largest values of a growing
+  // exponential (the ends of the two spans).
+  g.rate_per_s = std::log(std::max(g.growth, 1e-300)) / (static_cast<double>(e) * dt);
+  g.grows = !(g.growth < kDefectGrowth);
+  return g;
+}
+
+namespace {
+
+// The map's verdict, or the probe's where the map cannot be computed.
+void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                  const RunOptions& options) {
+  const MapSpectrum m = macro_step_spectrum(scene, spec, options);
+  if (m.computed) {
+    run.stability_basis = "map";
+    run.spectral_radius = m.rho;
+    run.spectral_rate = m.rate_per_s;
+    run.map_dimension = m.dimension;
+    run.map_seconds = m.seconds;
+    run.map_micro_steps = m.micro_steps;
+    run.stability = m.rate_per_s >= unstable_rate(scene.end_time) ? "unstable" : "stable";
+    return;
+  }
+  run.spectral_note = m.why_not;
+  const Stability s = probe_stability(scene, spec, options);
+  run.stability_basis = "probe";
+  run.stability = s.unstable ? "unstable" : "stable";
+  run.error_growth = s.growth;
+  run.error_growth_rate = s.rate_per_s;
+  run.probe_time = s.duration_s;
+}
+
+}  // namespace
+
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
             const RunOptions& options, bool probe) {
-  if (run.status != "failed" && !probe) {
-    run.stability = kNotJudged;
-  } else if (run.status != "failed") {
-    const Stability s = probe_stability(scene, spec, options);
-    run.stability = s.unstable ? "unstable" : "stable";
-    run.error_growth = s.growth;
-    run.error_growth_rate = s.rate_per_s;
-    run.probe_time = s.duration_s;
+  if (run.status != "failed") {
+    // A node the user started may run a model of its own behind the
+    // scene's name: the map and the probe, built from the scene, would judge
+    // the built-in model instead. The defect along the run is its own.
+    if (probe)
+      judge_growth(run, scene, spec, options);
+    else
+      run.stability = kNotJudged;
+    const DefectGrowth d = defect_growth(coupling_defect(run), options.macro_step);
+    run.defect_growth = d.growth;
+    run.defect_rate = d.rate_per_s;
+    run.defect_grows = d.grows;
+    if (d.grows) run.stability = "unstable";
   }
   judge(run, reference, scene);
+}
+
+std::string stability_json(const RunRecord& r) {
+  std::ostringstream s;
+  auto opt = [](const std::optional<double>& v) { return v ? format_double(*v) : "null"; };
+  s << "\"stability\": {\"verdict\": " << json_quoted(r.stability)
+    << ", \"basis\": " << json_quoted(r.stability_basis) << ", \"rho\": " << opt(r.spectral_radius)
+    << ", \"rho_rate_per_s\": " << opt(r.spectral_rate)
+    << ", \"map_dimension\": " << (r.map_dimension ? std::to_string(*r.map_dimension) : "null")
+    << ", \"map_s\": " << opt(r.map_seconds);
+  if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
+  s << ", \"growth\": " << opt(r.error_growth) << ", \"rate_per_s\": " << opt(r.error_growth_rate)
+    << ", \"probe_s\": " << opt(r.probe_time) << ", \"defect_growth\": " << opt(r.defect_growth)
+    << ", \"defect_rate_per_s\": " << opt(r.defect_rate)
+    << ", \"defect_grows\": " << (r.defect_grows ? "true" : "false") << "}";
+  return s.str();
 }
 
 }  // namespace railcosim::run

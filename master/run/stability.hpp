@@ -54,6 +54,35 @@ std::vector<double> deviation_from_rest(const RunRecord& run);
 // The scene with the vehicle parked at its start and the probe's end time.
 Scene parked_scene(const Scene& scene, double macro_step);
 
+// A growth that e-folds within this many times the run's own duration makes
+// a coupling unstable: rate >= 1 / (kGrowthHorizon t_end). Ten durations: a
+// user runs the same coupling on a track ten times as long, and the growth
+// of ten e-folds over it (2e4) ends it.
+inline constexpr double kGrowthHorizon = 20;
+// The rate at or above which the map's growth makes a run unstable, 1/s.
+double unstable_rate(double t_end);
+
+// The check over the moving run itself. The coupling's defect at each macro
+// step: per coupling quantity (the wheel, the contact force, every further
+// history channel, every cut's coupling history) the second difference
+// |s(n+1) - 2 s(n) + s(n-1)|, which a held or extrapolated input misses and
+// which an oscillating mode of the coupling carries, over the quantity's
+// largest magnitude in the run; per row the largest over the quantities.
+std::vector<double> coupling_defect(const RunRecord& run);
+struct DefectGrowth {
+  bool grows = false;
+  double growth = 1;      // largest defect over the last eighth / over the eighths before
+  double rate_per_s = 0;  // ln(growth) per eighth of the run, in 1/s
+};
+// Growing: the defect's largest value over the run's last eighth is at
+// least kDefectGrowth times its largest over the eighths before it from the
+// second quarter on (the first holds the start's transient). On the paper
+// scene's study the stable runs keep it within 0.85 to 1.3; a growing mode of
+// the coupling (rs-xt-gauss-seidel at H = 5e-4 s, which diverges at
+// t = 0.43 s when the run goes on) triples it.
+inline constexpr double kDefectGrowth = 2;
+DefectGrowth defect_growth(const std::vector<double>& defect, double dt);
+
 // Runs the probe for a co-simulation case with the run's options.
 Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
 
@@ -62,10 +91,16 @@ Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOpt
 // a model of its own behind the scene's name.
 inline constexpr const char* kNotJudged = "not judged";
 
-// Probes the case (unless `probe` is false: then its stability is
-// kNotJudged) and judges the run (evaluation.hpp): what `master run` and the
-// study do for a co-simulation whose soil is one of the master's models.
+// The run's stability (unless `probe` is false: then its stability is
+// kNotJudged, unless the defect grows along the run), then its judgement
+// (evaluation.hpp): what `master run` and the study do for a co-simulation
+// whose soil runs in the master. The verdict rests on the spectral radius
+// of the macro-step map (spectral.hpp) where it can be computed, else on the
+// probe; a defect that grows along the moving run makes it unstable too.
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
             const RunOptions& options, bool probe = true);
+
+// The stability part of summary.json: "stability": {...} (no trailing comma).
+std::string stability_json(const RunRecord& run);
 
 }  // namespace railcosim::run

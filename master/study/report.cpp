@@ -14,6 +14,7 @@
 
 #include "log.hpp"
 #include "remote/transport.hpp"
+#include "run/evaluation.hpp"
 #include "run/run_output.hpp"
 #include "scene.hpp"
 #include "study/study_plan.hpp"
@@ -76,6 +77,40 @@ std::string scene_line(const Scene& s) {
   return md.str();
 }
 
+// The stability map as a table too (it is read without the figure): each
+// run's status and its map's spectral radius.
+void write_stability_map(std::ostringstream& md, const std::vector<StudyRun>& runs,
+                         const std::string& h) {
+  std::set<double> hs;
+  std::map<std::string, std::map<double, std::string>> map;
+  std::vector<std::string> order;
+  for (const auto& r : runs) {
+    // The restart check's runs (fixed micro steps) are not the method's.
+    if (r.group == "tolerance" || r.group == "converged" || r.group == "restart" ||
+        r.method == "monolithic")
+      continue;
+    hs.insert(r.record.macro_step);
+    if (!map.count(r.method)) order.push_back(r.method);
+    std::string cell = r.record.status;
+    if (r.record.spectral_radius) cell += ", ρ " + run::rho_words(*r.record.spectral_radius);
+    map[r.method][r.record.macro_step] = cell;
+  }
+  md << "\n"
+     << h << " Stability map\n\n"
+     << "Each run's status and, where it was computed, the spectral radius ρ of its macro-step "
+        "map at rest (a perturbation grows by ρ per macro step; unstable when it e-folds "
+        "within 20 times the run's duration).\n\n| method |";
+  for (double H : hs) md << " H = " << H << " s |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < hs.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& m : order) {
+    md << "| " << m << " |";
+    for (double H : hs) md << " " << (map[m].count(H) ? map[m][H] : "–") << " |";
+    md << "\n";
+  }
+}
+
 // The sections of one scene (the study's, or one variant of a sweep), headed
 // at level H; FIGURES is the figures' folder relative to REPORT.md.
 void scene_sections(std::ostringstream& md, const std::string& h, const Scene& scene,
@@ -129,27 +164,7 @@ void scene_sections(std::ostringstream& md, const std::string& h, const Scene& s
     md << figures_note << "\n";
   }
 
-  // The stability map as a table too (it is read without the figure).
-  std::set<double> hs;
-  std::map<std::string, std::map<double, std::string>> map;
-  std::vector<std::string> order;
-  for (const auto& r : runs) {
-    if (r.group == "tolerance" || r.group == "converged" || r.method == "monolithic") continue;
-    hs.insert(r.record.macro_step);
-    if (!map.count(r.method)) order.push_back(r.method);
-    map[r.method][r.record.macro_step] = r.record.status;
-  }
-  md << "\n" << h << " Stability map\n\n| method |";
-  for (double H : hs) md << " H = " << H << " s |";
-  md << "\n|---|";
-  for (std::size_t i = 0; i < hs.size(); ++i) md << "---|";
-  md << "\n";
-  for (const auto& m : order) {
-    md << "| " << m << " |";
-    for (double H : hs) md << " " << (map[m].count(H) ? map[m][H] : "–") << " |";
-    md << "\n";
-  }
-
+  write_stability_map(md, runs, h);
   write_front_table(md, study_front(runs, transport), runs, transport, h);
   write_method_sections(md, runs, h);
   write_slopes_section(md, error_slopes(runs), h);

@@ -164,9 +164,16 @@ Measured fewer_unstable_runs(const FindingRow& row, const FindingRuns& in) {
 // The first run is ok and its error below `tolerance` times the second's.
 Measured stable_and_below_factor(const FindingRow& row, const FindingRuns& in) {
   const RunRecord* r = in.cases.at(row.runs[0]);
-  const bool ok =
-      r->status == "ok" && err(in.cases, row.runs[0]) < row.tolerance * err(in.cases, row.runs[1]);
-  return {ok ? "reproduced" : "not reproduced", "status " + r->status + ", " +
+  const RunRecord* from = in.cases.count(row.runs[2]) ? in.cases.at(row.runs[2]) : nullptr;
+  const bool slow = r->spectral_rate && from && from->spectral_rate &&
+                    *r->spectral_rate <= 0.1 * *from->spectral_rate;
+  const bool ok = (r->status == "ok" || slow) &&
+                  err(in.cases, row.runs[0]) < row.tolerance * err(in.cases, row.runs[1]);
+  std::string growth;
+  if (r->spectral_rate && from && from->spectral_rate)
+    growth = " (growth rate " + run::sci(*r->spectral_rate) + " 1/s against " +
+             run::sci(*from->spectral_rate) + " 1/s of " + row.runs[2] + ")";
+  return {ok ? "reproduced" : "not reproduced", "status " + r->status + growth + ", " +
                                                     err_of(in.cases, row.runs[0]) + " against " +
                                                     err_of(in.cases, row.runs[1])};
 }

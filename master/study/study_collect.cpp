@@ -146,6 +146,12 @@ run::RunRecord record_of(const fs::path& json) {
   r.error_growth = num("stability.growth");
   r.error_growth_rate = num("stability.rate_per_s");
   r.probe_time = num("stability.probe_s");
+  r.stability_basis = str("stability.basis").value_or("");
+  r.spectral_radius = num("stability.rho");
+  r.spectral_rate = num("stability.rho_rate_per_s");
+  r.defect_growth = num("stability.defect_growth");
+  r.defect_rate = num("stability.defect_rate_per_s");
+  r.defect_grows = str("stability.defect_grows").value_or("") == "true";
   r.transport = str("transport").value_or("");
   r.restart = str("restart").value_or("consistent");
   r.method = str("method").value_or("explicit");

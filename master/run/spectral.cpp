@@ -1,0 +1,245 @@
+#include "run/spectral.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "engine/coupled_statics.hpp"
+#include "engine/window_schedule.hpp"
+#include "run/stability.hpp"
+#include "subsystem.hpp"
+#include "subsystem_motion.hpp"
+
+namespace railcosim::run {
+namespace {
+
+using Memory = engine::StepExecutor::Memory;
+
+// What a coordinate of the coupled state is, for the size of its perturbation.
+enum class Kind { kDisplacement, kVelocity, kAcceleration, kForce };
+
+// Every number of the master's memory in one fixed order, with its kind.
+template <class M, class F>
+void each_value(M& memory, F&& f) {
+  auto data = [&](auto& d) {
+    for (auto& x : d.displacement) f(x, Kind::kDisplacement);
+    for (auto& x : d.velocity) f(x, Kind::kVelocity);
+    for (auto& x : d.force) f(x, Kind::kForce);
+  };
+  for (auto& cd : memory.out)
+    for (auto& d : cd) data(d);
+  for (auto& point : memory.past)
+    for (auto& cd : point)
+      for (auto& d : cd) data(d);
+}
+
+// The parked co-simulation in the master's process, saved at a state of
+// rest: the participants' snapshots and the master's memory after `n0`
+// macro steps from the coupled static state (two, so that extrapolated
+// inputs have their past points).
+class ParkedCoupling {
+ public:
+  static constexpr long kStart = 2;
+
+  ParkedCoupling(const Scene& parked, const CaseSpec& spec, const RunOptions& o) {
+    const std::vector<ParticipantSpec> specs = partition(parked, spec);
+    std::vector<std::string> roles;
+    std::vector<CouplingData> zero;
+    for (const ParticipantSpec& p : specs) {
+      SubsystemConfig c;
+      c.participant = p;
+      c.macro_step = o.macro_step;
+      c.tolerance = o.tolerance;
+      c.micro_steps = parked.micro_steps;
+      c.carry_acceleration = parked.restart == "carry";
+      subs_.push_back(std::make_unique<Subsystem>(parked, c));
+      ps_.push_back(subs_.back().get());
+      roles.push_back(p.role);
+      zero.push_back(engine::zero_inputs(parked, p));
+    }
+    const engine::Routing routing = engine::make_routing(specs);
+    const engine::StaticsOutcome statics = engine::find_static_state(ps_, routing, zero);
+    schedule_ = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, ps_, routing, roles,
+                                      o.macro_step);
+    schedule_->initialize(statics.inputs);
+    for (long n = 0; n < kStart; ++n) schedule_->advance(n);
+    for (Participant* p : ps_) saved_.push_back(p->save());
+    memory_ = schedule_->memory();
+  }
+
+  // The coupled state now: every participant's motion, then the memory.
+  std::vector<double> state() const {
+    std::vector<double> x;
+    for (const auto& s : subs_) {
+      const std::vector<double> m = snapshot_motion(s->save());
+      x.insert(x.end(), m.begin(), m.end());
+    }
+    Memory m = schedule_->memory();
+    each_value(m, [&](double v, Kind) { x.push_back(v); });
+    return x;
+  }
+
+  // The kind of each coordinate of state().
+  std::vector<Kind> kinds() const {
+    std::vector<Kind> k;
+    for (const ParticipantState& saved : saved_) {
+      const std::size_t n = snapshot_motion(saved).size() / 3;
+      for (Kind kind : {Kind::kDisplacement, Kind::kVelocity, Kind::kAcceleration})
+        k.insert(k.end(), n, kind);
+    }
+    Memory m = memory_;
+    each_value(m, [&](double, Kind kind) { k.push_back(kind); });
+    return k;
+  }
+
+  // One macro step from the state x (of the layout of state()).
+  std::vector<double> step(const std::vector<double>& x) {
+    std::size_t at = 0;
+    for (std::size_t p = 0; p < subs_.size(); ++p) {
+      ParticipantState moved = saved_[p];
+      const std::size_t n = snapshot_motion(moved).size();
+      set_snapshot_motion(moved,
+                          std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(at),
+                                              x.begin() + static_cast<std::ptrdiff_t>(at + n)));
+      subs_[p]->restore(moved);
+      at += n;
+    }
+    Memory m = memory_;
+    each_value(m, [&](double& v, Kind) { v = x[at++]; });
+    schedule_->set_memory(std::move(m));
+    std::vector<long> before;
+    for (const auto& s : subs_) before.push_back(s->integrator_state().micro_steps);
+    schedule_->advance(kStart);
+    for (std::size_t p = 0; p < subs_.size(); ++p)
+      micro_ = std::max(micro_, subs_[p]->integrator_state().micro_steps - before[p]);
+    return state();
+  }
+
+  // The most micro steps a participant took in one step().
+  long micro_steps() const { return micro_; }
+
+  // Back to the saved state of rest.
+  std::vector<double> rest() {
+    for (std::size_t p = 0; p < subs_.size(); ++p) subs_[p]->restore(saved_[p]);
+    schedule_->set_memory(memory_);
+    return state();
+  }
+
+ private:
+  std::vector<std::unique_ptr<Subsystem>> subs_;
+  std::vector<Participant*> ps_;
+  std::unique_ptr<engine::Schedule> schedule_;
+  std::vector<ParticipantState> saved_;
+  Memory memory_;
+  long micro_ = 0;
+};
+
+// The perturbation of each coordinate: kMapPerturbation of the largest
+// displacement (of the largest force) at rest; velocities and accelerations
+// as a displacement over H and H^2.
+std::vector<double> perturbations(const std::vector<double>& x, const std::vector<Kind>& kinds,
+                                  double H) {
+  double u = 0, f = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (kinds[i] == Kind::kDisplacement) u = std::max(u, std::abs(x[i]));
+    if (kinds[i] == Kind::kForce) f = std::max(f, std::abs(x[i]));
+  }
+  const double du = kMapPerturbation * (u > 0 ? u : 1e-3);
+  const double df = kMapPerturbation * (f > 0 ? f : 1e5);
+  std::vector<double> e(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    switch (kinds[i]) {
+      case Kind::kDisplacement:
+        e[i] = du;
+        break;
+      case Kind::kVelocity:
+        e[i] = du / H;
+        break;
+      case Kind::kAcceleration:
+        e[i] = du / (H * H);
+        break;
+      case Kind::kForce:
+        e[i] = df;
+        break;
+    }
+  }
+  return e;
+}
+
+// The map's matrix in coordinates scaled by their perturbations, the
+// columns the step ignores dropped (with their rows).
+Eigen::MatrixXd map_matrix(ParkedCoupling& c, double H) {
+  const std::vector<double> x0 = c.rest();
+  const std::vector<double> e = perturbations(x0, c.kinds(), H);
+  const std::size_t N = x0.size();
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(N), static_cast<Eigen::Index>(N));
+  std::vector<Eigen::Index> kept;
+  for (std::size_t j = 0; j < N; ++j) {
+    std::vector<double> x = x0;
+    x[j] = x0[j] + e[j];
+    const std::vector<double> up = c.step(x);
+    x[j] = x0[j] - e[j];
+    const std::vector<double> down = c.step(x);
+    bool any = false;
+    for (std::size_t i = 0; i < N; ++i) {
+      const double a = (up[i] - down[i]) / (2 * e[i]);
+      A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a;
+      any = any || a != 0;
+    }
+    if (any) kept.push_back(static_cast<Eigen::Index>(j));
+  }
+  const auto K = static_cast<Eigen::Index>(kept.size());
+  Eigen::MatrixXd R(K, K);
+  for (Eigen::Index i = 0; i < K; ++i)
+    for (Eigen::Index j = 0; j < K; ++j)
+      R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
+  return R;
+}
+
+}  // namespace
+
+MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
+                                const RunOptions& options) {
+  MapSpectrum s;
+  if (options.coupling.method == engine::CouplingMethod::kImplicit) {
+    s.why_not =
+        "implicit coupling: its step is a fixed point an accelerator reaches only to its "
+        "tolerance, not a map the product can linearise";
+    return s;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  Scene parked = parked_scene(scene, options.macro_step);
+  if (parked.micro_steps == 0) {
+    // Adaptive micro steps: the map is the step at rest's, with the micro
+    // steps it takes there, fixed, so that a perturbation does not change
+    // their number (the error control would refine a step for a
+    // perturbation of 1e-9 m at a stiff rail node).
+    ParkedCoupling at_rest(parked, spec, options);
+    at_rest.step(at_rest.rest());
+    parked.micro_steps = static_cast<int>(std::max(1L, at_rest.micro_steps()));
+  }
+  ParkedCoupling c(parked, spec, options);
+  s.states = static_cast<long>(c.state().size());
+  const Eigen::MatrixXd A = map_matrix(c, options.macro_step);
+  s.dimension = static_cast<long>(A.rows());
+  s.micro_steps = c.micro_steps();
+  if (A.rows() > 0) {
+    const Eigen::EigenSolver<Eigen::MatrixXd> eig(A, false);
+    if (eig.info() != Eigen::Success) {
+      s.why_not = "the eigenvalue iteration of the map's matrix did not converge";
+      return s;
+    }
+    Eigen::Index at = 0;
+    s.rho = eig.eigenvalues().cwiseAbs().maxCoeff(&at);
+    s.frequency_hz = std::abs(std::arg(eig.eigenvalues()(at))) / (2 * M_PI * options.macro_step);
+  }
+  s.rate_per_s = std::log(std::max(s.rho, 1e-300)) / options.macro_step;
+  s.computed = true;
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace railcosim::run

@@ -1,0 +1,63 @@
+// The stability of a coupling as a number: the spectral radius of its
+// macro-step map, linearised at the coupled static state.
+//
+// With the vehicle parked at its start (speed 0) the coupled static state is
+// a fixed point of the co-simulation's macro step. Near it the step is a
+// linear map z -> A z of the whole coupled state: every participant's motion
+// (displacements, velocities, accelerations of its degrees of freedom) and
+// the master's part (each participant's outputs at t_n, and the points
+// before them for extrapolated inputs). A perturbation grows when the
+// spectral radius rho of A is over 1, at the rate ln(rho) / H per second.
+//
+// A is built column by column through the product's own step: the coupled
+// state is perturbed along each coordinate by +e and -e from the static
+// state, one macro step is taken with the case's schedule, and the central
+// difference of the stepped states is the column (the Hertz contact is the
+// one non-linearity; central differences leave an error of order e^2). The
+// coordinates are scaled by their perturbations (a diagonal similarity,
+// which leaves the eigenvalues as they are), coordinates the step ignores
+// (zero columns: the accelerations under a consistent restart) are dropped
+// (their eigenvalues are 0), and every eigenvalue of the rest is computed
+// densely (Eigen's real Schur form). Plain power iteration would not do:
+// the lightly damped structural modes of the track sit at |lambda| close to
+// 1 and hide a growth of 1 + 2e-5 per step.
+//
+// The map takes the micro steps the parked step takes (one per macro step
+// under the adaptive control, or the scene's fixed count); a moving run may
+// take more, and then the label describes the parked coupling, which the
+// run's own defect check (stability.hpp) complements.
+#pragma once
+
+#include <string>
+
+#include "cosim_case.hpp"
+#include "run/runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim::run {
+
+struct MapSpectrum {
+  bool computed = false;
+  double rho = 0;           // the largest modulus of an eigenvalue of the map
+  double rate_per_s = 0;    // ln(rho) / H: the growth rate of its mode, 1/s
+  double frequency_hz = 0;  // its mode's frequency: |arg(lambda)| / (2 pi H)
+  long dimension = 0;       // the coordinates of the map (after dropping the ignored)
+  long states = 0;          // the coupled state's coordinates before that
+  long micro_steps = 0;     // the micro steps of its macro step (the most of a participant)
+  double seconds = 0;       // the wall time of the computation
+  std::string why_not;      // when not computed: why
+};
+
+// The relative size of the perturbations: of the static displacements and
+// forces (1e-6 of the largest).
+inline constexpr double kMapPerturbation = 1e-6;
+
+// The spectral radius of the case's macro-step map under these options, its
+// participants the built-in subsystems made in the master's process (for a
+// run over TCP: the same subsystems the node programs serve). Not computed
+// for implicit coupling, whose step is a fixed point that an accelerator
+// reaches only to its tolerance.
+MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
+                                const RunOptions& options);
+
+}  // namespace railcosim::run
