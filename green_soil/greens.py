@@ -11,8 +11,9 @@ at r = 0. So the integral is taken of G - G_s (finite at k = 0 and
 decaying like k^-3), on a wavenumber grid fine enough for the poles of the
 surface waves near the real axis and for J0's oscillation at the largest
 distance (`Discretisation`); beyond k_max the remainder is taken as
-C(w) k^-3, C = k_max^3 (G - G_s)(k_max), whose transform is known in closed
-form (tail_integral). Boussinesq's part is averaged over the footprints in
+C(w) k^-3, C = k_max^3 (G(w) - G(0))(k_max) (the dynamic part: the
+layers' static part falls exponentially), whose transform is known in
+closed form (tail_integral). Boussinesq's part is averaged over the footprints in
 closed form in one direction and by adaptive quadrature in the other
 (static_pair, static_point); the smooth rest, g - g_s, is tabulated on a
 radial grid, interpolated by cubic splines and averaged by Gauss-Legendre
@@ -97,12 +98,16 @@ def smooth_part(layers, omegas, r, d: Discretisation, block=256):
     spec = np.empty((len(k), len(omegas)), complex)
     tail = np.empty(len(omegas), complex)
     for j, w in enumerate(omegas):
-        ke = k.copy()
-        if w == 0:
-            ke[0] = 1e-9 * k[1]  # the static G grows like 1/k: k G stays finite
         top = top_static(layers, w)
-        spec[:, j] = ke * surface_flexibility(layers, ke, w) - top  # k (G - G_s)
-        tail[j] = k_max**2 * spec[-1, j]  # C = k_max^3 (G - G_s)(k_max)
+        if w == 0:  # the static basis degenerates at k = 0: extrapolate k (G - G_s)
+            spec[1:, j] = k[1:] * surface_flexibility(layers, k[1:], w) - top
+            spec[0, j] = 2.0 * spec[1, j] - spec[2, j]
+        else:
+            spec[:, j] = k * surface_flexibility(layers, k, w) - top  # k (G - G_s)
+        # The dynamic remainder C k^-3, C = k_max^3 (G(w) - G(0))(k_max): the
+        # layers' own static part falls exponentially with k, not like k^-3.
+        g0 = surface_flexibility(layers, k[-1:], 0.0)[0] * top / top_static(layers)
+        tail[j] = k_max**2 * (spec[-1, j] + top - k_max * g0)
     spec *= wk[:, None] / (2.0 * math.pi)
     out = np.empty((len(r), len(omegas)), complex)
     for i in range(0, len(r), block):
