@@ -24,7 +24,7 @@ import numpy as np
 from scipy import interpolate
 
 from . import greens
-from .spectral import top_static
+from .spectral import LOSS_ONSET, top_static
 
 
 @dataclass(frozen=True)
@@ -143,10 +143,10 @@ def hat_spectrum(rec: Record, derivative=False):
 def cache_key(layers, fp, pair_offsets, point_offsets, rec, d):
     text = json.dumps({
         "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping] for l in layers],
-        "fp": [fp.along, fp.across], "pairs": [list(p) for p in pair_offsets],
-        "points": [list(p) for p in point_offsets],
+        "fp": [fp.along, fp.across], "pairs": [[float(v) for v in p] for p in pair_offsets],
+        "points": [[float(v) for v in p] for p in point_offsets],
         "rec": [rec.dt, rec.duration, rec.f_max, rec.taper, rec.pad, rec.eta_t],
-        "disc": list(d.key()), "version": 1}, sort_keys=True)
+        "disc": list(d.key()), "loss_onset": LOSS_ONSET, "version": 2}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:24]
 
 
