@@ -6,8 +6,10 @@ its measures in the output folder; and a footprint's flexibility at low
 frequency (its response to a force ramped up and held, once the waves
 have passed) against the closed form of a flexible square on a
 half-space."""
+import atexit
 import math
 import os
+import shutil
 import sys
 import tempfile
 import unittest
@@ -41,7 +43,8 @@ damping = 0.037
 '''
 N = 6
 H = 1e-3
-CACHE = tempfile.mkdtemp()
+CACHE = tempfile.mkdtemp()  # the Green's functions' cache, removed at exit
+atexit.register(shutil.rmtree, CACHE, True)
 
 
 def session(own=OWN, receives=(3,), output_dir=None):
