@@ -8,7 +8,10 @@ micro steps) inside this process and times, per macro step:
   relayed   a Step frame's bytes -> Envelope -> Session -> StepReport -> bytes;
   direct    a PeerData frame's bytes -> inputs -> advance -> PeerData bytes to
             the peer and a StepReport into the Reports stream (flushed every
-            64 steps, as the master asks).
+            64 steps, as the master asks);
+  lock step an implicit iteration as the direct plane runs it: a Step frame
+            with the inputs at both ends and the checkpoint flag (keep in
+            the first of 3 iterations, restore in the others) -> StepReport.
 
 The SDK's overhead is relayed - physics and direct - physics, and directly
 the relayed and direct times of the same soil with an advance() that
@@ -29,6 +32,7 @@ sys.path.insert(0, os.path.join(here, "..", "sdk", "python"))
 import numpy as np  # noqa: E402
 
 from railcosim_sdk.direct import Link, Plane  # noqa: E402
+from railcosim_sdk.lockstep import LockstepSession  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
 from railcosim_sdk.wire import PROTOCOL_VERSION, pb  # noqa: E402
 
@@ -46,8 +50,8 @@ class NoPhysics(SOIL["LumpedSoil"]):
         return self.outputs()
 
 
-def session(kind=SOIL["LumpedSoil"]):
-    s = Session(kind(), None, "bench", CONFIG)
+def session(kind=SOIL["LumpedSoil"], make=Session):
+    s = make(kind(), None, "bench", CONFIG)
     s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION, participant="soil")))
     c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
     i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
@@ -73,6 +77,24 @@ def frame(env):
     return struct.pack(">I", len(b)) + b
 
 
+def floor(steps):
+    """The baseline measured in the same run: a Step frame's bytes -> Envelope,
+    and a StepReport of the same shape -> bytes, with nothing in between
+    (the protobuf work any Python participant does per macro step)."""
+    s = session(NoPhysics)
+    report = s.handle(pb.Envelope(id=9, step=pb.Step(step=0, h=H, inputs=inputs(0))))
+    frames = [frame(pb.Envelope(id=10 + n, step=pb.Step(step=n, t=n * H, h=H, inputs=inputs(n))))
+              for n in range(steps)]
+    t0 = time.process_time()
+    for f in frames:
+        (length,) = struct.unpack_from(">I", f)
+        req = pb.Envelope.FromString(f[4:4 + length])
+        report.id = req.id
+        reply = report.SerializeToString()
+        struct.pack(">I", len(reply)) + reply
+    return (time.process_time() - t0) / steps
+
+
 def physics(steps):
     s = session()
     held = s.held
@@ -86,6 +108,23 @@ def relayed(steps, kind=SOIL["LumpedSoil"]):
     s = session(kind)
     frames = [frame(pb.Envelope(id=10 + n, step=pb.Step(step=n, t=n * H, h=H, inputs=inputs(n))))
               for n in range(steps)]
+    t0 = time.process_time()
+    for f in frames:
+        (length,) = struct.unpack_from(">I", f)
+        req = pb.Envelope.FromString(f[4:4 + length])
+        reply = s.handle(req).SerializeToString()
+        struct.pack(">I", len(reply)) + reply
+    return (time.process_time() - t0) / steps
+
+
+def lockstep(steps, kind=SOIL["LumpedSoil"], iterations=3):
+    """Per iteration of an implicit macro step in lock step: a Step frame
+    with the inputs at both ends and the checkpoint flag -> StepReport bytes."""
+    s = session(kind, LockstepSession)
+    frames = [frame(pb.Envelope(id=10 + n, step=pb.Step(
+        step=n // iterations, t=n // iterations * H, h=H, inputs=inputs(n), inputs_end=inputs(n + steps),
+        keep_checkpoint=n % iterations == 0, restore_checkpoint=n % iterations > 0)))
+        for n in range(steps)]
     t0 = time.process_time()
     for f in frames:
         (length,) = struct.unpack_from(">I", f)
@@ -136,7 +175,8 @@ def main():
     for _ in range(3):  # the best of three, against a busy machine
         for name, f in (("physics", physics), ("relayed", relayed), ("direct", direct),
                         ("relayed0", lambda n: relayed(n, NoPhysics)),
-                        ("direct0", lambda n: direct(n, NoPhysics))):
+                        ("direct0", lambda n: direct(n, NoPhysics)),
+                        ("lockstep0", lambda n: lockstep(n, NoPhysics)), ("floor", floor)):
             best[name] = min(best.get(name, 1e9), f(steps))
     us = {k: v * 1e6 for k, v in best.items()}
     print("per macro step (best of 3 x %d steps): physics %.1f us, relayed %.1f us, "
@@ -145,6 +185,12 @@ def main():
           % (us["relayed"] - us["physics"], us["direct"] - us["physics"]))
     print("the same with a physics that computes nothing: relayed %.1f us, direct %.1f us"
           % (us["relayed0"], us["direct0"]))
+    print("an implicit iteration in lock step (Step with ramped inputs and the checkpoint "
+          "flag), a physics that computes nothing: %.1f us" % us["lockstep0"])
+    print("baseline (frame -> Envelope, StepReport -> bytes, nothing else): %.1f us; the "
+          "empty-physics steps as multiples of it: relayed %.2f, direct %.2f, lock step %.2f"
+          % (us["floor"], us["relayed0"] / us["floor"], us["direct0"] / us["floor"],
+             us["lockstep0"] / us["floor"]))
 
 
 if __name__ == "__main__":

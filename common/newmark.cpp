@@ -225,8 +225,10 @@ double Newmark::step_length(int level) const {
 void Newmark::advance_fixed(double t0, double t1) {
   const double h = step_length(kMaxLevel + 1);
   for (int j = 1; j <= fixed_steps_; ++j) {
-    if ((j & 15) == 0)
+    if ((j & 15) == 0) {
       if (std::string why = work_budget_exceeded(); !why.empty()) throw StepFailure(why);
+      work_progress(16);
+    }
     const double t_next = j == fixed_steps_ ? t1 : t0 + (t1 - t0) * j / fixed_steps_;
     step(t_next, h, kMaxLevel + 1, trial_);
     std::swap(state_.u, trial_.u);
@@ -253,8 +255,10 @@ void Newmark::advance(double t0, double t1) {
   long attempts = 0;
   while (pos < end) {
     // The node's time budget for a step, looked at every 16 micro steps.
-    if ((attempts & 15) == 15)
+    if ((attempts & 15) == 15) {
       if (std::string why = work_budget_exceeded(); !why.empty()) throw StepFailure(why);
+      work_progress(16);
+    }
     if (++attempts > max_steps_)
       throw StepFailure("the integrator needed more than " + std::to_string(max_steps_) +
                         " micro steps to cover [" + std::to_string(t0) + ", " + std::to_string(t1) +

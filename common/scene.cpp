@@ -295,6 +295,7 @@ void read_coupling(SceneReader& r, Scene& sc) {
   text("feedthrough", c.feedthrough);
   text("data_plane", c.data_plane);
   whole("window_steps", c.window_steps);
+  number("step_budget", c.step_budget);
 }
 
 void read_simulation(SceneReader& r, Scene& sc) {

@@ -31,6 +31,7 @@ struct SceneCoupling {
   std::optional<std::string> feedthrough;  // --feedthrough
   std::optional<std::string> data_plane;   // --data-plane
   std::optional<long> window_steps;        // --window-steps
+  std::optional<double> step_budget;       // --step-budget, s
   bool given = false;                      // the scene has the table
 
   bool operator==(const SceneCoupling&) const = default;

@@ -340,6 +340,10 @@ void coupling_keys(std::vector<Entry>& v) {
               "direct data plane: macro steps per window, 0: the whole run (--window-steps)")
           .range(closed(0, 1e9, "must lie between 0 and 1000000000"))
           .fallback(0));
+  v.push_back(
+      number("coupling", "step_budget", "s", "over TCP: a step's time limit (--step-budget)")
+          .range(closed(0.1, 86400, "must lie between 0.1 and 86400"))
+          .fallback(120));
 }
 
 void track_keys(std::vector<Entry>& v) {

@@ -1,5 +1,7 @@
 #include "work_budget.hpp"
 
+#include <utility>
+
 namespace railcosim {
 
 WorkBudget& current_work_budget() {
@@ -29,6 +31,33 @@ std::string work_budget_exceeded() {
     return s;
   }
   return "";
+}
+
+void work_progress(std::uint64_t micro_steps) {
+  WorkBudget& b = current_work_budget();
+  b.done += micro_steps;
+  if (!b.on_progress) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - b.last_progress < b.progress_every) return;
+  b.last_progress = now;
+  b.on_progress(b.done);
+}
+
+ScopedWorkProgress::ScopedWorkProgress(std::function<void(std::uint64_t)> on_progress,
+                                       std::chrono::milliseconds every)
+    : saved_(std::move(current_work_budget().on_progress)),
+      saved_done_(current_work_budget().done) {
+  WorkBudget& b = current_work_budget();
+  b.on_progress = std::move(on_progress);
+  b.progress_every = every;
+  b.last_progress = std::chrono::steady_clock::now();  // the first after one interval
+  b.done = 0;
+}
+
+ScopedWorkProgress::~ScopedWorkProgress() {
+  WorkBudget& b = current_work_budget();
+  b.on_progress = std::move(saved_);
+  b.done = saved_done_;
 }
 
 }  // namespace railcosim

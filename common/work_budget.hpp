@@ -6,6 +6,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <string>
 
 namespace railcosim {
@@ -14,6 +16,12 @@ struct WorkBudget {
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   std::chrono::milliseconds limit{0};         // for the message
   const std::atomic<bool>* cancel = nullptr;  // set: stop as soon as possible
+  // Told, at most once every `progress_every`, how many micro steps the work
+  // has taken since `on_progress` was set (a node's progress frames).
+  std::function<void(std::uint64_t)> on_progress;
+  std::chrono::milliseconds progress_every{100};
+  std::chrono::steady_clock::time_point last_progress{};
+  std::uint64_t done = 0;
 };
 
 // The budget of the work running on this thread.
@@ -33,5 +41,23 @@ class ScopedWorkBudget {
 
 // Why the work must stop ("" while it may go on).
 std::string work_budget_exceeded();
+
+// The work has taken `micro_steps` more micro steps (0: it is still at it
+// without having finished one): tells on_progress when it is due.
+void work_progress(std::uint64_t micro_steps);
+
+// Sets on_progress of this thread's budget for its lifetime (counting from 0).
+class ScopedWorkProgress {
+ public:
+  ScopedWorkProgress(std::function<void(std::uint64_t)> on_progress,
+                     std::chrono::milliseconds every);
+  ~ScopedWorkProgress();
+  ScopedWorkProgress(const ScopedWorkProgress&) = delete;
+  ScopedWorkProgress& operator=(const ScopedWorkProgress&) = delete;
+
+ private:
+  std::function<void(std::uint64_t)> saved_;
+  std::uint64_t saved_done_;
+};
 
 }  // namespace railcosim

@@ -1,5 +1,6 @@
 #include "session.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -164,8 +165,11 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       return on_set_inputs(req);
     case E::kGetOutputs:
       return on_get_outputs(req);
-    case E::kStep:
+    case E::kStep: {
+      std::optional<ScopedWorkProgress> progress;
+      watch_progress(progress, req.id(), [&req] { return static_cast<long>(req.step().step()); });
       return on_step(req);
+    }
     case E::kGetResults:
       return on_get_results(req);
     case E::kSave:
@@ -176,8 +180,11 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
       return record_samples(req);
     case E::kLinks:
       return links(req);
-    case E::kWindow:
+    case E::kWindow: {
+      std::optional<ScopedWorkProgress> progress;
+      watch_progress(progress, req.id(), [this] { return runner_ ? runner_->point() : step_; });
       return window(req);
+    }
     case E::kHello:
     case E::kConfigure:
       throw ProtocolError(wire::Error::OUT_OF_ORDER,
@@ -301,6 +308,8 @@ wire::Envelope NodeSession::on_configure(const wire::Envelope& req) {
                         "participant " + participant_ + ": " + e.what());
   }
   macro_step_ = c.macro_step();
+  progress_every_ = std::chrono::milliseconds(
+      c.progress_ms() == 0 ? 0 : std::max<std::uint32_t>(c.progress_ms(), kMinProgressMs));
   description_ = served_->name();
   state_ = State::kConfigured;
   const Channels ch = served_->channels();

@@ -10,6 +10,7 @@
 // gets an error reply and ends the session (the node then serves the next).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -22,8 +23,13 @@
 #include "subsystem.hpp"
 #include "window_runner.hpp"
 #include "wire.hpp"
+#include "work_budget.hpp"
 
 namespace railcosim {
+
+// The shortest interval between two progress frames a node sends, whatever
+// the master asks (Configure.progress_ms).
+inline constexpr std::uint32_t kMinProgressMs = 100;
 
 // The largest mesh a node accepts: kMaxSleepers, kMaxElementsPerSpan
 // (scene_checks.hpp, where the master applies them too).
@@ -109,6 +115,11 @@ class NodeSession {
   // step's inputs as waveforms; a participant that refuses is BAD_REQUEST.
   wire::Envelope record_samples(const wire::Envelope& request);
   void take_waveforms(long n, const wire::InputWaveforms& waveforms, bool with_inputs);
+  // While a step or a window works: progress frames to the master, if its
+  // configure asked for them (session_handlers.cpp). `step`: the macro step
+  // being worked on.
+  void watch_progress(std::optional<ScopedWorkProgress>& scope, std::uint64_t id,
+                      std::function<long()> step);
 
   NodeOptions options_;
   State state_ = State::kAwaitHello;
@@ -131,6 +142,7 @@ class NodeSession {
   std::function<bool(wire::Envelope&)> next_request_;
   std::optional<ParticipantState> kept_;  // Save with `keep`: the node's own checkpoint
   std::size_t max_frame_bytes_ = kDefaultMaxFrameBytes;
+  std::chrono::milliseconds progress_every_{0};  // 0: no progress frames
 };
 
 }  // namespace railcosim

@@ -117,4 +117,19 @@ wire::Envelope NodeSession::on_restore(const wire::Envelope& req) {
   return reply;
 }
 
+void NodeSession::watch_progress(std::optional<ScopedWorkProgress>& scope, std::uint64_t id,
+                                 std::function<long()> step) {
+  if (!report_ || progress_every_.count() == 0) return;
+  scope.emplace(
+      [this, id, step = std::move(step)](std::uint64_t done) {
+        wire::Envelope e;
+        e.set_id(id);
+        auto* p = e.mutable_progress();
+        p->set_step(step());
+        p->set_micro_steps(done);
+        report_(encode_frame(e));
+      },
+      progress_every_);
+}
+
 }  // namespace railcosim

@@ -101,6 +101,8 @@ std::string body_name(const wire::Envelope& e) {
       return "peer_data";
     case wire::Envelope::kRecordSamples:
       return "record_samples";
+    case wire::Envelope::kProgress:
+      return "progress";
     case wire::Envelope::BODY_NOT_SET:
       break;
   }

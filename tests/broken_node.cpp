@@ -4,6 +4,10 @@
 //   late             answers its fifth macro step after 1.5 s
 //   wrong-count      reports one coupling value too few
 //   accepts-nan      takes non-finite inputs (as zeros) instead of refusing them
+//   slow-working     works 4 s on its macro step 300 (from point 300), showing
+//                    progress: one more micro step every 20 ms
+//   stuck-progress   on its macro step 300 shows "progress" every 20 ms that
+//                    never advances, until its budget ends or it is stopped
 // Usage: broken_node MODE [node options]
 #include <chrono>
 #include <cmath>
@@ -15,6 +19,7 @@
 
 #include "server.hpp"
 #include "subsystem.hpp"
+#include "work_budget.hpp"
 
 namespace railcosim {
 namespace {
@@ -34,6 +39,7 @@ class Broken final : public Participant {
   CouplingData outputs() override { return inner_.outputs(); }
   void start_step(long n) override {
     if (mode_ == "late" && n == 4) std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    if (n == 300 && (mode_ == "slow-working" || mode_ == "stuck-progress")) work_long();
     inner_.start_step(n);
   }
   StepResult finish_step() override {
@@ -48,6 +54,16 @@ class Broken final : public Participant {
   }
 
  private:
+  // Works on (sleeps) in slices of 20 ms, as an integrator would, within the
+  // node's budget of a step.
+  void work_long() const {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+    while (mode_ == "stuck-progress" || std::chrono::steady_clock::now() < until) {
+      if (const std::string why = work_budget_exceeded(); !why.empty()) throw StepFailure(why);
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      work_progress(mode_ == "slow-working" ? 1 : 0);
+    }
+  }
   CouplingData clean(CouplingData in) const {
     if (mode_ == "accepts-nan")
       for (InterfaceData& d : in)
@@ -65,12 +81,15 @@ class Broken final : public Participant {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: broken_node ignores-restore|late|wrong-count|accepts-nan ...\n");
+    std::fprintf(stderr,
+                 "usage: broken_node "
+                 "ignores-restore|late|wrong-count|accepts-nan|slow-working|stuck-progress ...\n");
     return 2;
   }
   const std::string mode = argv[1];
   railcosim::NodeProgram program{
-      "broken_node", "soil", [mode](const railcosim::Scene& s, const railcosim::SubsystemConfig& c) {
+      "broken_node", "soil",
+      [mode](const railcosim::Scene& s, const railcosim::SubsystemConfig& c) {
         return std::make_unique<railcosim::Broken>(mode, s, c);
       }};
   argv[1] = argv[0];

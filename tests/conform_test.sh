@@ -46,17 +46,32 @@ conform() {  # EXPECTED_STATUS LOG ARGS...: runs master conform, checks its stat
 for role in vehicle track soil; do
   serve "$role" "$bin/${role}_node"
   conform 0 "$role.log" --node "$role=$address"
-  grep -q '^14 passed, 0 failed, 1 skipped$' "$work/$role.log" || { cat "$work/$role.log"; exit 1; }
+  grep -q '^16 passed, 0 failed, 1 skipped$' "$work/$role.log" || { cat "$work/$role.log"; exit 1; }
 done
 serve secret "$bin/soil_node" --token-file "$work/token"
 conform 0 secret.log --node "soil=$address" --token-file "$work/token"
-grep -q '^15 passed, 0 failed, 0 skipped$' "$work/secret.log" || { cat "$work/secret.log"; exit 1; }
+grep -q '^17 passed, 0 failed, 0 skipped$' "$work/secret.log" || { cat "$work/secret.log"; exit 1; }
 
 # The example soil on the Python SDK.
 scene=$work/soil10.toml
 serve sdk /usr/bin/python3 "$src/examples/python_soil/soil_participant.py" --config "$work/soil10.toml"
 conform 0 sdk.log --node "soil=$address"
-grep -q '^14 passed, 0 failed, 1 skipped$' "$work/sdk.log" || { cat "$work/sdk.log"; exit 1; }
+grep -q '^16 passed, 0 failed, 1 skipped$' "$work/sdk.log" || { cat "$work/sdk.log"; exit 1; }
+# A soil that replays the replies it recorded from the example soil: it
+# passes the items whose requests it has seen, and fails the two that send
+# inputs never sent before (another seed than the recording's; once they
+# fail, its replies fall out of step with the requests and later items may
+# fail too).
+serve record /usr/bin/python3 "$src/tests/replay_soil.py" "$src" --record "$work/replies.jsonl" \
+  --config "$work/soil10.toml"
+conform 0 record.log --node "soil=$address" --seed 1
+serve replay /usr/bin/python3 "$src/tests/replay_soil.py" "$src" --replay "$work/replies.jsonl" \
+  --config "$work/soil10.toml"
+conform 1 replay.log --node "soil=$address" --seed 2
+for item in "statics under loads never sent before" "a restore followed by new inputs"; do
+  grep -q "^  FAIL  .*$item" "$work/replay.log" ||
+    { echo "replay: '$item' did not fail:"; cat "$work/replay.log"; exit 1; }
+done
 serve broken-peer /usr/bin/python3 "$src/tests/broken_peer_soil.py" "$src" --config "$work/soil10.toml"
 conform 1 broken-peer.log --node "soil=$address"
 grep -q '^  FAIL  .*a wrong session key and an unexpected peer are refused' "$work/broken-peer.log" ||
@@ -73,4 +88,4 @@ expect_failure ignores-restore "save and restore: the steps after a restore repe
 expect_failure late "every step answered within the reply deadline"
 expect_failure wrong-count "macro steps, relayed"
 expect_failure accepts-nan "a non-finite input is refused"
-echo "conformance kit: built-in nodes and the Python SDK soil pass, five broken participants fail their items"
+echo "conformance kit: built-in nodes and the Python SDK soil pass, a replaying soil and five broken participants fail their items"

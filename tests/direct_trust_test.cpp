@@ -153,6 +153,72 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
   }
 }
 
+// A vehicle node (wr-xx+ss-xx-jacobi: vehicle | track | soil) that passes
+// its report frames on up to macro step 5, then withholds them (while its
+// session runs on, sending its peer its data) and, with its last frame of
+// the window, says it waits for the soil and holds its WindowDone back. The
+// soil's own reports reach the window's end: the master names the vehicle,
+// whose claim they refute, not the soil (it named the soil).
+TEST(DirectTrust, ANodeFalselyClaimingToWaitForAPeerIsNamedNotThePeer) {
+  const long steps = 200;
+  test::FakeNode vehicle("vehicle", nullptr, {},
+                         [steps](int fd, const std::string& frame, const std::atomic<bool>& stop) {
+                           wire::Envelope e;
+                           e.ParseFromArray(frame.data() + 4, static_cast<int>(frame.size() - 4));
+                           wire::Envelope early;  // its reports up to macro step 5
+                           early.set_id(e.id());
+                           early.mutable_reports();
+                           long last = 0;
+                           for (const auto& r : e.reports().reports()) {
+                             last = std::max(last, static_cast<long>(r.step()));
+                             if (r.step() <= 5) *early.mutable_reports()->add_reports() = r;
+                           }
+                           if (early.reports().reports_size() > 0) {
+                             const std::string f = encode_frame(early);
+                             send_bytes(fd, f.data(), f.size());
+                           }
+                           if (last < steps) return;
+                           wire::Envelope claim;
+                           claim.set_id(e.id());
+                           claim.mutable_reports()->set_waiting_for("soil");
+                           const std::string c = encode_frame(claim);
+                           send_bytes(fd, c.data(), c.size());
+                           while (nap(milliseconds(100), stop)) {
+                           }
+                         });
+  remote::LaunchedNode track("track_node", milliseconds(10000));
+  remote::LaunchedNode soil("soil_node", milliseconds(10000));
+  Scene scene = load_scene(test::source_path("scenes/soil.toml"));
+  scene = with_keys(scene, {{"simulation.end_time", steps * scene.macro_step}});
+  remote::RemoteTimeouts t;
+  t.step_min = milliseconds(500);
+  t.step_max = milliseconds(3000);
+  const remote::ParticipantFactory make =
+      [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    const std::string& role = c.participant.role;
+    const Address& at = role == "soil"      ? soil.address()
+                        : role == "vehicle" ? vehicle.address()
+                                            : track.address();
+    return std::make_unique<remote::RemoteParticipant>(at, scene, c, t);
+  };
+  run::RunOptions o;
+  o.macro_step = scene.macro_step;
+  o.tolerance = scene.tolerance;
+  try {
+    run::run_cosim(scene, parse_case("wr-xx+ss-xx-jacobi"), o, make, "tcp");
+    ADD_FAILURE() << "the run went through";
+  } catch (const remote::NodeFailure& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("vehicle node at " + vehicle.address().str() + ": no reply within "),
+              std::string::npos)
+        << m;
+    EXPECT_NE(m.find("its last step report was for macro step 5; it says it waits for the "
+                     "soil participant, whose step reports reached macro step 200"),
+              std::string::npos)
+        << m;
+  }
+}
+
 // The master program: on its own it fails within the documented step
 // deadline (50 times the slowest step, within [2 s, 30 s]; here about 3 s)
 // naming the node, and writes

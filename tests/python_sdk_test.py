@@ -155,7 +155,7 @@ try:
         m = Master()
         r = m.hello()
         check("hello reply", r.HasField("hello_reply") and list(r.hello_reply.capabilities)
-              == ["direct"], str(r))
+              == ["direct", "lockstep"], str(r))
         c = pb.Configure(participant="soil", macro_step=1e-4, end_time=1e-3,
                          micro_steps=micro_steps)
         i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)

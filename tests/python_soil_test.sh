@@ -180,3 +180,42 @@ PY
 }
 compare "$work/builtin" "$work/outside"
 compare "$work/builtin" "$work/forgetful" differ
+
+# The lock step: the couplings the master decides at every macro step
+# (implicit coupling with each accelerator, ramped and extrapolated inputs)
+# run on the direct plane with the SDK soil as with the built-in one. Each
+# run's summary names the plane it took; the SDK soil's lock-step run is bit
+# for bit its relayed one, and agrees with the built-in soil's lock-step run
+# as every run above does.
+lockstep() {  # NAME CASE [master options]
+  local name=$1 case=$2
+  shift 2
+  run lockstep "$name" "$case" --node "soil=$good" --data-plane direct "$@"
+  run lockstep-relay "$name" "$case" --node "soil=$good" --data-plane relay "$@"
+  run lockstep-builtin "$name" "$case" --data-plane direct "$@"
+  for dir in lockstep lockstep-builtin; do
+    grep -q '"data_plane": "direct"' "$work/$dir/$name/summary.json" &&
+      grep -q '"data_plane_mode": "lock step"' "$work/$dir/$name/summary.json" || {
+      echo "$name ($dir) did not run in lock step on the direct plane:"
+      cat "$work/$dir/$name/summary.json"
+      exit 1
+    }
+  done
+  grep -q '"data_plane": "relay"' "$work/lockstep-relay/$name/summary.json"
+  for f in "$work/lockstep-relay/$name"/*.csv; do
+    cmp "$f" "$work/lockstep/$name/${f##*/}" || {
+      echo "$name: ${f##*/} differs between the relayed plane and the lock step"
+      exit 1
+    }
+  done
+}
+for acc in constant aitken iqn-ils; do
+  lockstep "2-implicit-$acc" ss-xx-jacobi --coupling implicit --inputs linear --accelerator "$acc"
+done
+lockstep 2-xt-implicit-iqn ss-xt-jacobi --coupling implicit --accelerator iqn-ils
+lockstep 3-implicit-gs wr-xt+ss-xt-gauss-seidel --coupling implicit --inputs linear
+lockstep 2-linear ss-xx-jacobi --inputs linear
+lockstep 2-extrapolate1 ss-xt-jacobi --inputs extrapolate1
+lockstep 3-extrapolate2 wr-xx+ss-xx-jacobi --inputs extrapolate2
+grep -q '"method": "implicit"' "$work/lockstep/2-implicit-iqn-ils/summary.json"
+compare "$work/lockstep-builtin" "$work/lockstep"

@@ -53,16 +53,16 @@ TEST(SceneCoupling, TheTablesDefaultsAreTheFlagsDefaults) {
   EXPECT_EQ(a.feedthrough, word("feedthrough"));
   EXPECT_EQ(a.data_plane, word("data_plane"));
   EXPECT_EQ(a.window_steps, fallback("window_steps"));
+  EXPECT_EQ(a.step_budget, fallback("step_budget"));
 }
 
 // Each number's range in the table is its flag's: both ends accepted, a
 // value beyond either refused.
 TEST(SceneCoupling, TheTablesRangesAreTheFlagsRanges) {
-  const std::pair<const char*, const char*> keys[] = {{"relaxation", "--relaxation"},
-                                                      {"max_iterations", "--max-iterations"},
-                                                      {"convergence", "--convergence"},
-                                                      {"reused_windows", "--reused-windows"},
-                                                      {"window_steps", "--window-steps"}};
+  const std::pair<const char*, const char*> keys[] = {
+      {"relaxation", "--relaxation"},     {"max_iterations", "--max-iterations"},
+      {"convergence", "--convergence"},   {"reused_windows", "--reused-windows"},
+      {"window_steps", "--window-steps"}, {"step_budget", "--step-budget"}};
   for (const auto& [key, flag] : keys) {
     const KeyRange& r = scene_key("coupling", key).range;
     ASSERT_FALSE(r.lo_open || r.hi_open) << key;
@@ -93,7 +93,7 @@ std::string paper_with(const std::string& coupling) {
 const char* const kEveryKey =
     "implicit = true\ninputs = \"linear\"\naccelerator = \"aitken\"\nrelaxation = 0.25\n"
     "max_iterations = 12\nconvergence = 1e-6\nreused_windows = 3\nfeedthrough = \"resolved\"\n"
-    "data_plane = \"relay\"\nwindow_steps = 40\n";
+    "data_plane = \"relay\"\nwindow_steps = 40\nstep_budget = 90\n";
 
 TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   const Scene scene = parse_scene(paper_with(kEveryKey), "coupling.toml");
@@ -110,10 +110,11 @@ TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   EXPECT_EQ(a.feedthrough, "resolved");
   EXPECT_EQ(a.data_plane, "direct");  // the flag
   EXPECT_EQ(a.window_steps, 40);
+  EXPECT_EQ(a.step_budget, 90);
   EXPECT_EQ(cli::scene_coupling_note(p.args, scene),
             "; the scene's [coupling] (coupling.toml) set: implicit = true, accelerator = "
             "\"aitken\", relaxation = 0.25, convergence = 1e-06, reused_windows = 3, "
-            "feedthrough = \"resolved\", window_steps = 40");
+            "feedthrough = \"resolved\", window_steps = 40, step_budget = 90");
   // `implicit = false` is explicit coupling, even against a default.
   const Parsed q("");
   EXPECT_EQ(
@@ -137,6 +138,7 @@ TEST(SceneCoupling, ASceneWithoutTheTableChangesNothing) {
   EXPECT_EQ(a.feedthrough, p.args.feedthrough);
   EXPECT_EQ(a.data_plane, p.args.data_plane);
   EXPECT_EQ(a.window_steps, p.args.window_steps);
+  EXPECT_EQ(a.step_budget, p.args.step_budget);
   EXPECT_EQ(cli::scene_coupling_note(p.args, scene), "");
 }
 

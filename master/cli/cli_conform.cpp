@@ -42,6 +42,11 @@ void add_conform_command(CLI::App& app, ConformArgs& a) {
   a.command->add_option("--steps", a.steps, "Macro steps of the relayed check")
       ->check(CLI::Range(4, 100000))
       ->capture_default_str();
+  a.command
+      ->add_option("--seed", a.seed,
+                   "Seed of the inputs never sent before (0: a fresh one each run; a "
+                   "failure prints the one it used)")
+      ->capture_default_str();
   add_check_flag(*a.command, a.check);
 }
 
@@ -61,6 +66,7 @@ int do_conform(const ConformArgs& a) {
   }
   o.reply = std::chrono::milliseconds(a.reply_ms);
   o.steps = a.steps;
+  o.seed = a.seed;
   if (a.check) {
     std::printf("check: would check the %s participant at %s with case %s\n", o.role.c_str(),
                 o.address.str().c_str(), o.case_name.c_str());

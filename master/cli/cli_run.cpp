@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -273,6 +274,11 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "Direct data plane: macro steps per window (0: the whole run in one window)")
       ->check(CLI::Range(0L, 1000000000L))
       ->capture_default_str();
+  run->add_option("--step-budget", a.step_budget,
+                  "tcp: the most one macro step may take, in seconds, while its node shows "
+                  "progress (a node silent for the step deadline fails sooner)")
+      ->check(CLI::Range(0.1, 86400.0))
+      ->capture_default_str();
   run->add_option("--node", a.nodes,
                   "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "
                   "rail, soil); repeatable. Participants without one get a node started here")
@@ -330,6 +336,7 @@ int do_run(const RunArgs& command_line) {
   job.options.stop = stop_flag();
   job.transport = a.transport;
   job.nodes = {given, &pool, {}};
+  job.nodes.step_budget = std::chrono::milliseconds(std::lround(a.step_budget * 1000));
   if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
   job.out = a.out;
   job.folder = spec.name();

@@ -29,6 +29,7 @@ struct RunArgs {
   std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
   std::string data_plane = "direct";
   long window_steps = 0;
+  double step_budget = 120;   // s
   engine::CouplingOptions c;  // the numbers; the names above are parsed into it
   bool check = false;         // master --check: stop once everything is read and checked
 };

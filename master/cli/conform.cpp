@@ -7,12 +7,14 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include <unistd.h>
 
 #include "auth.hpp"
+#include "cli/conform_fresh.hpp"
 #include "cli/conform_peer.hpp"
 #include "cosim_case.hpp"
 #include "model.hpp"
@@ -291,6 +293,22 @@ void check_steps(Checks& checks, std::unique_ptr<remote::RemoteParticipant>& p) 
   });
 }
 
+// §7, §10: inputs never sent before (conform_fresh.hpp).
+void check_fresh(Checks& checks) {
+  const Subject& s = checks.s;
+  std::uint64_t seed = s.o.seed;
+  while (seed == 0) seed = (std::uint64_t{std::random_device{}()} << 32) | std::random_device{}();
+  const FreshSubject f{s.scene, s.config, s.o, [&s](long n) { return inputs_for(s, n); }, seed};
+  checks.item("§7",
+              "statics under loads never sent before: outputs change with the load, in "
+              "proportion to first order",
+              [&] { return check_static_loads(f); });
+  checks.item("§10",
+              "a restore followed by new inputs: outputs change in proportion, and "
+              "equal a fresh session's with those inputs",
+              [&] { return check_restore_new_inputs(f); });
+}
+
 // §13, §17: inputs and peer links a participant must refuse.
 void check_refusals(Checks& checks) {
   const Subject& s = checks.s;
@@ -356,6 +374,7 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
   std::unique_ptr<remote::RemoteParticipant> p = start_session(checks);
   if (!p) return checks.items;
   check_steps(checks, p);
+  check_fresh(checks);
   check_refusals(checks);
   check_planes(checks);
   return checks.items;

@@ -2,12 +2,14 @@
 // that serves at HOST:PORT (docs/protocol.md §18), item by item, each with
 // the section of the protocol document it tests: hello and its refusals,
 // authentication, BUSY, configure, statics, initialize, relayed steps,
-// bitwise save/restore, replies within a deadline, refusal of bad inputs,
+// bitwise save/restore, replies within a deadline, inputs never sent before
+// (conform_fresh.hpp: what a replay of recorded replies fails), refusal of bad inputs,
 // results and shutdown, and a whole run on the direct data plane against
 // the same run relayed.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +32,7 @@ struct ConformOptions {
   std::chrono::milliseconds reply{1000};  // the slowest reply allowed in the checks
   long steps = 20;                        // macro steps of the relayed check
   std::string master_program;             // this program, for the whole runs of the last item
+  std::uint64_t seed = 0;                 // of the inputs never sent before (0: a random one)
 };
 
 struct ConformItem {
@@ -58,6 +61,7 @@ struct ConformArgs {
   std::string scene_path, node, case_name, token_file;
   long reply_ms = 1000;
   long steps = 20;
+  std::uint64_t seed = 0;
   bool check = false;  // master --check: read the options, connect to nothing
 };
 void add_conform_command(CLI::App& app, ConformArgs& args);

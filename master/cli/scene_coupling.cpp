@@ -47,7 +47,8 @@ std::vector<Taken> keys_of(const SceneCoupling& c) {
           taken("reused_windows", "--reused-windows", c.reused_windows),
           taken("feedthrough", "--feedthrough", c.feedthrough),
           taken("data_plane", "--data-plane", c.data_plane),
-          taken("window_steps", "--window-steps", c.window_steps)};
+          taken("window_steps", "--window-steps", c.window_steps),
+          taken("step_budget", "--step-budget", c.step_budget)};
 }
 
 }  // namespace
@@ -69,6 +70,7 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene) {
   take("--feedthrough", c.feedthrough, r.feedthrough);
   take("--data-plane", c.data_plane, r.data_plane);
   take("--window-steps", c.window_steps, r.window_steps);
+  take("--step-budget", c.step_budget, r.step_budget);
   return r;
 }
 

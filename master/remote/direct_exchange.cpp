@@ -43,7 +43,7 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
   const auto& t = nodes.front()->timeouts();
   // A node waits for a peer longer than the master waits for any node, so
   // that the master, which sees every node, names the one that fell silent.
-  const auto link_timeout = t.step_max + t.reply;
+  const auto link_timeout = std::max(t.step_max, t.step_budget) + t.reply;
   std::vector<wire::Links> links(P);
   for (std::size_t p = 0; p < P; ++p) {
     links[p].set_session(session);
@@ -108,6 +108,9 @@ void DirectExchange::grant(long n) {
     node.in_window = true;
     node.done_step = -1;
     node.done_reason.clear();
+    node.progress_step = -1;
+    node.progress_micro = 0;
+    node.counted_progress = node.stale_progress = 0;
   }
 }
 
@@ -120,6 +123,10 @@ std::chrono::milliseconds DirectExchange::progress() const {
 }
 
 void DirectExchange::take(Node& node, const wire::Envelope& e) {
+  if (e.has_progress()) {
+    take_progress(node, e);
+    return;
+  }
   // The time per step, as the relayed plane measures a step's reply.
   const auto now = std::chrono::steady_clock::now();
   if (e.has_reports() && e.reports().reports_size() > 0) {
@@ -127,6 +134,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
       slowest_gap_ = std::max(slowest_gap_, (now - node.last_frame) / e.reports().reports_size());
     node.last_frame = now;
     node.idle_frames = 0;
+    node.counted_progress = node.stale_progress = 0;
     last_useful_ = now;
   } else if (e.has_reports()) {
     ++node.idle_frames;
@@ -219,36 +227,6 @@ bool DirectExchange::read(milliseconds timeout) {
   return true;
 }
 
-void DirectExchange::silence(long n, milliseconds waited) {
-  // The node that others wait for and that waits for nobody hangs; else the
-  // one that reported least.
-  Node* slow = nullptr;
-  std::string waiters;
-  for (Node& node : nodes_)
-    if (node.waiting_for.empty())
-      for (const Node& other : nodes_)
-        if (other.waiting_for == node.p->role() && !slow) slow = &node;
-  if (!slow) {
-    slow = &nodes_.front();
-    for (Node& node : nodes_)
-      if (node.reported < slow->reported) slow = &node;
-  }
-  for (const Node& other : nodes_)
-    if (other.waiting_for == slow->p->role())
-      waiters += (waiters.empty() ? "" : ", ") + other.p->role();
-  std::ostringstream s;
-  s << "no reply within " << waited.count() << " ms (its last step report was for macro step "
-    << slow->reported;
-  // A node that keeps its stream busy without reporting a step.
-  if (slow->idle_frames > 0)
-    s << "; since then it sent " << slow->idle_frames << " report frame(s) without a step report";
-  if (const std::size_t part = slow->p->tcp()->partial_bytes(); part > 0)
-    s << "; it has sent " << part << " byte(s) of a frame it has not finished";
-  if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
-  s << ")";
-  slow->p->fail_at(n, s.str());
-}
-
 std::vector<StepResult> DirectExchange::advance(long n) {
   step_ = n;
   const auto waiting_since = std::chrono::steady_clock::now();
@@ -281,11 +259,14 @@ std::vector<StepResult> DirectExchange::advance(long n) {
       continue;
     }
     // One deadline for the next step report, however the node's bytes come.
+    // And one for the whole step, however much progress the nodes show.
     const milliseconds limit = progress();
+    const milliseconds budget = nodes_.front().p->timeouts().step_budget;
     const auto now = std::chrono::steady_clock::now();
     const auto deadline = std::max(last_useful_, waiting_since) + limit;
+    if (now >= waiting_since + budget) silence(n, budget, true);
     if (now >= deadline) silence(n, limit);
-    read(std::chrono::ceil<milliseconds>(deadline - now));
+    read(std::chrono::ceil<milliseconds>(std::min(deadline, waiting_since + budget) - now));
   }
 }
 

@@ -72,6 +72,13 @@ class DirectExchange final : public engine::MacroSteps {
     std::string waiting_for;   // the peer it said it waits for
     std::chrono::steady_clock::time_point last_frame{};
     long idle_frames = 0;  // report frames without a step report since its last one
+    // Its progress frames in the window: the last counted (a later step, or
+    // the same step and more micro steps); since its last step report, those
+    // counted and those that were not.
+    long progress_step = -1;
+    std::uint64_t progress_micro = 0;
+    long counted_progress = 0;
+    long stale_progress = 0;
     long fail_step = 0;
     std::string fail_text;
   };
@@ -83,7 +90,16 @@ class DirectExchange final : public engine::MacroSteps {
   // flag (interrupt_signal()) is set: it looks every kInterruptPoll.
   bool read(std::chrono::milliseconds timeout);
   void take(Node& node, const wire::Envelope& e);
-  [[noreturn]] void silence(long n, std::chrono::milliseconds waited);
+  // Names the node that holds macro step n up: silent for `waited`, or
+  // (budget) still at it when the step's budget ran out.
+  [[noreturn]] void silence(long n, std::chrono::milliseconds waited, bool budget = false);
+  // A progress frame: moves the deadline on when it counts.
+  void take_progress(Node& node, const wire::Envelope& e);
+  // The participant a node says it waits for (nullptr: none, or not one of
+  // this run's), and the first node whose claim what the master knows
+  // refutes: the peer it names reported past the claimant's point.
+  const Node* claimed(const Node& claimant) const;
+  Node* false_claimant();
   // The failure that ends macro step n (or, with any_step, any failure),
   // ranked by root cause: a failed step or data rejected (blamed on its
   // sender), then a node that closed its connection, then the others, then

@@ -65,7 +65,10 @@ void RemoteParticipant::start(const Scene& scene, const std::optional<std::strin
       lockstep_capable_ = lockstep_capable_ || c == "lockstep";
     }
 
-  send(configure_envelope(scene, config_), false);
+  wire::Envelope configure = configure_envelope(scene, config_);
+  configure.mutable_configure()->set_progress_ms(
+      static_cast<std::uint32_t>(timeouts_.progress.count()));
+  send(configure, false);
   const wire::Configured declared = await(wire::Envelope::kConfigured, "configure").configured();
   channels_.history.assign(declared.history().begin(), declared.history().end());
   channels_.results.assign(declared.results().begin(), declared.results().end());
@@ -150,22 +153,27 @@ void RemoteParticipant::send(wire::Envelope request, bool expects_ack) {
   in_flight_.push_back(request.id());
 }
 
-std::chrono::milliseconds RemoteParticipant::step_deadline() const {
-  if (slowest_step_.count() == 0) return timeouts_.step_max;
-  const auto scaled = std::chrono::duration_cast<std::chrono::milliseconds>(
-      std::chrono::duration<double>(slowest_step_) * timeouts_.step_factor);
-  return std::clamp(scaled, timeouts_.step_min, timeouts_.step_max);
-}
-
 wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const char* what,
-                                        std::chrono::milliseconds timeout) {
+                                        std::chrono::milliseconds timeout, StepWatch* watch) {
+  using Clock = std::chrono::steady_clock;
   while (true) {
     wire::Envelope reply;
     try {
-      reply = conn_->receive(timeout);
+      reply = conn_->receive(watch ? watch->left(Clock::now()) : timeout);
     } catch (const NetError& e) {
       conn_->close();  // half a frame may be in it: no use waiting for a goodbye
+      if (watch && e.kind() == NetError::Kind::kTimeout) fail(watch->why(Clock::now()));
       fail(e.what());
+    }
+    if (watch && reply.has_progress()) {
+      // Progress of the request sent last (a step), acks of pipelined
+      // requests may still be due.
+      if (in_flight_.empty() || reply.id() != in_flight_.back())
+        fail("bad reply: a progress frame with id " + std::to_string(reply.id()) +
+             " while the step's request has id " +
+             std::to_string(in_flight_.empty() ? 0 : in_flight_.back()));
+      check(watch->take(reply.progress(), step_, Clock::now()));
+      continue;
     }
     if (!reply.has_error())
       check(check_reply_id(reply.id(), in_flight_.empty() ? 0 : in_flight_.front()));
@@ -277,16 +285,6 @@ void RemoteParticipant::start_step(long n) {
   step_started_ = std::chrono::steady_clock::now();
   take_pending(s);
   send(e, false);
-}
-
-StepResult RemoteParticipant::finish_step() {
-  const wire::StepReport w =
-      await(wire::Envelope::kStepReport, "step", step_deadline()).step_report();
-  StepResult r = from_wire(w);
-  check(check_step_report(r, w.step(), w.t(), step_ + 1, shape_));
-  keep_samples(w);
-  slowest_step_ = std::max(slowest_step_, std::chrono::steady_clock::now() - step_started_);
-  return r;
 }
 
 wire::Envelope RemoteParticipant::request(wire::Envelope e, wire::Envelope::BodyCase expected) {

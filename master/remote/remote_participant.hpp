@@ -13,6 +13,7 @@
 #include "framed_channel.hpp"
 #include "participant.hpp"
 #include "remote/reply_check.hpp"
+#include "remote/step_watch.hpp"
 #include "scene.hpp"
 #include "subsystem.hpp"
 
@@ -31,6 +32,12 @@ struct RemoteTimeouts {
   std::chrono::milliseconds step_min{2000};
   std::chrono::milliseconds step_max{30000};
   double step_factor = 50.0;
+  // The most a macro step may take, however much progress the node shows
+  // (--step-budget, [coupling] step_budget).
+  std::chrono::milliseconds step_budget{kDefaultStepBudget};
+  // Nodes send progress frames at most this often (Configure.progress_ms).
+  std::chrono::milliseconds progress{100};
+  static constexpr std::chrono::milliseconds kDefaultStepBudget{120000};
 };
 
 // A failure of a remote node, with its name, address, macro step and time.
@@ -107,8 +114,10 @@ class RemoteParticipant final : public Participant {
   void send(wire::Envelope request, bool expects_ack);
   // Reads replies until the one for the latest non-ack request; acks of
   // pipelined requests are consumed on the way.
+  // `watch`: a step's reply, whose progress frames it takes and whose
+  // deadlines it keeps (instead of `timeout`).
   wire::Envelope await(wire::Envelope::BodyCase expected, const char* what,
-                       std::chrono::milliseconds timeout);
+                       std::chrono::milliseconds timeout, StepWatch* watch = nullptr);
   wire::Envelope await(wire::Envelope::BodyCase expected, const char* what) {
     return await(expected, what, timeouts_.reply);
   }

@@ -1,5 +1,7 @@
 #include "remote/transport.hpp"
 
+#include <cmath>
+
 #include <cstdlib>
 #include <iterator>
 #include <stdexcept>
@@ -96,11 +98,16 @@ class TcpTransport final : public Transport {
   bool carries_waveforms() const override { return true; }
   ParticipantFactory factory(const Scene& scene, const TransportSetup& setup) const override {
     if (setup.pool == nullptr) throw std::logic_error("the tcp transport needs a node pool");
-    return [scene, given = setup.given, pool = setup.pool,
-            token = setup.token](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    RemoteTimeouts base;
+    if (setup.step_budget.count() > 0)
+      base.step_budget = setup.step_budget;
+    else if (scene.coupling.step_budget)
+      base.step_budget = std::chrono::milliseconds(std::lround(*scene.coupling.step_budget * 1000));
+    return [scene, given = setup.given, pool = setup.pool, token = setup.token,
+            base](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
       const auto it = given.find(c.participant.role);
       const Address address = it != given.end() ? it->second : pool->address(c.participant.role);
-      RemoteTimeouts timeouts;
+      RemoteTimeouts timeouts = base;
       if (scene.started_soil() != nullptr && c.participant.parts.has(Component::kSoil))
         timeouts.reply = kFeSoilReply;  // a mesh or Green's functions to build
       return std::make_unique<RemoteParticipant>(address, scene, c, timeouts, token);

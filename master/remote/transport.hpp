@@ -3,6 +3,7 @@
 // loopback, one per participant role.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -73,6 +74,9 @@ struct TransportSetup {
   std::map<std::string, Address> given;  // nodes already running, by role
   NodePool* pool = nullptr;              // starts a node for any other role; must outlive runs
   std::optional<std::string> token;      // the shared secret of nodes that require one
+  // The most one macro step may take (0: the scene's [coupling] step_budget,
+  // else RemoteTimeouts' default).
+  std::chrono::milliseconds step_budget{0};
 };
 
 // A transport: where the participants of a run live and how the master

@@ -8,9 +8,12 @@ import time
 import numpy as np
 
 from . import packed
+from . import participant as api
 from .handshake import Acceptor
 from .session import auth_answer
 from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, pb
+
+_sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
 class Link:
@@ -22,6 +25,7 @@ class Link:
         self.chan = None
         self.have, self.data = -1, None          # point and InterfaceData list
         self.fresh_have, self.fresh = -1, None   # the second sending (refresh)
+        self.arrays = self.fresh_arrays = None   # the same decoded, {quantity: array} each
 
 
 class Plane:
@@ -208,16 +212,16 @@ class Plane:
             if not e.HasField("peer_data"):
                 raise self.refused(l, "%s on its peer link" % e.WhichOneof("body"))
             d = e.peer_data
-            self.check(l, d)
+            arrays = self.check(l, d)
             if d.last and d.point < self.end:
                 self.end = d.point
                 self.why = "%s stops at macro step %d" % (l.chan.what, d.point)
             if not len(d.data.interfaces):
                 continue
             if d.refresh:
-                l.fresh, l.fresh_have = d.data.interfaces, d.point
+                l.fresh, l.fresh_arrays, l.fresh_have = d.data.interfaces, arrays, d.point
             else:
-                l.data, l.have = d.data.interfaces, d.point
+                l.data, l.arrays, l.have = d.data.interfaces, arrays, d.point
         return True
 
     def refused(self, l, what):
@@ -228,7 +232,8 @@ class Plane:
         """Every number from a peer is checked before it is used: points go up
         by one (the second sending after the first), a stop marker comes at
         the last point sent or the next, the link's interfaces, finite values
-        (but in a diverging peer's last data)."""
+        (but in a diverging peer's last data). Returns the data decoded: one
+        {quantity: array} per interface (None for a stop marker)."""
         p, data = d.point, len(d.data.interfaces) > 0
         if not data and d.last:
             if p < l.have or p > l.have + 1:
@@ -246,23 +251,43 @@ class Plane:
         elif p != l.have + 1:
             raise self.refused(l, "data for point %d where point %d was due" % (p, l.have + 1))
         if not data:
-            return
+            return None
         if len(d.data.interfaces) != len(l.interfaces):
             raise self.refused(l, "%d interfaces on a link of %d" % (
                 len(d.data.interfaces), len(l.interfaces)))
+        arrays = [packed.decode(i) for i in d.data.interfaces]
         if not d.last:
-            for i in d.data.interfaces:
-                for a in packed.decode(i).values():
-                    if not np.isfinite(a).all():
-                        raise self.refused(l, "a non-finite value for point %d" % p)
+            total = 0.0  # not finite when a value is not (or on overflow): look closer
+            for got in arrays:
+                for a in got.values():
+                    total += float(_sum(a))
+            if total - total != 0.0 and not all(
+                    np.isfinite(a).all() for got in arrays for a in got.values()):
+                raise self.refused(l, "a non-finite value for point %d" % p)
+        return arrays
 
-    def gathered(self, fresh):
-        data = [None] * len(self.s.interfaces)
+    def hold(self, fresh):
+        """Holds the links' data over the step as the session's inputs
+        (Session.set_inputs with the arrays check() decoded)."""
+        s = self.s
+        data, arrays = [None] * len(s.interfaces), [None] * len(s.interfaces)
         for l in self.links:
-            src = l.fresh if fresh and l.refreshes else l.data
+            again = fresh and l.refreshes
+            src, got = (l.fresh, l.fresh_arrays) if again else (l.data, l.arrays)
             for k, i in enumerate(l.interfaces):
-                data[i] = src[k]
-        return data
+                data[i], arrays[i] = src[k], got[k]
+        t0 = s.step * s.H
+        held = []
+        for got, i in zip(arrays, s.interfaces):
+            extra = [q for q in got if q not in i.receives]
+            if extra:
+                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                    "does not receive it" % (i.cut, extra[0]))
+            w = api.Inputs()
+            for q in i.receives:
+                setattr(w, q, api.Waveform(s._check(got.get(q), i, q), None, t0, s.H))
+            held.append(w)
+        s.held, s.held_wire = held, (data, None)
 
     def on_window(self, req, out):
         s, w = self.s, req.window
@@ -306,7 +331,7 @@ class Plane:
             if not all([self.await_link(l, n + (1 if l.ahead else 0), False)
                         for l in self.links]) or n >= self.end:
                 break
-            s.set_inputs(self.gathered(False))
+            self.hold(False)
             if self.refresh:
                 s.coupling(s.current_outputs(), pb.CouplingData())
                 self.send_outputs(s.encoded, False, True)
@@ -314,7 +339,7 @@ class Plane:
             if again:
                 if not all([self.await_link(l, n, True) for l in again]):
                     break
-                s.set_inputs(self.gathered(True))
+                self.hold(True)
             try:
                 r = s.advance(n, self.pending.reports.add())
             except ProtocolError:

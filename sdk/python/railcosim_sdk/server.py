@@ -10,7 +10,7 @@ import tomllib
 import traceback
 
 from .direct import Plane
-from .session import Session
+from .lockstep import LockstepSession as Session  # the session, with the lock step
 from .wire import E, Channel, LinkClosed, ProtocolError
 
 HELLO_SECONDS = 10.0

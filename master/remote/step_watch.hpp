@@ -1,0 +1,47 @@
+// The deadlines of one macro step a node works on (relayed plane and lock
+// step): it must show progress within `quiet` (its step report, or a
+// progress frame carrying a later micro step than the last one counted, so
+// frames that repeat themselves gain nothing), and the whole step must end
+// within `budget` (--step-budget, [coupling] step_budget), however much
+// progress it shows.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "wire.hpp"
+
+namespace railcosim::remote {
+
+class StepWatch {
+ public:
+  using Clock = std::chrono::steady_clock;
+  StepWatch(std::chrono::milliseconds quiet, std::chrono::milliseconds budget,
+            Clock::time_point start)
+      : quiet_(quiet), budget_(budget), start_(start), last_(start) {}
+
+  // A progress frame of the step at macro step `step`: "" once taken
+  // (counted or not), else why it is not one the master can accept.
+  std::string take(const wire::Progress& p, long step, Clock::time_point now);
+  // How long the next read may wait (at least 1 ms).
+  std::chrono::milliseconds left(Clock::time_point now) const;
+  // Why the wait ended at `now`: "no reply within ..." for a node that sent
+  // no progress frame at all, "no progress for ..." for one whose frames
+  // stopped advancing, "step budget of ... exhausted ..." past the budget.
+  std::string why(Clock::time_point now) const;
+
+ private:
+  std::chrono::milliseconds quiet_;
+  std::chrono::milliseconds budget_;
+  Clock::time_point start_;
+  Clock::time_point last_;  // the start, or the last progress frame counted
+  std::uint64_t micro_ = 0;
+  long counted_ = 0;
+  long stale_ = 0;  // frames since the last counted that did not advance
+};
+
+// "step budget of 120 s exhausted" with the budget in seconds as given.
+std::string budget_text(std::chrono::milliseconds budget);
+
+}  // namespace railcosim::remote
