@@ -160,9 +160,10 @@ std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec)
                                   kind.name + ") " + missing);
   }
   if (scene.outside_soil() && !cuts_soil)
-    throw std::invalid_argument("case " + spec.name() + ": the scene's soil is " +
-                                (scene.soil_model == "fe" ? "the FE soil" : "external") +
-                                ", so the case must cut through the ballast (ss) to reach it");
+    throw std::invalid_argument(
+        "case " + spec.name() + ": the scene's soil is " +
+        (scene.started_soil() != nullptr ? scene.started_soil()->title : "external") +
+        ", so the case must cut through the ballast (ss) to reach it");
 
   std::vector<ParticipantSpec> out;
   Component first = Component::kVehicle;

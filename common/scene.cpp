@@ -242,18 +242,18 @@ void read_track(SceneReader& r, Scene& sc) {
 
 void read_soil(SceneReader& r, Scene& sc) {
   sc.soil_model = r.string("soil", "model");
-  if (sc.soil_model == "external" || sc.soil_model == "fe") {
+  if (sc.outside_soil()) {
     // The soil is an outside participant's: its table is that participant's
     // own configuration, with any keys it knows, handed to it whole (as TOML
     // text) at configure time and covered by the scene's fingerprint. The
-    // product reads none of its keys but `model` (and, for the FE soil it
-    // starts itself, `ranks`; the FE soil checks the others).
+    // product reads none of its keys but `model` (and, for a soil it starts
+    // itself on MPI ranks, `ranks`; the soil checks the others).
     scene_key("soil", "*");  // the entry of the keys handed on whole
     const toml::table* soil = r.whole_table("soil");
     std::ostringstream text;
     text << *soil;
     sc.soil_config = text.str();
-    if (sc.soil_model == "fe") {
+    if (sc.started_soil() != nullptr && sc.started_soil()->mpi) {
       const SceneKey& ranks = scene_key("soil", "ranks");
       sc.soil_ranks = static_cast<int>(default_number(ranks));
       if (const toml::node* n = soil->get("ranks")) {

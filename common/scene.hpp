@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "irregularity.hpp"
+#include "outside_soil.hpp"
 #include "scene_error.hpp"
 #include "vehicle_model.hpp"
 #include "wheel_flat.hpp"
@@ -107,24 +108,27 @@ struct Scene {
   // [soil] (see the shared model, "Soil"): "fixed" (the ballast rests on the
   // ground), "lumped" (a soil mass under each sleeper), "external" (a
   // participant the product does not model serves it, through the ss cut)
-  // or "fe" (the finite-element soil of fe_soil/, a Python participant the
-  // master starts itself over TCP, through the ss cut).
+  // or a soil the master starts itself over TCP, through the ss cut
+  // (outside_soil.hpp: "fe", the finite-element soil of fe_soil/; "green",
+  // the soil from the Green's functions of green_soil/).
   std::string soil_model = "fixed";
   double soil_mass = 0;                // m_f, kg per sleeper
   double soil_stiffness = 0;           // k_f, N/m: soil mass to the ground
   double soil_damping = 0;             // c_f, N s/m
   double soil_coupling_stiffness = 0;  // k_c, N/m: between neighbouring soil masses
   double soil_coupling_damping = 0;    // c_c, N s/m
-  // With "external" or "fe": the whole [soil] table as TOML text, the
+  // With "external" or a started soil: the whole [soil] table as TOML text, the
   // outside participant's own configuration (any keys it knows); empty
   // otherwise.
   std::string soil_config;
   int soil_ranks = 1;  // "fe": the MPI ranks the master starts it on ([soil] ranks)
   bool has_soil() const { return soil_model != "fixed"; }
   bool builtin_soil() const { return soil_model == "lumped"; }
-  // The soil is a participant of its own ("external" or "fe"): no
-  // monolithic reference, only cases through the ss cut.
-  bool outside_soil() const { return soil_model == "external" || soil_model == "fe"; }
+  // The soil is a participant of its own ("external" or one the master
+  // starts): no monolithic reference, only cases through the ss cut.
+  bool outside_soil() const { return soil_model == "external" || started_soil() != nullptr; }
+  // The soil the master starts itself (outside_soil.hpp), or nullptr.
+  const OutsideSoil* started_soil() const { return find_outside_soil(soil_model); }
 
   // [simulation]
   double gravity = 0;     // g, m/s^2

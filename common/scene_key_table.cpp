@@ -182,12 +182,13 @@ void irregularity_keys(std::vector<Entry>& v) {
                   .fallback(2048)
                   .note("grid points × components ≤ " + number_text(kMaxProfileWork))
                   .when(random));
-  v.push_back(number("irregularity", "grid_step", "m",
-                     "the spacing of the table the profile is interpolated from")
-                  .range(positive())
-                  .fallback_text("wavelength_min / 20")
-                  .note("at most " + number_text(kMaxProfilePoints) + " grid points over the wheels' path")
-                  .when(random));
+  v.push_back(
+      number("irregularity", "grid_step", "m",
+             "the spacing of the table the profile is interpolated from")
+          .range(positive())
+          .fallback_text("wavelength_min / 20")
+          .note("at most " + number_text(kMaxProfilePoints) + " grid points over the wheels' path")
+          .when(random));
   v.push_back(key("irregularity", "file", KeyType::string, "",
                   "a CSV of rows x_m,r_m, relative to the scene file's folder")
                   .note("covers the wheels' path; heights " + depth + "; at most " +
@@ -228,9 +229,10 @@ void wheel_flat_keys(std::vector<Entry>& v) {
 
 void soil_keys(std::vector<Entry>& v) {
   const std::string lumped = "model = \"lumped\"";
-  v.push_back(choice("soil", "model", {"fixed", "lumped", "external", "fe"}, "soil model",
+  v.push_back(choice("soil", "model", {"fixed", "lumped", "external", "fe", "green"}, "soil model",
                      "fixed: the ballast rests on the ground; lumped: a soil mass under each "
-                     "sleeper; external: an outside participant; fe: the finite-element soil"));
+                     "sleeper; external: an outside participant; fe: the finite-element soil; "
+                     "green: the soil from the Green's functions of a layered half-space"));
   v.push_back(
       number("soil", "mass", "kg", "m_f, under one sleeper").range(positive()).when(lumped));
   v.push_back(number("soil", "stiffness", "N/m", "k_f, soil mass to the ground")
@@ -253,9 +255,10 @@ void soil_keys(std::vector<Entry>& v) {
                   .when("model = \"fe\""));
   Entry rest = key("soil", "*", KeyType::table, "",
                    "the outside soil's own configuration, any keys its author defines, handed to "
-                   "it whole as TOML text (the FE soil's keys: docs/ground-vibration.md)");
+                   "it whole as TOML text (the FE soil's and the Green's-function soil's keys: "
+                   "docs/ground-vibration.md)");
   rest.k.required = false;
-  v.push_back(rest.when("model = \"external\" or \"fe\""));
+  v.push_back(rest.when("model = \"external\", \"fe\" or \"green\""));
 }
 
 void simulation_keys(std::vector<Entry>& v) {

@@ -17,6 +17,7 @@ packages=(
   libcli11-dev
   python3 python3-matplotlib python3-protobuf python3-numpy
   python3-dolfinx   # the finite-element soil (fe_soil/): FEniCSx with PETSc and MPI
+  python3-scipy     # the soil from Green's functions (green_soil/): Bessel functions, quadrature
   iproute2
   parallel          # runs a study plan (master study --plan), and its test
 )

@@ -6,7 +6,9 @@
 # OUT/REPORT.md. A scene on the FE soil ([soil] model = "fe") gets the
 # ground-vibration study instead (python3 -m fe_soil.study): the
 # co-simulations with the FE soil, the two-step method, figures and
-# OUT/REPORT.md.
+# OUT/REPORT.md. A scene on the soil from Green's functions ([soil] model =
+# "green") gets its co-simulation (master run --case ss-xt-jacobi), whose
+# OUT/ss-xt-jacobi/vibration.csv has the levels at every receiver.
 # Arguments: [OUT_DIR] [SCENE]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,5 +25,9 @@ except (OSError, tomllib.TOMLDecodeError):
 if [ "$soil_model" = "fe" ]; then
   OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec /usr/bin/python3 -m fe_soil.study \
     --scene "$scene" --out "$out" --master build/bin/master
+fi
+if [ "$soil_model" = "green" ]; then
+  OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec build/bin/master run --scene "$scene" \
+    --case ss-xt-jacobi --out "$out"
 fi
 build/bin/master study --scene "$scene" --out "$out"

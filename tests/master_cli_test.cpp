@@ -149,6 +149,28 @@ TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
   fs::remove_all(out);
 }
 
+// The soil from Green's functions, another soil the master starts: the same
+// refusals, naming it by its row of the table of started soils.
+TEST(MasterCli, TheGreenSoilNeedsTcpAndNoStudy) {
+  const fs::path out = temp_dir("cli_green");
+  const std::string scene = test::source_path("scenes/ground_vibration_green_ci.toml");
+  const Outcome o =
+      run_master("run --scene " + scene + " --case ss-xt-jacobi --transport inproc --out " +
+                 (out / "res").string());
+  EXPECT_EQ(o.status, 2) << o.output;
+  EXPECT_NE(o.output.find("the scene's soil is the Green's-function soil (soil.model = "
+                          "\"green\"), a program of its own that the master starts over TCP: use "
+                          "--transport tcp"),
+            std::string::npos)
+      << o.output;
+  const Outcome s = run_master("study --scene " + scene + " --out " + (out / "study").string());
+  EXPECT_EQ(s.status, 2) << s.output;
+  EXPECT_NE(s.output.find("(soil.model = \"green\"), a program of its own that master study "
+                          "does not start"),
+            std::string::npos)
+      << s.output;
+}
+
 TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
   remote::LaunchedNode vehicle("vehicle_node", std::chrono::seconds(10));
   remote::LaunchedNode track("track_node", std::chrono::seconds(10));

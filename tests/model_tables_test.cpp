@@ -112,7 +112,8 @@ TEST(RoleTable, ConformCasesComeFromTheTable) {
   EXPECT_EQ(conform_case("vehicle"), "wr-xx-jacobi");
   EXPECT_EQ(conform_case("rail"), "wr-xx+rs-xx-jacobi");
   EXPECT_EQ(conform_case("soil", "lumped"), "ss-xx-jacobi");
-  EXPECT_EQ(conform_case("soil", "fe"), "ss-xt-jacobi");  // the FE soil takes forces only
+  EXPECT_EQ(conform_case("soil", "fe"), "ss-xt-jacobi");     // the FE soil takes forces only
+  EXPECT_EQ(conform_case("soil", "green"), "ss-xt-jacobi");  // so does the Green's soil
   try {
     conform_case("bridge");
     FAIL() << "an unknown role was given a case";

@@ -112,6 +112,30 @@ TEST(OwnConfig, TheFeSoilGetsItsTableAndItsRanksAreChecked) {
   }
 }
 
+// The Green's-function soil (model = "green") is started by the master too,
+// from its row of the table of started soils; it takes no MPI ranks, so
+// `ranks` is one of its own keys (which it refuses), not the master's.
+TEST(OwnConfig, TheGreenSoilIsAStartedSoilFromItsTableRow) {
+  std::string table = kOwnTable;
+  table.replace(table.find("\"external\""), 10, "\"green\"\nranks = 1000");
+  const Scene scene = parse_scene(external_soil_scene(table), "green.toml");
+  EXPECT_TRUE(scene.outside_soil());
+  ASSERT_NE(scene.started_soil(), nullptr);
+  EXPECT_EQ(std::string(scene.started_soil()->module), "green_soil.participant");
+  EXPECT_FALSE(scene.started_soil()->mpi);
+  EXPECT_EQ(scene.soil_ranks, 1);
+  const wire::Envelope e = configure_envelope(scene, soil_config(scene, "ss-xt-jacobi"), true);
+  const toml::table own = toml::parse(e.configure().own_config());
+  EXPECT_EQ(own["model"].value_or(std::string()), "green");
+  EXPECT_EQ(own["ranks"].value_or(0), 1000);
+  EXPECT_EQ(case_names(scene).front(), "ss-xx-jacobi");
+  EXPECT_EQ(
+      load_scene(test::source_path("scenes/ground_vibration_green_ci.toml")).started_soil()->title,
+      std::string("the Green's-function soil"));
+  EXPECT_EQ(find_outside_soil("lumped"), nullptr);
+  EXPECT_EQ(std::string(find_outside_soil("fe")->module), "fe_soil.participant");
+}
+
 // The fingerprint of scenes/soil.toml as the master sends it (protocol
 // version 3, the FNV-1a of its canonical text): a regression value, which
 // moves only when the scene or the canonical form does. A key given with its

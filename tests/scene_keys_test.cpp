@@ -194,6 +194,7 @@ TEST(SceneKeys, RangesAndChoicesGiveTheParsersErrors) {
   EXPECT_EQ(choice_error(scene_key("simulation", "restart"), "keep"),
             "must be \"consistent\" or \"carry\" (got \"keep\")");
   EXPECT_EQ(choice_error(scene_key("soil", "model"), "fe"), "");
+  EXPECT_EQ(choice_error(scene_key("soil", "model"), "green"), "");
 }
 
 TEST_F(SceneKeysTest, TheParserAppliesTheTablesRangesAsItReads) {

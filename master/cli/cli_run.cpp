@@ -77,11 +77,13 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
             "give its address with --node " +
             p.role + "=HOST:PORT" +
             (remote::is_remote_transport(a.transport) ? "" : " (and --transport tcp)"));
-  // The FE soil is a program of its own too, which the master starts over TCP.
-  if (scene.soil_model == "fe" && !spec.monolithic && !remote::is_remote_transport(a.transport))
-    throw std::invalid_argument(
-        "the scene's soil is the FE soil (soil.model = \"fe\"), a program of its own that the "
-        "master starts over TCP: use --transport tcp (the default), not --transport inproc");
+  // A soil the master starts is a program of its own too, reached over TCP.
+  if (const OutsideSoil* soil = scene.started_soil();
+      soil != nullptr && !spec.monolithic && !remote::is_remote_transport(a.transport))
+    throw std::invalid_argument("the scene's soil is " + std::string(soil->title) +
+                                " (soil.model = \"" + soil->model +
+                                "\"), a program of its own that the master starts over TCP: use "
+                                "--transport tcp (the default), not --transport inproc");
   if (given.empty()) return given;
   if (spec.monolithic)
     throw std::invalid_argument(
@@ -317,9 +319,10 @@ int do_run(const RunArgs& command_line) {
     reference = run::run_monolithic(scene, o);
     return reference;
   };
-  if (scene.soil_model == "fe")  // it writes its measures next to the run's files
+  if (scene.started_soil() != nullptr)  // it writes its measures next to the run's files
     job.on_folder = [&](const std::filesystem::path& dir) {
-      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string(), scene.source});
+      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string(),
+                        scene.started_soil(), scene.source});
     };
   auto progress = std::make_shared<run::Progress>(spec.name(), 1, 1);
   job.on_progress = [progress, name = spec.name()](long done, long total) {

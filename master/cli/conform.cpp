@@ -379,8 +379,8 @@ std::string conform_case(const std::string& role, const std::string& soil_model)
   const RoleKind* r = find_role(role);
   if (r == nullptr) throw std::invalid_argument("no participant is called '" + role + "'");
   CaseSpec c = parse_case(r->conform_case);
-  // The FE soil takes the ballast force only: its cut is X-T.
-  if (soil_model == "fe")
+  // A soil the master starts may take the ballast force only: its cut is X-T.
+  if (const OutsideSoil* soil = find_outside_soil(soil_model); soil != nullptr && soil->force_only)
     for (CutChoice& cut : c.cuts)
       if (cut_kinds()[static_cast<std::size_t>(cut.cut)].lower == Component::kSoil)
         cut.coupling = Coupling::kXT;

@@ -28,14 +28,17 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
                                ? std::string(override_dir)
                                : std::string(RAILCOSIM_SOURCE_DIR);
   LaunchCommand c;
-  c.name = "the FE soil (" + root + "/fe_soil/participant.py" +
+  const std::string module = fe.soil->module;
+  std::string file = module;
+  for (char& ch : file)
+    if (ch == '.') ch = '/';
+  c.name = std::string(fe.soil->title) + " (" + root + "/" + file + ".py" +
            (fe.ranks > 1 ? ", " + std::to_string(fe.ranks) + " MPI ranks" : "") + ")";
   if (fe.ranks > 1) c.argv = {"/usr/bin/mpirun", "-n", std::to_string(fe.ranks)};
   // -P: nothing from the working directory (a numpy.py where the user runs
   // the master) comes before the product's own folder on the module path;
-  // fe_soil is found through PYTHONPATH alone.
-  c.argv.insert(c.argv.end(),
-                {"/usr/bin/python3", "-P", "-m", "fe_soil.participant", "--listen", "127.0.0.1:0"});
+  // the soil's package is found through PYTHONPATH alone.
+  c.argv.insert(c.argv.end(), {"/usr/bin/python3", "-P", "-m", module, "--listen", "127.0.0.1:0"});
   if (!fe.output_dir.empty()) c.argv.insert(c.argv.end(), {"--output-dir", fe.output_dir});
   if (!fe.scene.empty()) c.argv.insert(c.argv.end(), {"--scene-file", fe.scene});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
@@ -58,7 +61,7 @@ const Address& NodePool::address(const std::string& role) {
   auto it = nodes_.find(role);
   if (it == nodes_.end() && role == "soil" && fe_) {
     auto node = std::make_unique<LaunchedNode>(fe_soil_command(*fe_, token_file_), kFeSoilStart);
-    logger("master")->debug("started the FE soil ({} rank{}) on {}", fe_->ranks,
+    logger("master")->debug("started {} ({} rank{}) on {}", fe_->soil->title, fe_->ranks,
                             fe_->ranks > 1 ? "s" : "", node->address().str());
     it = nodes_.emplace(role, std::move(node)).first;
   }
@@ -110,8 +113,8 @@ class TcpTransport final : public Transport {
       const auto it = given.find(c.participant.role);
       const Address address = it != given.end() ? it->second : pool->address(c.participant.role);
       RemoteTimeouts timeouts = base;
-      if (scene.soil_model == "fe" && c.participant.parts.has(Component::kSoil))
-        timeouts.reply = kFeSoilReply;  // a mesh to build, a static solver to set up
+      if (scene.started_soil() != nullptr && c.participant.parts.has(Component::kSoil))
+        timeouts.reply = kFeSoilReply;  // a mesh or Green's functions to build
       return std::make_unique<RemoteParticipant>(address, scene, c, timeouts, token);
     };
   }

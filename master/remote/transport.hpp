@@ -25,19 +25,22 @@ namespace railcosim::remote {
 // the rail alone is served by track_node --role rail).
 std::string node_program(const std::string& role);
 
-// How the master starts the FE soil (fe_soil/participant.py): under
-// /usr/bin/python3, with `mpirun -n RANKS` when ranks > 1, the fe_soil
-// package found in the source tree the master was built from (or in
-// $RAILCOSIM_FE_SOIL, a folder holding fe_soil/ and sdk/python/). It
-// writes its vibration measures into `output_dir`, and names `scene` (the
+// How the master starts a soil of its own (common/outside_soil.hpp: the FE
+// soil, fe_soil/participant.py; the Green's-function soil,
+// green_soil/participant.py): `python3 -m MODULE` under /usr/bin/python3,
+// with `mpirun -n RANKS` when ranks > 1, the package found in the source
+// tree the master was built from (or in $RAILCOSIM_FE_SOIL, a folder
+// holding fe_soil/, green_soil/ and sdk/python/). It writes its vibration
+// measures into `output_dir`, and names `scene` (the
 // scene file) in its configuration errors.
 struct FeSoilLaunch {
   int ranks = 1;
   std::string output_dir;
+  const OutsideSoil* soil = &kOutsideSoils[0];  // which soil (the FE soil by default)
   std::string scene;
 };
 LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_file);
-// The FE soil may take this long to print its address (Python and dolfinx
+// A started soil may take this long to print its address (Python and dolfinx
 // load; the first run on a machine also compiles its forms), and to answer
 // Configure and Statics (a mesh is built, the static solver set up).
 inline constexpr std::chrono::seconds kFeSoilStart{120};

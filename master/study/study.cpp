@@ -245,6 +245,12 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
         "the hundred, too many for a finite-element soil; study it with scripts/run-main.sh OUT " +
         scene_path + " (python3 -m fe_soil.study --scene " + scene_path +
         " --out OUT --master build/bin/master), or run each case with master run");
+  if (const Scene scene = load_scene(scene_path); scene.started_soil() != nullptr)
+    throw std::invalid_argument(scene_path + ": the scene's soil is " +
+                                scene.started_soil()->title + " (soil.model = \"" +
+                                scene.started_soil()->model +
+                                "\"), a program of its own that master study does not start; "
+                                "run each case with master run");
   if (load_scene(scene_path).soil_model == "external")
     throw std::invalid_argument(
         scene_path +

@@ -1,0 +1,175 @@
+"""Footprint-to-footprint and footprint-to-point responses: their spectra
+(greens.py), their static values, and the time-domain responses by inverse
+FFT with an exponential window.
+
+Exponential window (complex frequency): the spectra are computed at
+w_n - i eta, w_n = 2 pi n / T; the inverse FFT of G(w - i eta) X(w - i eta)
+is the response times exp(-eta t), so multiplying by exp(eta t) gives it
+back with the wrap-around of the periodic FFT damped by exp(-eta T)
+(E. Kausel and J. M. Roesset, "Frequency domain analysis of undamped
+systems", J. Eng. Mech. 118(4) (1992) 721-734). The static part needs no
+separate care then: no frequency is zero, the lowest is -i eta, and a
+force that is switched on and held is represented by its damped spectrum
+(the step response settles to G(0) within the record).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import interpolate
+
+from . import greens
+from .spectral import LOSS_ONSET, top_static
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """The sleeper's bearing rectangle: `along` (x) by `across` (y), m."""
+
+    along: float
+    across: float
+
+
+def spectra(layers, fp: Footprint, pair_offsets, point_offsets, omegas,
+            d: greens.Discretisation = greens.Discretisation()):
+    """(pairs, points): complex arrays (n, n_w) of the mean displacement over
+    a footprint under a unit force spread over another offset by (dx, dy),
+    and of the displacement at points offset (dx, dy) from a loaded
+    footprint's centre, at the complex circular frequencies `omegas`."""
+    a, b = fp.along, fp.across
+    offsets = list(pair_offsets) + list(point_offsets)
+    reach = max([math.hypot(abs(x) + a, abs(y) + b) for x, y in offsets] + [1.0])
+    r = np.arange(0.0, reach + 4.0 * d.dr, d.dr)
+    smooth = greens.smooth_part(layers, omegas, r, d)
+    spline = interpolate.CubicSpline(r, smooth, axis=0)
+    mu_scale = np.array([top_static(layers, w) for w in omegas])
+    sx, wx = greens.tent_rule(a, d.quad_along)
+    sy, wy = greens.tent_rule(b, d.quad_across)
+    wq = np.outer(wx, wy).ravel()
+    pairs = np.empty((len(pair_offsets), len(omegas)), complex)
+    for i, (dx, dy) in enumerate(pair_offsets):
+        rr = np.hypot(dx + sx[:, None], dy + sy[None, :]).ravel()
+        pairs[i] = wq @ spline(rr) + greens.static_pair(dx, dy, a, b) * mu_scale
+    px, pwx = greens.box_rule(a, d.quad_along)
+    py, pwy = greens.box_rule(b, d.quad_across)
+    pw = np.outer(pwx, pwy).ravel()
+    points = np.empty((len(point_offsets), len(omegas)), complex)
+    for i, (dx, dy) in enumerate(point_offsets):
+        rr = np.hypot(dx + px[:, None], dy + py[None, :]).ravel()
+        points[i] = pw @ spline(rr) + greens.static_point(dx, dy, a, b) * mu_scale
+    return pairs, points
+
+
+@dataclass(frozen=True)
+class Record:
+    """The time axis: `dt` the output step, `duration` the length kept,
+    `f_max` the highest frequency computed (a cosine taper from
+    `taper` * f_max to f_max), `pad` the FFT period over the duration,
+    `eta_t` = eta T, the window's decay over the FFT period."""
+
+    dt: float
+    duration: float
+    f_max: float = 120.0
+    taper: float = 0.8
+    pad: float = 2.0
+    eta_t: float = 10.0
+
+    @property
+    def n_fft(self):
+        n = int(math.ceil(self.pad * self.duration / self.dt))
+        return n + (n % 2)
+
+    @property
+    def period(self):
+        return self.n_fft * self.dt
+
+    @property
+    def eta(self):
+        return self.eta_t / self.period
+
+    def frequencies(self):
+        """The FFT bins up to f_max (Hz) and their complex circular frequencies."""
+        f = np.arange(self.n_fft // 2 + 1) / self.period
+        f = f[f <= self.f_max]
+        return f, 2.0 * math.pi * f - 1j * self.eta
+
+    def window(self, f):
+        """1 below taper * f_max, a cosine half-bell to 0 at f_max."""
+        lo = self.taper * self.f_max
+        x = np.clip((f - lo) / (self.f_max - lo), 0.0, 1.0)
+        return 0.5 * (1.0 + np.cos(math.pi * x))
+
+
+def to_time(spec, rec: Record, force_spectrum):
+    """Responses (n, n_t) kept over rec.duration: spec (n, n_w) times the
+    damped force spectrum (n_w,), tapered, inverse FFT, times exp(eta t)."""
+    f, _ = rec.frequencies()
+    full = np.zeros((spec.shape[0], rec.n_fft // 2 + 1), complex)
+    full[:, :len(f)] = spec * (force_spectrum * rec.window(f))[None, :]
+    n_keep = int(round(rec.duration / rec.dt)) + 1
+    t = np.arange(n_keep) * rec.dt
+    x = np.fft.irfft(full, rec.n_fft, axis=1)[:, :n_keep] / rec.dt
+    return t, x * np.exp(rec.eta * t)[None, :]
+
+
+def damped_spectrum(samples, rec: Record):
+    """The spectrum at the bins up to f_max of a force sampled every dt from
+    t = 0 (samples beyond the FFT period ignored), damped by exp(-eta t)."""
+    n = rec.n_fft
+    x = np.zeros(n)
+    m = min(n, len(samples))
+    x[:m] = np.asarray(samples[:m], dtype=float)
+    x *= np.exp(-rec.eta * np.arange(n) * rec.dt)
+    f, _ = rec.frequencies()
+    return np.fft.rfft(x)[:len(f)] * rec.dt
+
+
+def hat_spectrum(rec: Record, derivative=False):
+    """Spectrum of the unit hat of half-width dt centred at t = dt (the
+    force rising over the first step and falling over the second; area dt)
+    at the complex bins; times i w for its time derivative."""
+    _, w = rec.frequencies()
+    z = 0.5 * w * rec.dt
+    sinc = np.where(np.abs(z) > 1e-8, np.sin(z) / np.where(z == 0, 1, z), 1.0)
+    out = rec.dt * sinc**2 * np.exp(-1j * w * rec.dt)
+    return out * (1j * w) if derivative else out
+
+
+def cache_key(layers, fp, pair_offsets, point_offsets, rec, d):
+    text = json.dumps({
+        "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping] for l in layers],
+        "fp": [fp.along, fp.across], "pairs": [[float(v) for v in p] for p in pair_offsets],
+        "points": [[float(v) for v in p] for p in point_offsets],
+        "rec": [rec.dt, rec.duration, rec.f_max, rec.taper, rec.pad, rec.eta_t],
+        "disc": list(d.key()), "loss_onset": LOSS_ONSET, "version": 2}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:24]
+
+
+def default_cache_dir():
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "railcosim", "green_soil")
+
+
+def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discretisation(),
+                   cache_dir=None):
+    """spectra() at rec's bins, kept in cache_dir (default
+    $XDG_CACHE_HOME/railcosim/green_soil) under a hash of everything that
+    enters them; returns (pairs, points, hit)."""
+    cache_dir = cache_dir or default_cache_dir()
+    path = os.path.join(cache_dir, cache_key(layers, fp, pair_offsets, point_offsets, rec, d)
+                        + ".npz")
+    if os.path.exists(path):
+        with np.load(path) as z:
+            return z["pairs"], z["points"], True
+    _, w = rec.frequencies()
+    pairs, points = spectra(layers, fp, pair_offsets, point_offsets, w, d)
+    os.makedirs(cache_dir, exist_ok=True)
+    tmp = path + ".%d.tmp.npz" % os.getpid()
+    np.savez(tmp, pairs=pairs, points=points)
+    os.replace(tmp, path)
+    return pairs, points, False
