@@ -2,6 +2,7 @@
 // (compare.cpp).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <string>
 
 #include "cli/cli.hpp"
 #include "cli/compare.hpp"
@@ -12,7 +13,7 @@ void add_compare_command(CLI::App& app, CompareArgs& a) {
   a.command = app.add_subcommand(
       "compare",
       "Compare two runs' output folders value by value (deflection.csv, history.csv, soil.csv, "
-      "soil_forces.csv, spectra.csv, where REFERENCE has them): each column's largest "
+      "soil_forces.csv, where REFERENCE has them): each column's largest "
       "difference over its largest magnitude in REFERENCE must be within --tolerance. Exit "
       "status 0: they agree; 1: they differ (or OTHER lacks a run, a file, a row); 2: a folder "
       "or file cannot be read");
@@ -29,6 +30,16 @@ void add_compare_command(CLI::App& app, CompareArgs& a) {
       ->capture_default_str();
   add_check_flag(*a.command, a.check);
 }
+
+namespace {
+
+std::string format_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
+}  // namespace
 
 int do_compare(const CompareArgs& a) {
   if (a.check) {
@@ -49,7 +60,7 @@ int do_compare(const CompareArgs& a) {
     }
   }
   const FileComparison* w = r.worst();
-  const std::string worst = w ? "worst relative difference " + std::to_string(w->worst) + " (" +
+  const std::string worst = w ? "worst relative difference " + format_number(w->worst) + " (" +
                                     w->name + ", column " + w->worst_column + ")"
                               : std::string("no file to compare");
   std::printf("%s: %zu run(s), %zu file(s), %zu over the tolerance %g; %s\n",

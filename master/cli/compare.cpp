@@ -1,7 +1,6 @@
 #include "cli/compare.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -13,7 +12,7 @@ namespace fs = std::filesystem;
 
 const std::vector<std::string>& compared_files() {
   static const std::vector<std::string> files{"deflection.csv", "history.csv", "soil.csv",
-                                              "soil_forces.csv", "spectra.csv"};
+                                              "soil_forces.csv"};
   return files;
 }
 
@@ -34,7 +33,7 @@ namespace {
 
 struct Table {
   std::vector<std::string> header;
-  std::vector<std::vector<double>> columns;
+  std::vector<std::vector<std::string>> cells;  // per column
   std::size_t rows = 0;
 };
 
@@ -47,7 +46,7 @@ std::vector<std::string> split(const std::string& line) {
   return cells;
 }
 
-// A CSV file of a header and rows of numbers.
+// A CSV file: a header and rows of as many cells.
 Table read_table(const fs::path& path) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path.string() + ": cannot be read");
@@ -55,25 +54,31 @@ Table read_table(const fs::path& path) {
   std::string line;
   if (!std::getline(in, line)) throw std::invalid_argument(path.string() + ": empty");
   t.header = split(line);
-  t.columns.resize(t.header.size());
+  t.cells.resize(t.header.size());
   for (long number = 2; std::getline(in, line); ++number) {
     const std::vector<std::string> cells = split(line);
     if (cells.size() != t.header.size())
       throw std::invalid_argument(path.string() + ":" + std::to_string(number) + ": " +
                                   std::to_string(cells.size()) + " values, the header has " +
                                   std::to_string(t.header.size()));
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      char* end = nullptr;
-      errno = 0;
-      const double v = std::strtod(cells[c].c_str(), &end);
-      if (cells[c].empty() || end != cells[c].c_str() + cells[c].size())
-        throw std::invalid_argument(path.string() + ":" + std::to_string(number) + ": column " +
-                                    t.header[c] + ": '" + cells[c] + "' is not a number");
-      t.columns[c].push_back(v);
-    }
+    for (std::size_t c = 0; c < cells.size(); ++c) t.cells[c].push_back(cells[c]);
     ++t.rows;
   }
   return t;
+}
+
+bool parse_number(const std::string& cell, double& v) {
+  char* end = nullptr;
+  v = std::strtod(cell.c_str(), &end);
+  return !cell.empty() && end == cell.c_str() + cell.size();
+}
+
+// A column as numbers; false when a cell is not one (a column of names).
+bool numbers(const std::vector<std::string>& cells, std::vector<double>& out) {
+  out.resize(cells.size());
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    if (!parse_number(cells[k], out[k])) return false;
+  return true;
 }
 
 // The largest difference of two columns over the reference's largest magnitude.
@@ -106,7 +111,18 @@ FileComparison compare_file(const fs::path& reference, const fs::path& other,
     return f;
   }
   for (std::size_t c = 0; c < a.header.size(); ++c) {
-    const double d = column_difference(a.columns[c], b.columns[c]);
+    std::vector<double> x, y;
+    double d = 0;
+    if (!numbers(a.cells[c], x)) {  // a column of names: equal or not
+      d = a.cells[c] == b.cells[c] ? 0.0 : INFINITY;
+    } else {
+      for (std::size_t k = 0; k < b.cells[c].size(); ++k)
+        if (double v = 0; !parse_number(b.cells[c][k], v))
+          throw std::invalid_argument(other.string() + ":" + std::to_string(k + 2) + ": column " +
+                                      a.header[c] + ": '" + b.cells[c][k] + "' is not a number");
+      numbers(b.cells[c], y);
+      d = column_difference(x, y);
+    }
     if (f.worst_column.empty() || !(d <= f.worst)) {
       f.worst = d;
       f.worst_column = a.header[c];

@@ -1,4 +1,4 @@
-// `master compare`: two runs' output folders, value by value, to a stated
+// `master compare`: two runs' output folders, value by value (a column of names: equal), to a stated
 // tolerance: the check that a participant of one's own computes what the
 // built-in one does (docs/participant-guide-cpp.md, "Checking it").
 #pragma once
