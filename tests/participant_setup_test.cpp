@@ -86,7 +86,7 @@ TEST_F(ParticipantSetupTest, TheInterfacesAreThoseTheMasterSentAndTheSceneIsNotR
   const Interface& i = setup_.interfaces[0];
   const wire::Interface& w = c.interfaces(0);
   EXPECT_EQ(i.cut, "ss");
-  EXPECT_EQ(i.peer, "track");
+  EXPECT_EQ(i.peer, "vehicle");  // ss-xx-jacobi: everything above the cut
   EXPECT_FALSE(i.upper);
   ASSERT_EQ(i.n(), static_cast<std::size_t>(scene_.sleeper_count));
   for (int k = 0; k < w.x_size(); ++k) EXPECT_EQ(i.x[static_cast<std::size_t>(k)], w.x(k));
