@@ -29,6 +29,12 @@ install(FILES ${railcosim_sdk_headers} ${PROJECT_BINARY_DIR}/protocol/railcosim.
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/railcosim)
 install(FILES ${PROJECT_SOURCE_DIR}/protocol/railcosim.proto
         DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim)
+# What the C++ participant guide's checks use besides the programs: the
+# scenes, and the worked example (a participant built against this package).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/scenes
+        FILES_MATCHING PATTERN "*.toml")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/cpp_soil/
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/cpp_soil)
 
 set(railcosim_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/railcosim)
 install(EXPORT railcosimTargets NAMESPACE railcosim:: DESTINATION ${railcosim_cmake_dir})

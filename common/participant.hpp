@@ -109,11 +109,28 @@ class CallOrderError : public std::logic_error {
   using std::logic_error::logic_error;
 };
 
-// Inputs or a state that do not fit the participant (wrong count, a
-// non-finite value, a snapshot of another subsystem).
-class BadInputError : public std::invalid_argument {
+// A request the participant cannot serve: settings it cannot run (adaptive
+// micro steps for a solver with fixed ones), its own configuration missing
+// or invalid. A node answers BAD_REQUEST with the message, at Configure as
+// at any other request.
+class BadRequestError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
+};
+
+// An interface the participant cannot honour (a cut it has no side of, a
+// number of points or quantities it cannot serve): BAD_INTERFACE. (Any other
+// std::invalid_argument thrown at Configure is answered so too.)
+class BadInterfaceError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// Inputs or a state that do not fit the participant (wrong count, a
+// non-finite value, a snapshot of another subsystem): BAD_REQUEST.
+class BadInputError : public BadRequestError {
+ public:
+  using BadRequestError::BadRequestError;
 };
 
 // Call order (enforced; a call out of order throws CallOrderError):

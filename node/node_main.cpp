@@ -1,6 +1,10 @@
 // The command line of every node program: options, limits, "listening on".
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
 
 #include "auth.hpp"
 #include "log.hpp"
@@ -9,7 +13,7 @@
 namespace railcosim {
 
 int node_main(const std::string& default_role, int argc, char** argv) {
-  return node_main(NodeProgram{default_role + "_node", default_role, {}}, argc, argv);
+  return node_main(NodeProgram{default_role + "_node", default_role, {}, {}}, argc, argv);
 }
 
 namespace {
@@ -26,6 +30,8 @@ struct NodeCommandLine {
   double step_seconds = 30.0;
   long max_micro_steps = Newmark::kMaxStepsPerInterval;
   std::string token_file;
+  std::string config_path;
+  std::string config_table;
   bool check = false;
 };
 
@@ -67,6 +73,14 @@ void declare_options(CLI::App& app, NodeCommandLine& o) {
                  "Seconds of work one macro step may take before it fails (STEP_FAILED)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--config", o.config_path,
+                 "TOML file holding the participant's own configuration, in its table [--table]: "
+                 "given to the participant at every session instead of the table the master's "
+                 "scene sends (Configure.own_config)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--table", o.config_table,
+                 "The table of --config that is the configuration (default: the participant's "
+                 "name, e.g. soil)");
   app.add_flag("--check", o.check,
                "Check the options (the address, the scene and secret files) as the node would, "
                "print what it would serve, and stop without listening");
@@ -86,6 +100,27 @@ ServerLimits server_limits(const NodeCommandLine& o) {
   return limits;
 }
 
+// The file of --config, read and checked as a session will read it (its
+// table, unless the node serves any participant: then at each session).
+std::optional<ConfigFile> config_file(const NodeProgram& program, const NodeCommandLine& o) {
+  if (o.config_path.empty()) {
+    if (!o.config_table.empty()) throw std::invalid_argument("--table needs --config FILE");
+    return std::nullopt;
+  }
+  if (!program.configure)
+    throw std::invalid_argument("--config " + o.config_path + ": the " + program.name +
+                                " program's participant takes no configuration of its own (the "
+                                "built-in model reads the scene)");
+  std::ifstream in(o.config_path, std::ios::binary);
+  std::ostringstream text;
+  if (!in || !(text << in.rdbuf()))
+    throw std::invalid_argument("--config " + o.config_path + ": cannot be read");
+  ConfigFile file{o.config_path, text.str(), o.config_table};
+  const std::string table = o.config_table.empty() ? o.role : o.config_table;
+  if (table != "any") (void)OwnConfig::table_of(file.text, file.path, table);
+  return file;
+}
+
 // Checks the options, then serves sessions until the process is stopped.
 void serve(const NodeProgram& program, const NodeCommandLine& o) {
   NodeOptions options;
@@ -93,7 +128,9 @@ void serve(const NodeProgram& program, const NodeCommandLine& o) {
   options.name = program.name;
   options.make_participant = program.make_participant;
   options.max_micro_steps = o.max_micro_steps;
+  options.configure = program.configure;
   if (!o.scene_path.empty()) options.pinned_scene = load_scene(o.scene_path);
+  options.config_file = config_file(program, o);
   const Address address = parse_address(o.listen, "--listen");
   if (!o.token_file.empty()) options.token = read_token_file(o.token_file);
   if (!options.token && !is_loopback(address.host))
@@ -102,9 +139,10 @@ void serve(const NodeProgram& program, const NodeCommandLine& o) {
         " without --token-file: any host that reaches this address could drive the node. "
         "Share a secret with the master (--token-file on both), or listen on 127.0.0.1");
   if (o.check) {
-    std::printf("check: would serve the %s participant on %s%s%s\n", o.role.c_str(),
+    std::printf("check: would serve the %s participant on %s%s%s%s\n", o.role.c_str(),
                 address.str().c_str(), options.token ? ", with a shared secret" : "",
-                o.scene_path.empty() ? "" : (", pinned to " + o.scene_path).c_str());
+                o.scene_path.empty() ? "" : (", pinned to " + o.scene_path).c_str(),
+                o.config_path.empty() ? "" : (", configured by " + o.config_path).c_str());
     return;
   }
   NodeServer server(options, address, server_limits(o));

@@ -77,11 +77,17 @@ class NodeServer {
 };
 
 // A node program: its name (in messages and logs), the participant it serves
-// unless --role says otherwise, and how it builds that participant.
+// unless --role says otherwise, and how it builds that participant: an
+// outside participant sets `configure`, called once per session with its
+// ParticipantSetup (interfaces, run settings, its own configuration from
+// --config or the master's scene); the product's own node programs leave
+// it empty and build the product's model (`make_participant`, or the
+// built-in one when that is empty too).
 struct NodeProgram {
   std::string name;                     // e.g. "soil_node"
   std::string default_role;             // vehicle, track, rail, soil or any
-  ParticipantBuilder make_participant;  // empty: the built-in model
+  ParticipantBuilder make_participant;  // from the product's scene; empty: the built-in model
+  SetupBuilder configure;               // set: takes precedence, the scene is not read
 };
 
 // The whole program of a node: parses the command line, prints

@@ -300,20 +300,29 @@ SubsystemConfig NodeSession::configured_subsystem(const Scene& scene,
   return cfg;
 }
 
+std::unique_ptr<Participant> NodeSession::built_participant(const wire::Configure& c) const {
+  const Scene scene = configured_scene(c);
+  const SubsystemConfig cfg = configured_subsystem(scene, c);
+  return options_.make_participant ? options_.make_participant(scene, cfg)
+                                   : std::make_unique<Subsystem>(scene, cfg);
+}
+
 wire::Envelope NodeSession::on_configure(const wire::Envelope& req) {
   if (req.body_case() != wire::Envelope::kConfigure)
     throw ProtocolError(wire::Error::OUT_OF_ORDER,
                         "expected configure after hello, got " + body_name(req));
   const wire::Configure& c = req.configure();
-  const Scene scene = configured_scene(c);
-  const SubsystemConfig cfg = configured_subsystem(scene, c);
   try {
-    served_ = options_.make_participant ? options_.make_participant(scene, cfg)
-                                        : std::make_unique<Subsystem>(scene, cfg);
+    served_ = options_.configure ? options_.configure(configured_setup(c)) : built_participant(c);
+  } catch (const BadRequestError& e) {
+    throw ProtocolError(wire::Error::BAD_REQUEST, "participant " + participant_ + ": " + e.what());
   } catch (const std::invalid_argument& e) {
     throw ProtocolError(wire::Error::BAD_INTERFACE,
                         "participant " + participant_ + ": " + e.what());
   }
+  if (!served_)
+    throw ProtocolError(wire::Error::INTERNAL,
+                        "participant " + participant_ + ": the program built no participant");
   macro_step_ = c.macro_step();
   progress_every_ = std::chrono::milliseconds(
       c.progress_ms() == 0 ? 0 : std::max<std::uint32_t>(c.progress_ms(), kMinProgressMs));

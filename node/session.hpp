@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "participant_setup.hpp"
 #include "peer_links.hpp"
 #include "scene.hpp"
 #include "scene_checks.hpp"
@@ -34,12 +35,29 @@ inline constexpr std::uint32_t kMinProgressMs = 100;
 // The largest mesh a node accepts: kMaxSleepers, kMaxElementsPerSpan
 // (scene_checks.hpp, where the master applies them too).
 
-// Builds the participant a session serves, once configure has given the
-// scene's model section and this participant's interfaces (SubsystemConfig:
-// its parts and interfaces, the macro step, the micro-step settings).
-// Throw std::invalid_argument to refuse the configuration (BAD_INTERFACE).
+// Builds the participant a session serves from what Configure gives it
+// (ParticipantSetup: its interfaces as the master describes them, the run's
+// settings, its own configuration); the scene is not read. Throw
+// BadRequestError to refuse the settings or the configuration
+// (BAD_REQUEST), BadInterfaceError or another std::invalid_argument to
+// refuse an interface (BAD_INTERFACE), with a message naming what is wrong.
+using SetupBuilder = std::function<std::unique_ptr<Participant>(const ParticipantSetup&)>;
+
+// The product's model's builder: from the scene the master sent, parsed as
+// the master parsed it, and this participant's part of the product's model
+// (SubsystemConfig). The built-in participants are built so; an outside
+// participant takes a SetupBuilder. Exceptions as for SetupBuilder.
 using ParticipantBuilder =
     std::function<std::unique_ptr<Participant>(const Scene&, const SubsystemConfig&)>;
+
+// The file of --config: its name, its text, and the table that is the
+// participant's own configuration (empty: the table named after the
+// participant the session serves).
+struct ConfigFile {
+  std::string path;
+  std::string text;
+  std::string table;
+};
 
 struct NodeOptions {
   std::string role = "vehicle";       // the participant this node serves, or "any"
@@ -48,6 +66,10 @@ struct NodeOptions {
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step
   std::string name = "node";
   ParticipantBuilder make_participant;  // empty: the built-in Subsystem
+  SetupBuilder configure;               // set: builds the participant (make_participant unused)
+  // Set: the participant's own configuration is this file's table, not the
+  // master's Configure.own_config (with `configure` only).
+  std::optional<ConfigFile> config_file;
 };
 
 class NodeSession {
@@ -95,6 +117,11 @@ class NodeSession {
   // of the interfaces (this participant's configuration from them).
   Scene configured_scene(const wire::Configure& configure) const;
   SubsystemConfig configured_subsystem(const Scene& scene, const wire::Configure& configure) const;
+  // The participant built by the product's model's builder (or the built-in
+  // Subsystem), or by the SetupBuilder from what Configure says
+  // (session_setup.cpp).
+  std::unique_ptr<Participant> built_participant(const wire::Configure& configure) const;
+  ParticipantSetup configured_setup(const wire::Configure& configure) const;
   // Once configured (session_handlers.cpp): one handler per request kind.
   wire::Envelope on_statics(const wire::Envelope& request);
   wire::Envelope on_initialize(const wire::Envelope& request);

@@ -1,9 +1,8 @@
 #include "lumped_soil.hpp"
 
 #include <cmath>
-#include <stdexcept>
-
-#include "model.hpp"
+#include <utility>
+#include <vector>
 
 using Eigen::VectorXd;
 using railcosim::BadInputError;
@@ -19,28 +18,40 @@ std::vector<double> to_std(const VectorXd& v) {
 
 }  // namespace
 
-LumpedSoil::LumpedSoil(const railcosim::Scene& scene, const railcosim::SubsystemConfig& config) {
-  const auto& interfaces = config.participant.interfaces;
-  if (interfaces.size() != 1 || std::string(interfaces[0].kind().name) != "ss" ||
-      interfaces[0].side != railcosim::CutSide::kLower)
-    throw std::invalid_argument("this soil serves the lower side of one ss cut only");
-  if (config.micro_steps <= 0)
-    throw std::invalid_argument(
+LumpedSoil::LumpedSoil(const railcosim::ParticipantSetup& setup) {
+  // Its own model: the table [soil] of --config (or of the master's scene
+  // when its soil is "external"); a missing key is BAD_REQUEST naming it.
+  const railcosim::OwnConfig& own = setup.config;
+  const double mass = own.number("mass"), stiffness = own.number("stiffness"),
+               damping = own.number("damping"), kc = own.number("coupling_stiffness"),
+               cc = own.number("coupling_damping");
+  const auto& interfaces = setup.interfaces;
+  if (interfaces.size() != 1 || interfaces[0].cut != "ss" || interfaces[0].upper)
+    throw railcosim::BadInterfaceError(
+        "this soil serves only the lower side of the ss cut (the ballast), one interface");
+  const railcosim::Interface& ss = interfaces[0];
+  using Q = railcosim::Quantity;
+  const std::vector<Q> motion{Q::kDisplacement, Q::kVelocity};
+  if ((ss.receives != motion && !ss.receives_force()) || ss.sends != motion)
+    throw railcosim::BadInterfaceError(
+        "interface " + ss.describe() +
+        ": it receives displacement and velocity, or force, and sends displacement and velocity");
+  if (setup.run.micro_steps <= 0)
+    throw railcosim::BadRequestError(
         "this soil integrates with a fixed number of micro steps: set simulation.micro_steps");
-  n_ = scene.sleeper_count;
-  receives_force_ = interfaces[0].receives_force();
-  kb_ = scene.ballast_stiffness;
-  cb_ = scene.ballast_damping;
-  H_ = config.macro_step;
-  m_ = config.micro_steps;
-  carry_ = config.carry_acceleration;
+  n_ = static_cast<long>(ss.n());
+  receives_force_ = ss.receives_force();
+  kb_ = ss.stiffness;  // the ballast, per coupling point
+  cb_ = ss.damping;
+  H_ = setup.run.macro_step;
+  m_ = setup.run.micro_steps;
+  carry_ = setup.run.carry_acceleration;
   h_ = H_ / m_;
-  M_ = Eigen::MatrixXd::Identity(n_, n_) * scene.soil_mass;
-  K_ = Eigen::MatrixXd::Identity(n_, n_) * scene.soil_stiffness;
-  C_ = Eigen::MatrixXd::Identity(n_, n_) * scene.soil_damping;
+  M_ = Eigen::MatrixXd::Identity(n_, n_) * mass;
+  K_ = Eigen::MatrixXd::Identity(n_, n_) * stiffness;
+  C_ = Eigen::MatrixXd::Identity(n_, n_) * damping;
   for (long i = 0; i + 1 < n_; ++i)
-    for (auto [A, c] : {std::pair{&K_, scene.soil_coupling_stiffness},
-                        std::pair{&C_, scene.soil_coupling_damping}}) {
+    for (auto [A, c] : {std::pair{&K_, kc}, std::pair{&C_, cc}}) {
       (*A)(i, i) += c;
       (*A)(i + 1, i + 1) += c;
       (*A)(i, i + 1) -= c;

@@ -1,7 +1,11 @@
 // The lumped soil of the shared model ("Soil", lumped): a soil mass under
 // each sleeper on a spring and damper to the ground, tied to its
 // neighbours, loaded through the ballast from the sleepers above (the lower
-// side of the ss cut). Its own physics, written from the model alone:
+// side of the ss cut). It knows the coupling from the interface the master
+// describes (points, what it receives and sends, the ballast's stiffness
+// and damping) and its own model from its own configuration (the [soil]
+// table of --config: mass, stiffness, damping, coupling_stiffness,
+// coupling_damping). Its own physics, written from the model alone:
 // Newmark (beta = 1/4, gamma = 1/2) with a fixed number of equal micro steps
 // per macro step, restarted at each communication point from the
 // acceleration consistent with the new inputs.
@@ -11,13 +15,13 @@
 #include <string>
 
 #include "participant.hpp"
-#include "scene.hpp"
-#include "subsystem.hpp"
+#include "participant_setup.hpp"
 
 class LumpedSoil final : public railcosim::Participant {
  public:
-  // Throws std::invalid_argument for a configuration it cannot serve.
-  LumpedSoil(const railcosim::Scene& scene, const railcosim::SubsystemConfig& config);
+  // Throws railcosim::BadRequestError for a configuration or settings it
+  // cannot serve, railcosim::BadInterfaceError for interfaces.
+  explicit LumpedSoil(const railcosim::ParticipantSetup& setup);
 
   std::string name() const override { return "lumped soil (examples/cpp_soil)"; }
   railcosim::Channels channels() const override { return {{"soil_peak_m"}, {"soil_m"}}; }

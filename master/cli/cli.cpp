@@ -10,6 +10,7 @@
 #include "cli/cli_keys.hpp"
 #include "cli/cli_run.hpp"
 #include "cli/cli_study.hpp"
+#include "cli/compare.hpp"
 #include "cli/conform.hpp"
 #include "log.hpp"
 #include "remote/remote_participant.hpp"
@@ -68,6 +69,8 @@ int master_main(int argc, char** argv) {
   add_conform_command(app, ca);
   KeysArgs ka;
   add_keys_command(app, ka);
+  CompareArgs cmp;
+  add_compare_command(app, cmp);
 
   try {
     app.parse(argc, argv);
@@ -81,6 +84,7 @@ int master_main(int argc, char** argv) {
     if (*sa.command) return do_study(sa);
     if (*ca.command) return do_conform(ca);
     if (*ka.command) return do_keys(ka);
+    if (*cmp.command) return do_compare(cmp);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "master: scene error: %s\n", e.what());
     return 2;
