@@ -27,11 +27,11 @@ bool FrameSource::hung_up() const {
 }
 
 bool FrameSource::next(wire::Envelope& out) {
-  using Clock = std::chrono::steady_clock;
+  using Steady = std::chrono::steady_clock;
   using std::chrono::milliseconds;
   // The deadline: the idle limit until a frame begins, then the message limit.
   bool begun = decoder_.buffered() > 0;
-  auto since = Clock::now();
+  auto since = Steady::now();
   while (true) {
     switch (decoder_.next(out)) {
       case FrameDecoder::Status::kFrame:
@@ -47,13 +47,13 @@ bool FrameSource::next(wire::Envelope& out) {
     }
     if (!begun && decoder_.buffered() > 0) {
       begun = true;
-      since = Clock::now();
+      since = Steady::now();
     }
     if (stop_ && stop_->load())
       throw ProtocolError(wire::Error::INTERNAL, "the node is shutting down");
     const milliseconds limit = begun ? limits_.message : limits_.idle;
     const auto left =
-        std::chrono::duration_cast<milliseconds>(since + limit - Clock::now()).count();
+        std::chrono::duration_cast<milliseconds>(since + limit - Steady::now()).count();
     if (left <= 0)
       throw ProtocolError(wire::Error::TIMEOUT,
                           begun

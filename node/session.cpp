@@ -326,11 +326,13 @@ wire::Envelope NodeSession::on_configure(const wire::Envelope& req) {
   macro_step_ = c.macro_step();
   progress_every_ = std::chrono::milliseconds(
       c.progress_ms() == 0 ? 0 : std::max<std::uint32_t>(c.progress_ms(), kMinProgressMs));
-  in_shape_ = input_shape(scene, cfg.participant);
+  in_shape_ = input_shape(c);
   // A step's samples: at its start and after each micro step.
+  const long max_micro = c.max_micro_steps() > 0
+                             ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
+                             : options_.max_micro_steps;
   max_samples_ =
-      static_cast<std::size_t>(std::max<long>(cfg.max_micro_steps, Newmark::kMaxStepsPerInterval)) +
-      1;
+      static_cast<std::size_t>(std::max<long>(max_micro, Newmark::kMaxStepsPerInterval)) + 1;
   description_ = served_->name();
   state_ = State::kConfigured;
   const Channels ch = served_->channels();

@@ -9,12 +9,12 @@ namespace railcosim {
 
 using Clock = std::chrono::steady_clock;
 
-InputShape input_shape(const Scene& scene, const ParticipantSpec& participant) {
+InputShape input_shape(const wire::Configure& c) {
   InputShape shape;
-  for (const InterfaceSpec& i : participant.interfaces) {
+  for (const auto& w : c.interfaces()) {
     std::array<std::size_t, 3> counts{0, 0, 0};
-    for (Quantity q : i.receives())
-      counts[static_cast<std::size_t>(q)] = static_cast<std::size_t>(interface_points(scene, i));
+    for (Quantity q : from_wire(w).receives())
+      counts[static_cast<std::size_t>(q)] = static_cast<std::size_t>(w.x_size());
     shape.push_back(counts);
   }
   return shape;

@@ -32,9 +32,11 @@ namespace railcosim {
 
 // The counts a participant's inputs have, per interface: displacements,
 // velocities, forces (one per coupling point of a quantity it receives, none
-// of the others), as the scene sets them.
+// of the others), as the configure gives them: the coupling points of each
+// interface (for a built-in participant, checked against its scene when it
+// is built).
 using InputShape = std::vector<std::array<std::size_t, 3>>;
-InputShape input_shape(const Scene& scene, const ParticipantSpec& participant);
+InputShape input_shape(const wire::Configure& c);
 
 class WindowRunner {
  public:

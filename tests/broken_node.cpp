@@ -88,10 +88,12 @@ int main(int argc, char** argv) {
   }
   const std::string mode = argv[1];
   railcosim::NodeProgram program{
-      "broken_node", "soil",
+      "broken_node",
+      "soil",
       [mode](const railcosim::Scene& s, const railcosim::SubsystemConfig& c) {
         return std::make_unique<railcosim::Broken>(mode, s, c);
-      }};
+      },
+      {}};
   argv[1] = argv[0];
   return railcosim::node_main(program, argc - 1, argv + 1);
 }

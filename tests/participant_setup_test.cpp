@@ -14,6 +14,7 @@
 #include "test_support.hpp"
 
 namespace railcosim {
+namespace participant_setup_test {
 namespace {
 
 // A participant that only declares its outputs: these tests end at Configure.
@@ -173,4 +174,5 @@ TEST_F(ParticipantSetupTest, AQuantityOutsideTheProtocolIsABadRequest) {
 }
 
 }  // namespace
+}  // namespace participant_setup_test
 }  // namespace railcosim
