@@ -50,11 +50,6 @@ struct Entry {
     k.when = std::move(condition);
     return *this;
   }
-  // A choice's default other than its first value.
-  Entry& word(std::string w) {
-    k.default_text = std::move(w);
-    return *this;
-  }
   Entry& words(std::vector<std::string> w) {
     k.choices = std::move(w);
     return *this;
@@ -82,9 +77,8 @@ Entry integer(std::string table, std::string name, std::string meaning) {
 // A choice with its default (its first value unless `fallback` is given).
 Entry choice(std::string table, std::string name, std::vector<std::string> values, std::string noun,
              std::string meaning) {
-  Entry e = key(std::move(table), std::move(name), KeyType::choice, "", std::move(meaning));
-  e.k.required = false;
-  e.k.default_text = values.front();
+  Entry e = key(std::move(table), std::move(name), KeyType::choice, "", std::move(meaning))
+                .fallback_text(values.front());
   e.k.choices = std::move(values);
   e.k.noun = std::move(noun);
   return e;
@@ -309,7 +303,7 @@ void coupling_keys(std::vector<Entry>& v) {
   v.push_back(
       choice("coupling", "accelerator", {"constant", "aitken", "iqn-ils"}, "accelerator",
              "implicit coupling: how the iterations of a step are accelerated (--accelerator)")
-          .word("iqn-ils"));
+          .fallback_text("iqn-ils"));  // a choice's default other than its first
   v.push_back(
       number("coupling", "relaxation", "",
              "implicit coupling: the constant factor, the first factor of aitken and iqn-ils "

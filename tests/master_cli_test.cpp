@@ -182,11 +182,14 @@ TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {
   const std::string summary = read_file(out / "rs-xx-gauss-seidel" / "summary.json");
   EXPECT_NE(summary.find("\"transport\": \"tcp\""), std::string::npos) << summary;
   EXPECT_NE(summary.find("\"status\": \"ok\""), std::string::npos) << summary;
-  // The stability probe builds the scene's participants in process, not
-  // what runs behind a node given by address: that run's stability is not judged.
-  EXPECT_NE(summary.find("\"stability\": {\"verdict\": \"not judged\", \"growth\": null"),
+  // The map and the probe build the scene's participants in process, not
+  // what runs behind a node given by address: that run's stability is not
+  // judged (no rho, no probe), only its own defect along the run.
+  EXPECT_NE(summary.find("\"stability\": {\"verdict\": \"not judged\", \"basis\": \"\", "
+                         "\"rho\": null"),
             std::string::npos)
       << summary;
+  EXPECT_NE(summary.find("\"probe_s\": null, \"defect_growth\": "), std::string::npos) << summary;
   fs::remove_all(out);
 }
 

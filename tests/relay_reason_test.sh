@@ -23,15 +23,15 @@ grep -q '^micro_steps = 10' "$work/soil.toml"
 cat >"$work/direct_only.py" <<PY
 import runpy, sys
 sys.path.insert(0, "$src/sdk/python")
-from railcosim_sdk import session
-plain = session.Session.hello_reply
+from railcosim_sdk import lockstep
+plain = lockstep.LockstepSession.hello_reply
 def direct_only(self, out):
     out = plain(self, out)
     kept = [c for c in out.hello_reply.capabilities if c == "direct"]
     del out.hello_reply.capabilities[:]
     out.hello_reply.capabilities.extend(kept)
     return out
-session.Session.hello_reply = direct_only
+lockstep.LockstepSession.hello_reply = direct_only
 ns = runpy.run_path("$src/examples/python_soil/soil_participant.py")
 ns["rc"].serve(ns["LumpedSoil"]())
 PY

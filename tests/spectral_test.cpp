@@ -71,7 +71,9 @@ RunRecord executed(const Scene& scene, const char* name, Feedthrough f, double H
   job.options = o;
   job.transport = transport;
   job.nodes.pool = pool;
-  job.out = std::filesystem::temp_directory_path() / "railcosim_spectral_test";
+  // A folder of this run's own: the tests run side by side in processes of their own.
+  job.out = std::filesystem::temp_directory_path() /
+            ("railcosim_spectral_test-" + std::string(name) + "-" + transport);
   job.folder = std::string(name) + "-" + transport;
   job.reference = [H]() -> const RunRecord& { return references.at(H); };
   const run::RunOutcome out = run::execute(job);

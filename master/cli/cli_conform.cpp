@@ -77,4 +77,22 @@ int do_conform(const ConformArgs& a) {
   return report_conformance(run_conformance(o), o);
 }
 
+int report_conformance(const std::vector<ConformItem>& items, const ConformOptions& o) {
+  int passed = 0, failed = 0, skipped = 0;
+  std::printf("conformance of the %s participant at %s (%s, %s):\n", o.role.c_str(),
+              o.address.str().c_str(), o.scene_path.c_str(), o.case_name.c_str());
+  for (const ConformItem& i : items) {
+    const char* v = i.verdict == ConformItem::Verdict::kPass   ? "PASS"
+                    : i.verdict == ConformItem::Verdict::kFail ? "FAIL"
+                                                               : "SKIP";
+    (i.verdict == ConformItem::Verdict::kPass   ? passed
+     : i.verdict == ConformItem::Verdict::kFail ? failed
+                                                : skipped)++;
+    std::printf("  %s  %-4s %s%s%s\n", v, i.section.c_str(), i.what.c_str(),
+                i.detail.empty() ? "" : ": ", i.detail.c_str());
+  }
+  std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
+  return failed == 0 ? 0 : 1;
+}
+
 }  // namespace railcosim::cli

@@ -1,7 +1,6 @@
 #include "cli/conform.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -332,20 +331,17 @@ void check_fresh(Checks& checks) {
 // §13, §17: inputs and peer links a participant must refuse.
 void check_refusals(Checks& checks) {
   const Subject& s = checks.s;
-  checks.item("§13", "a non-finite input is refused (BAD_REQUEST)", [&] {
+  const auto spoiled = [&s](auto spoil) {  // every input of step 0, spoiled
     CouplingData bad = inputs_for(s, 0);
     for (InterfaceData& d : bad)
       for (auto* v : {&d.displacement, &d.velocity, &d.force})
-        if (!v->empty()) (*v)[0] = std::nan("");
+        if (!v->empty()) spoil(*v);
     return refuses(s, bad);
-  });
-  checks.item("§13", "an input of the wrong length is refused (BAD_REQUEST)", [&] {
-    CouplingData bad = inputs_for(s, 0);
-    for (InterfaceData& d : bad)
-      for (auto* v : {&d.displacement, &d.velocity, &d.force})
-        if (!v->empty()) v->pop_back();
-    return refuses(s, bad);
-  });
+  };
+  checks.item("§13", "a non-finite input is refused (BAD_REQUEST)",
+              [&] { return spoiled([](auto& v) { v[0] = std::nan(""); }); });
+  checks.item("§13", "an input of the wrong length is refused (BAD_REQUEST)",
+              [&] { return spoiled([](auto& v) { v.pop_back(); }); });
   checks.item("§17", "peer links: a wrong session key and an unexpected peer are refused", [&] {
     auto c = initialized(s);
     return check_peer_refusals(*c, s.config, s.o);
@@ -398,22 +394,6 @@ std::vector<ConformItem> run_conformance(const ConformOptions& options) {
   check_refusals(checks);
   check_planes(checks);
   return checks.items;
-}
-
-int report_conformance(const std::vector<ConformItem>& items, const ConformOptions& o) {
-  int passed = 0, failed = 0, skipped = 0;
-  std::printf("conformance of the %s participant at %s (%s, %s):\n", o.role.c_str(),
-              o.address.str().c_str(), o.scene_path.c_str(), o.case_name.c_str());
-  for (const ConformItem& i : items) {
-    const char* v = i.verdict == Verdict::kPass   ? "PASS"
-                    : i.verdict == Verdict::kFail ? "FAIL"
-                                                  : "SKIP";
-    (i.verdict == Verdict::kPass ? passed : i.verdict == Verdict::kFail ? failed : skipped)++;
-    std::printf("  %s  %-4s %s%s%s\n", v, i.section.c_str(), i.what.c_str(),
-                i.detail.empty() ? "" : ": ", i.detail.c_str());
-  }
-  std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
-  return failed == 0 ? 0 : 1;
 }
 
 }  // namespace railcosim::cli

@@ -131,7 +131,8 @@ class CoSimulation(unittest.TestCase):
             # do (2.4e-8 relative measured; a rank that does not restore is
             # off by far more).
             two = self.scene_variant("two-implicit.toml", "ranks = 1\n", "ranks = 2\n")
-            folder, log = self.run_master(two, "two-implicit", "--coupling", "implicit")
+            folder, log = self.run_master(two, "two-implicit", "--coupling", "implicit",
+                                          "--verbose")
             self.assertIn("started the FE soil (2 ranks)", log)
             summary, hist_two = self.assert_ok(folder, "implicit")
             self.assertIn('"data_plane_mode": "lock step"', summary)

@@ -40,7 +40,7 @@ class CoSimulation(unittest.TestCase):
 
     def run_master(self, out, *args, status=0):
         p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", SCENE, "--case", CASE,
-                            "--out", os.path.join(self.work, out)] + list(args),
+                            "--out", os.path.join(self.work, out), "--verbose"] + list(args),
                            capture_output=True, text=True, timeout=240, env=self.env)
         self.assertEqual(p.returncode, status, p.stdout + p.stderr[-3000:])
         return os.path.join(self.work, out, CASE), p.stdout + p.stderr
