@@ -111,8 +111,10 @@ std::vector<double> coupling_defect(const RunRecord& run) {
     add([&](std::size_t i) {
       return k < run.history[i].extra.size() ? run.history[i].extra[k] : 0.0;
     });
-  for (const auto& [cut, values] : run.coupling_history)
-    if (values.size() >= n) add([&](std::size_t i) { return values[i]; });
+  for (const auto& entry : run.coupling_history) {
+    const auto& values = entry.second;  // a lambda captures no structured binding in C++20
+    if (values.size() >= n) add([&values](std::size_t i) { return values[i]; });
+  }
   return d;
 }
 
