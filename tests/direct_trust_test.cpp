@@ -164,9 +164,9 @@ TEST(DirectTrust, ANodeWhoseReportsStopShortIsNamed) {
 // soil's own reports reach the window's end: the master names the vehicle,
 // whose claim they refute, not the soil (it named the soil).
 TEST(DirectTrust, ANodeFalselyClaimingToWaitForAPeerIsNamedNotThePeer) {
-  const long steps = 200;
+  constexpr long steps = 200;
   test::FakeNode vehicle("vehicle", nullptr, {},
-                         [steps](int fd, const std::string& frame, const std::atomic<bool>& stop) {
+                         [](int fd, const std::string& frame, const std::atomic<bool>& stop) {
                            wire::Envelope e;
                            e.ParseFromArray(frame.data() + 4, static_cast<int>(frame.size() - 4));
                            wire::Envelope early;  // its reports up to macro step 5
@@ -221,9 +221,7 @@ TEST(DirectTrust, ANodeFalselyClaimingToWaitForAPeerIsNamedNotThePeer) {
                      "soil participant, whose step reports reached macro step 200"),
               std::string::npos)
         << m;
-    EXPECT_NE(m.find(") at macro step 5 (t = 0.0005 s)"),
-              std::string::npos)
-        << m;
+    EXPECT_NE(m.find(") at macro step 5 (t = 0.0005 s)"), std::string::npos) << m;
   }
 }
 
