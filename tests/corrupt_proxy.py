@@ -16,14 +16,13 @@ moved 1000 s later.
 Prints "listening on 127.0.0.1:PORT", then serves until killed."""
 import importlib
 import os
-import socket
 import struct
 import subprocess
 import sys
 import tempfile
-import threading
 
-host, port = sys.argv[1].rsplit(":", 1)
+from proxy_common import close_both, serve
+
 proto, mode, at = sys.argv[2], sys.argv[3], int(sys.argv[4])
 inbound = len(sys.argv) > 5 and sys.argv[5] == "to"
 out = tempfile.mkdtemp(prefix="corrupt_proxy_")
@@ -52,11 +51,7 @@ def plain(src, dst):
             dst.sendall(data)
     except OSError:
         pass
-    for s in (src, dst):
-        try:
-            s.shutdown(socket.SHUT_RDWR)
-        except OSError:
-            pass
+    close_both(src, dst)
 
 
 def rewriting(src, dst):
@@ -97,29 +92,16 @@ def rewriting(src, dst):
             dst.sendall(header + body)
     except OSError:
         pass
-    for s in (src, dst):
-        try:
-            s.shutdown(socket.SHUT_RDWR)
-        except OSError:
-            pass
+    close_both(src, dst)
 
 
-listener = socket.socket()
-listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-listener.bind(("127.0.0.1", 0))
-listener.listen(16)
-print("listening on 127.0.0.1:%d" % listener.getsockname()[1], flush=True)
-first = True
-while True:
-    client, _ = listener.accept()
-    upstream = socket.create_connection((host, int(port)))
-    for s in (client, upstream):
-        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-    rewrite_in, rewrite_out = (not first and inbound), (not first and not inbound)
+def pumps(first):
+    """The master's connection is the first; peer links come later."""
     if mode == "shift":
         rewrite_in, rewrite_out = False, first
-    threading.Thread(target=rewriting if rewrite_in else plain, args=(client, upstream),
-                     daemon=True).start()
-    threading.Thread(target=rewriting if rewrite_out else plain, args=(upstream, client),
-                     daemon=True).start()
-    first = False
+    else:
+        rewrite_in, rewrite_out = (not first and inbound), (not first and not inbound)
+    return (rewriting if rewrite_in else plain), (rewriting if rewrite_out else plain)
+
+
+serve(sys.argv[1], pumps)

@@ -9,10 +9,10 @@ other connection (peer links) is forwarded as it is.
 Prints "listening on 127.0.0.1:PORT", then serves until killed."""
 import socket
 import sys
-import threading
 import time
 
-host, port = sys.argv[1].rsplit(":", 1)
+from proxy_common import close_both, serve
+
 delay = float(sys.argv[2])
 
 
@@ -45,25 +45,12 @@ def pump(src, dst, trickle_after=None):
             dst.sendall(data)
     except OSError:
         pass
-    for s in (src, dst):
-        try:
-            s.shutdown(socket.SHUT_RDWR)
-        except OSError:
-            pass
+    close_both(src, dst)
 
 
-listener = socket.socket()
-listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-listener.bind(("127.0.0.1", 0))
-listener.listen(16)
-print("listening on 127.0.0.1:%d" % listener.getsockname()[1], flush=True)
-first = True
-while True:
-    client, _ = listener.accept()
-    upstream = socket.create_connection((host, int(port)))
-    for s in (client, upstream):
-        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-    threading.Thread(target=pump, args=(client, upstream), daemon=True).start()
-    threading.Thread(target=pump, args=(upstream, client, delay if first else None),
-                     daemon=True).start()
-    first = False
+def pumps(first):
+    """The node's bytes to the master (the first connection) trickle."""
+    return (pump, lambda src, dst: pump(src, dst, delay if first else None))
+
+
+serve(sys.argv[1], pumps)
