@@ -83,6 +83,12 @@ def ranks_of(table):
     if isinstance(r, bool) or not isinstance(r, int) or not 1 <= r <= MAX_RANKS:
         raise ConfigError("[soil] ranks must be a whole number from 1 to %d (got %r)"
                           % (MAX_RANKS, r))
+    ram = memory_bytes()
+    if ram and r * BASE_BYTES > ram // 2:
+        raise ConfigError("[soil] ranks = %d starts %d processes of at least %d MiB each (%.1f GiB "
+                          "before any mesh); this machine holds %d (half its %.1f GiB): use fewer "
+                          "ranks" % (r, r, BASE_BYTES >> 20, r * BASE_BYTES / 2**30,
+                                     max(1, ram // 2 // BASE_BYTES), ram / 2**30))
     return r
 
 

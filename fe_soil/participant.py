@@ -116,7 +116,9 @@ class FESoilParticipant(rc.Participant):
         self.save_count = 0
 
     # ---- configure ----------------------------------------------------
-    def configure(self, config, interfaces):
+    def settings(self, config, interfaces):
+        """The checked configuration, the interface and the block it asks
+        for (SoilParams, x offset); nothing is built."""
         try:
             cfg = fe_config.parse(config)
         except fe_config.ConfigError as e:
@@ -138,9 +140,16 @@ class FESoilParticipant(rc.Participant):
                 "interface ss has %d footprints for %d points; the FE soil needs the master's "
                 "footprints (a master that sends Interface.footprints)" % (len(i.footprints), i.n))
         try:
-            params, self.x_offset = fe_config.block_params(cfg, i.footprints)
+            params, x_offset = fe_config.block_params(cfg, i.footprints)
         except fe_config.ConfigError as e:
             raise rc.BadRequest(self.where + str(e))
+        return cfg, i, params, x_offset
+
+    def check(self, config, interfaces):
+        self.settings(config, interfaces)
+
+    def configure(self, config, interfaces):
+        cfg, i, params, self.x_offset = self.settings(config, interfaces)
         self.n = i.n
         self.distances = cfg["receivers"]
         self.receiver_x = [x + self.x_offset for x, _ in params.receivers]
@@ -252,6 +261,9 @@ def main(argv=None):
     parser.add_argument("--output-dir")
     parser.add_argument("--scene-file")  # named in configuration errors
     mine, rest = parser.parse_known_args(argv)
+    if "--check-configure" in rest:  # master run --check: no mesh, no MPI rank
+        rc.serve(FESoilParticipant(None, None, mine.scene_file), rest)
+        return
     from . import model  # noqa: F401  (dolfinx loads before the address is printed)
 
     comm = MPI.COMM_WORLD

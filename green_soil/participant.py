@@ -43,7 +43,9 @@ class GreenSoilParticipant(rc.Participant):
         self.soil = None
         self.saves = {}
 
-    def configure(self, config, interfaces):
+    def settings(self, config, interfaces):
+        """The checked configuration, footprints and receiver position;
+        nothing is computed."""
         try:
             cfg = green_config.parse(config)
         except green_config.ConfigError as e:
@@ -65,6 +67,13 @@ class GreenSoilParticipant(rc.Participant):
         fps = [(f.x, f.y, f.length, f.width) for f in i.footprints]
         xs = [f.x for f in i.footprints]
         rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
+        return cfg, fps, rx
+
+    def check(self, config, interfaces):
+        self.settings(config, interfaces)
+
+    def configure(self, config, interfaces):
+        cfg, fps, rx = self.settings(config, interfaces)
         H = self.run.macro_step
         memory = min(cfg["memory"], self.run.end_time + H)
         start = time.perf_counter()
@@ -74,7 +83,7 @@ class GreenSoilParticipant(rc.Participant):
         except ValueError as e:
             raise rc.BadInterface(str(e))
         self.clock = {"build": time.perf_counter() - start, "advance": 0.0, "n": 0}
-        self.n = i.n
+        self.n = len(fps)
         self.distances = cfg["receivers"]
         self.receiver_x = [rx] * len(self.distances)
         self.history = tuple(channel_names(self.distances))

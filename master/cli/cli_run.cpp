@@ -27,6 +27,7 @@
 #include "model.hpp"
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
+#include "remote/soil_check.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/execute.hpp"
@@ -298,6 +299,9 @@ int do_run(const RunArgs& command_line) {
     throw std::invalid_argument(e.what() + scene_coupling_note(command_line, scene));
   }
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
+  // A soil the master starts: would it accept its configuration? (Its ranks
+  // and mesh limits, named by file and key, before a rank is started.)
+  if (given.count("soil") == 0) remote::check_started_soil(scene, spec, o.macro_step);
   if (a.check) return print_check(a, scene, spec, o, given);
 
   remote::NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones

@@ -32,6 +32,19 @@ void stop(pid_t pid) {
 
 }  // namespace
 
+std::vector<std::string> child_environment(const std::vector<std::string>& overrides) {
+  std::vector<std::string> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string entry = *e;
+    bool replaced = false;
+    for (const std::string& mine : overrides)
+      replaced = replaced || entry.compare(0, mine.find('=') + 1, mine, 0, mine.find('=') + 1) == 0;
+    if (!replaced) env.push_back(entry);
+  }
+  env.insert(env.end(), overrides.begin(), overrides.end());
+  return env;
+}
+
 std::string own_directory() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -72,15 +85,7 @@ void LaunchedNode::start(const LaunchCommand& command, std::chrono::milliseconds
   std::vector<const char*> argv;
   for (const std::string& a : command.argv) argv.push_back(a.c_str());
   argv.push_back(nullptr);
-  std::vector<std::string> env_text;
-  for (char** e = environ; *e != nullptr; ++e) {
-    const std::string entry = *e;
-    bool replaced = false;
-    for (const std::string& mine : command.env)
-      replaced = replaced || entry.compare(0, mine.find('=') + 1, mine, 0, mine.find('=') + 1) == 0;
-    if (!replaced) env_text.push_back(entry);
-  }
-  env_text.insert(env_text.end(), command.env.begin(), command.env.end());
+  const std::vector<std::string> env_text = child_environment(command.env);
   std::vector<const char*> envp;
   for (const std::string& e : env_text) envp.push_back(e.c_str());
   envp.push_back(nullptr);

@@ -48,6 +48,10 @@ class LaunchedNode {
   Address address_;
 };
 
+// This process's environment with `overrides` (NAME=VALUE each) set: what
+// a started program gets.
+std::vector<std::string> child_environment(const std::vector<std::string>& overrides);
+
 // The folder of the running executable (where the node programs are built).
 std::string own_directory();
 

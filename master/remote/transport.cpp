@@ -57,6 +57,21 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
   return c;
 }
 
+LaunchCommand soil_check_command(const FeSoilLaunch& fe) {
+  FeSoilLaunch one = fe;
+  one.ranks = 1;
+  one.output_dir.clear();
+  LaunchCommand c = fe_soil_command(one, "");
+  for (std::size_t k = 0; k + 1 < c.argv.size(); ++k)
+    if (c.argv[k] == "--listen") {
+      c.argv.erase(c.argv.begin() + static_cast<std::ptrdiff_t>(k),
+                   c.argv.begin() + static_cast<std::ptrdiff_t>(k) + 2);
+      break;
+    }
+  c.argv.emplace_back("--check-configure");
+  return c;
+}
+
 const Address& NodePool::address(const std::string& role) {
   auto it = nodes_.find(role);
   if (it == nodes_.end() && role == "soil" && fe_) {

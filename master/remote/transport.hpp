@@ -40,6 +40,9 @@ struct FeSoilLaunch {
   std::string scene;
 };
 LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_file);
+// The same program asked only to check a Configure on its standard input
+// (--check-configure; one process, no MPI ranks, no port).
+LaunchCommand soil_check_command(const FeSoilLaunch& fe);
 // A started soil may take this long to print its address (Python and dolfinx
 // load; the first run on a machine also compiles its forms), and to answer
 // Configure and Statics (a mesh is built, the static solver set up).

@@ -1,8 +1,10 @@
 """The FE soil's mesh keys are bounded before anything is meshed: a master
-run whose scene asks for an element size the machine cannot hold, or for
-thousands of receivers, fails within seconds naming the scene file, the key
-and the bound (it grew past 2.3 GiB and ended in a MemoryError naming
-nothing, or served the receivers for minutes). Usage: test_limits.py BIN_DIR"""
+run whose scene asks for an element size the machine cannot hold, for
+thousands of receivers or for more MPI ranks than the machine can hold,
+fails within seconds naming the scene file, the key and the bound (it grew
+past 2.3 GiB and ended in a MemoryError naming nothing, or served the
+receivers for minutes), and `master run --check` refuses the same scene
+with the same reason. Usage: test_limits.py BIN_DIR"""
 import os
 import shutil
 import subprocess
@@ -30,16 +32,21 @@ class Limits(unittest.TestCase):
         scene = os.path.join(self.work, "scene.toml")
         with open(scene, "w") as f:
             f.write(text.replace(old, new))
-        start = time.monotonic()
-        p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", scene, "--case",
-                            "ss-xt-jacobi", "--out", os.path.join(self.work, "out")],
-                           capture_output=True, text=True, timeout=120,
-                           env=dict(os.environ, OMP_NUM_THREADS="1"))
-        self.assertNotEqual(p.returncode, 0, p.stdout + p.stderr[-2000:])
-        self.assertIn(expected, p.stdout + p.stderr)
-        self.assertIn(scene + ": [soil] ", p.stdout + p.stderr)  # the file and the key
-        self.assertLess(time.monotonic() - start, 60)
-        return p.stdout + p.stderr
+        logs = []
+        for check in ([], ["--check"]):
+            start = time.monotonic()
+            p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", scene, "--case",
+                                "ss-xt-jacobi", "--out", os.path.join(self.work, "out")] + check,
+                               capture_output=True, text=True, timeout=120,
+                               env=dict(os.environ, OMP_NUM_THREADS="1"))
+            log = p.stdout + p.stderr
+            self.assertNotEqual(p.returncode, 0, " ".join(check) + ": " + log[-2000:])
+            self.assertIn(expected, log)
+            self.assertIn(scene + ": [soil] ", log)  # the file and the key
+            self.assertNotIn("check: would run", log)
+            self.assertLess(time.monotonic() - start, 60)
+            logs.append(log)
+        return "\n".join(logs)
 
     def test_an_element_size_the_machine_cannot_hold(self):
         log = self.refused("mesh_size = 1.0 ", "mesh_size = 0.05 ", "[soil] mesh_size = 0.05 m gives ")
@@ -48,6 +55,17 @@ class Limits(unittest.TestCase):
     def test_elements_too_many_to_list(self):
         self.refused("mesh_size = 1.0 ", "mesh_size = 1e-6 ",
                      "elements along the block (")
+
+    def test_more_ranks_than_the_machine_holds(self):
+        with open(CI_SCENE) as f:
+            self.assertIn("\nranks = ", f.read())
+        self.refused("\nranks = ", "\nranks = 256 #", "[soil] ranks = 256 starts 256 processes")
+
+    def test_the_ci_scene_passes_the_check(self):
+        p = subprocess.run([os.path.join(BIN, "master"), "run", "--check", "--scene", CI_SCENE,
+                            "--case", "ss-xt-jacobi"], capture_output=True, text=True, timeout=120)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("check: would run ss-xt-jacobi", p.stdout)
 
     def test_thousands_of_receivers(self):
         self.refused("receivers = [2.0, 4.0]",

@@ -180,6 +180,12 @@ class Participant:
         (self.micro_steps = 0 included)."""
         raise NotImplementedError
 
+    def check(self, config, interfaces):
+        """What `master run --check` asks of a participant the master starts
+        itself: raise BadInterface / BadRequest for what configure() would
+        refuse, without building anything (the sizes a configuration implies
+        included). Default: nothing is checked."""
+
     def statics(self, inputs):
         """The participant's own static equilibrium with inputs held
         (waveforms with end == start), velocities zero; returns outputs."""

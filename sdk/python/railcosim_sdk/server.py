@@ -12,7 +12,8 @@ import traceback
 from .auth import read_token_file
 from .direct import Plane
 from .lockstep import LockstepSession as Session  # the session, with the lock step
-from .wire import E, Channel, LinkClosed, ProtocolError
+from . import participant as api
+from .wire import E, Channel, LinkClosed, ProtocolError, pb
 
 HELLO_SECONDS = 10.0
 IDLE_SECONDS = 60.0
@@ -158,6 +159,27 @@ class Server:
                         l.chan.close()
 
 
+def check_configure(participant, data):
+    """--check-configure: the Configure the master would send (serialized,
+    `data`), checked by participant.check() without building anything.
+    Returns the process's exit status: 0 accepted, 2 refused (the reason
+    on stderr)."""
+    c = pb.Configure()
+    try:
+        c.ParseFromString(data)
+        config = tomllib.loads(c.own_config) if c.own_config else {}
+    except Exception as e:  # noqa: BLE001  (a message that is no Configure)
+        print("--check-configure: standard input is not a Configure: %s" % e, file=sys.stderr)
+        return 2
+    participant.run = api.Run(c)
+    try:
+        participant.check(config, [api.Interface(i) for i in c.interfaces])
+    except (api.BadInterface, api.BadRequest) as e:
+        print(str(e), file=sys.stderr)
+        return 2
+    return 0
+
+
 def serve(participant, argv=None):
     """Serves `participant` (a Participant instance) until interrupted.
 
@@ -172,6 +194,9 @@ def serve(participant, argv=None):
       --token-file FILE    the shared secret (the master's --token-file)
       --relayed-only       do not offer the direct data plane
       --name TEXT          the name given in the hello reply (logs)
+      --check-configure    read a serialized Configure from standard input,
+                           check it (participant.check) and exit: 0 if it
+                           would be accepted, 2 with the reason on stderr
     """
     p = argparse.ArgumentParser(description="serve the %s participant" % participant.name)
     p.add_argument("--listen", default="127.0.0.1:0")
@@ -181,7 +206,10 @@ def serve(participant, argv=None):
     p.add_argument("--token-file")
     p.add_argument("--relayed-only", action="store_true")
     p.add_argument("--name", default="%s (railcosim_sdk)" % type(participant).__name__)
+    p.add_argument("--check-configure", action="store_true")
     a = p.parse_args(argv)
+    if a.check_configure:
+        sys.exit(check_configure(participant, sys.stdin.buffer.read(1 << 20)))
     config = None  # the scene's table, from Configure.own_config
     if a.config:
         try:

@@ -1,0 +1,115 @@
+#include "remote/soil_check.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "model.hpp"
+#include "remote/node_launcher.hpp"
+#include "remote/transport.hpp"
+#include "subsystem.hpp"
+#include "wire.hpp"
+
+namespace railcosim::remote {
+namespace {
+
+struct Finished {
+  int status = -1;     // the exit status; -1: it did not finish in time
+  std::string errors;  // what it wrote on stderr (the first 64 KiB)
+};
+
+// Runs `command` with `input` on its standard input; waits for it to exit
+// within `timeout` (else kills it).
+Finished run_with_input(const LaunchCommand& command, const std::string& input,
+                        std::chrono::milliseconds timeout) {
+  std::vector<const char*> argv;
+  for (const std::string& a : command.argv) argv.push_back(a.c_str());
+  argv.push_back(nullptr);
+  const std::vector<std::string> env_text = child_environment(command.env);
+  std::vector<const char*> envp;
+  for (const std::string& e : env_text) envp.push_back(e.c_str());
+  envp.push_back(nullptr);
+  int in[2], err[2];
+  if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    ::dup2(in[0], STDIN_FILENO);
+    ::dup2(err[1], STDERR_FILENO);
+    ::execve(argv[0], const_cast<char* const*>(argv.data()), const_cast<char* const*>(envp.data()));
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  ::close(err[1]);
+  // The Configure is small (no scene text): it fits the pipe's buffer.
+  const ::sighandler_t old = ::signal(SIGPIPE, SIG_IGN);
+  [[maybe_unused]] const ssize_t w = ::write(in[1], input.data(), input.size());
+  ::signal(SIGPIPE, old);
+  ::close(in[1]);
+  Finished f;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    pollfd p{err[0], POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+    char buf[4096];
+    const ssize_t n = ::read(err[0], buf, sizeof buf);
+    if (n <= 0) {  // it closed stderr: it has exited (or is about to)
+      int status = 0;
+      if (::waitpid(pid, &status, 0) == pid && WIFEXITED(status)) f.status = WEXITSTATUS(status);
+      ::close(err[0]);
+      return f;
+    }
+    if (f.errors.size() < (64u << 10)) f.errors.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(err[0]);
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, nullptr, 0);
+  return f;
+}
+
+std::string trimmed(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+void check_started_soil(const Scene& scene, const CaseSpec& spec, double macro_step,
+                        std::chrono::milliseconds timeout) {
+  const OutsideSoil* soil = scene.started_soil();
+  if (soil == nullptr || spec.monolithic) return;
+  for (const ParticipantSpec& p : partition(scene, spec)) {
+    if (p.role != "soil") continue;
+    SubsystemConfig c;
+    c.participant = p;
+    c.macro_step = macro_step;
+    c.micro_steps = scene.micro_steps;
+    const std::string input = configure_envelope(scene, c, false).configure().SerializeAsString();
+    const LaunchCommand command = soil_check_command({1, "", soil, scene.source});
+    const Finished f = run_with_input(command, input, timeout);
+    if (f.status == 0) return;
+    if (f.status == 2) {  // its reason names the key, and the file where it knows it
+      const std::string why = trimmed(f.errors);
+      throw std::invalid_argument(
+          (why.rfind(scene.source + ": ", 0) == 0 ? "" : scene.source + ": ") + why + " (" +
+          soil->title + " would refuse it)");
+    }
+    throw std::runtime_error(
+        "cannot check " + std::string(soil->title) + "'s configuration (" + command.name + "): " +
+        (f.status < 0 ? "no answer within " + std::to_string(timeout.count()) + " ms"
+                      : "it exited with status " + std::to_string(f.status)) +
+        (f.errors.empty() ? "" : ": " + trimmed(f.errors.substr(0, 2000))));
+  }
+}
+
+}  // namespace railcosim::remote
