@@ -244,12 +244,15 @@ def check_size(cfg, h, extents, elements=None):
            "[soil] f_max = %g Hz with elements_per_wavelength = %g (elements of %.3g m)"
            % (cfg["f_max"], cfg["elements_per_wavelength"], h))
     if elements is None:
-        elements = [max(1, math.ceil(e / h - 1e-9)) for e in extents]
-        if max(elements) > MAX_AXIS_ELEMENTS:
-            raise ConfigError("%s gives %s elements along the block (%s m); at most %d along "
-                              "an axis: raise the element size" % (
-                                  key, " x ".join(map(str, elements)),
-                                  " x ".join("%g" % e for e in extents), MAX_AXIS_ELEMENTS))
+        ratios = [e / h for e in extents]  # inf for a subnormal h or a huge extent
+        if not all(math.isfinite(r) and r <= MAX_AXIS_ELEMENTS for r in ratios):
+            raise ConfigError(
+                "%s gives %s elements along the block of %s m (its length: the track plus twice "
+                "[soil] margin; its half width: the farthest of [soil] receivers and the track, "
+                "plus margin; its height: [soil] depth); at most %d along an axis: raise the "
+                "element size or shrink depth, margin or receivers" % (
+                    key, " x ".join("%.4g" % max(1.0, r) for r in ratios),
+                    " x ".join("%g" % e for e in extents), MAX_AXIS_ELEMENTS))
         return  # the node planes (graded: fewer) are counted once listed
     dofs = 3 * math.prod(n + 1 for n in elements)
     need = BASE_BYTES + BYTES_PER_DOF * dofs

@@ -54,7 +54,7 @@ class Limits(unittest.TestCase):
 
     def test_elements_too_many_to_list(self):
         self.refused("mesh_size = 1.0 ", "mesh_size = 1e-6 ",
-                     "elements along the block (")
+                     "elements along the block of ")
 
     def test_more_ranks_than_the_machine_holds(self):
         with open(CI_SCENE) as f:
