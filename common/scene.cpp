@@ -291,6 +291,7 @@ void read_coupling(SceneReader& r, Scene& sc) {
   text("accelerator", c.accelerator);
   number("relaxation", c.relaxation);
   whole("max_iterations", c.max_iterations);
+  whole("iteration_budget", c.iteration_budget);
   number("convergence", c.convergence);
   whole("reused_windows", c.reused_windows);
   text("feedthrough", c.feedthrough);

@@ -26,6 +26,7 @@ struct SceneCoupling {
   std::optional<std::string> accelerator;  // --accelerator
   std::optional<double> relaxation;        // --relaxation
   std::optional<long> max_iterations;      // --max-iterations
+  std::optional<long> iteration_budget;    // --iteration-budget
   std::optional<double> convergence;       // --convergence
   std::optional<long> reused_windows;      // --reused-windows
   std::optional<std::string> feedthrough;  // --feedthrough

@@ -5,84 +5,12 @@
 #include <vector>
 
 #include "scene_checks.hpp"
+#include "scene_key_entry.hpp"
 #include "scene_keys.hpp"
 
 namespace railcosim {
+namespace key_table {
 namespace {
-
-std::string number_text(double v) {
-  return key_number_text(v);
-}
-
-KeyRange positive() {
-  return {0.0, KeyRange{}.hi, true, false, "must be positive", KeyRange::Got::shortest};
-}
-KeyRange non_negative() {
-  return {0.0, KeyRange{}.hi, false, false, "must be zero or positive", KeyRange::Got::shortest};
-}
-KeyRange closed(double lo, double hi, std::string message) {
-  return {lo, hi, false, false, std::move(message), KeyRange::Got::none};
-}
-
-// One entry under construction: required unless given a default.
-struct Entry {
-  SceneKey k;
-  Entry& range(KeyRange r) {
-    k.range = std::move(r);
-    return *this;
-  }
-  Entry& fallback(double v) {
-    k.required = false;
-    k.default_number = v;
-    return *this;
-  }
-  // A default the parser computes, or what leaving the key out means.
-  Entry& fallback_text(std::string text) {
-    k.required = false;
-    k.default_text = std::move(text);
-    return *this;
-  }
-  Entry& note(std::string text) {
-    k.range_note = std::move(text);
-    return *this;
-  }
-  Entry& when(std::string condition) {
-    k.when = std::move(condition);
-    return *this;
-  }
-  Entry& words(std::vector<std::string> w) {
-    k.choices = std::move(w);
-    return *this;
-  }
-};
-
-Entry key(std::string table, std::string name, KeyType type, std::string unit,
-          std::string meaning) {
-  Entry e;
-  e.k.table = std::move(table);
-  e.k.key = std::move(name);
-  e.k.type = type;
-  e.k.required = true;
-  e.k.unit = std::move(unit);
-  e.k.meaning = std::move(meaning);
-  return e;
-}
-Entry number(std::string table, std::string name, std::string unit, std::string meaning) {
-  return key(std::move(table), std::move(name), KeyType::number, std::move(unit),
-             std::move(meaning));
-}
-Entry integer(std::string table, std::string name, std::string meaning) {
-  return key(std::move(table), std::move(name), KeyType::integer, "", std::move(meaning));
-}
-// A choice with its default (its first value unless `fallback` is given).
-Entry choice(std::string table, std::string name, std::vector<std::string> values, std::string noun,
-             std::string meaning) {
-  Entry e = key(std::move(table), std::move(name), KeyType::choice, "", std::move(meaning))
-                .fallback_text(values.front());
-  e.k.choices = std::move(values);
-  e.k.noun = std::move(noun);
-  return e;
-}
 
 const char* const kWheel = "model = \"wheel\"";
 const char* const kSprung = "model = \"quarter\" or \"car\"";
@@ -314,6 +242,11 @@ void coupling_keys(std::vector<Entry>& v) {
                       "implicit coupling: iterations per macro step (--max-iterations)")
                   .range(closed(1, 10000, "must lie between 1 and 10000"))
                   .fallback(50));
+  v.push_back(integer("coupling", "iteration_budget",
+                      "implicit coupling: iterations over the whole run, 0: 50 per macro step of "
+                      "the run (--iteration-budget)")
+                  .range(closed(0, 1e10, "must lie between 0 and 10000000000"))
+                  .fallback(0));
   v.push_back(number("coupling", "convergence", "",
                      "implicit coupling: the relative residual every exchanged quantity must reach "
                      "(--convergence)")
@@ -376,8 +309,10 @@ void track_keys(std::vector<Entry>& v) {
   simulation_keys(v);
 }
 }  // namespace
+}  // namespace key_table
 
 const std::vector<SceneKey>& scene_keys() {
+  using namespace key_table;  // NOLINT: the table's own vocabulary, in this function only
   static const std::vector<SceneKey> table = [] {
     std::vector<Entry> v;
     v.push_back(key("scene", "name", KeyType::string, "", "the scene's name, in reports")

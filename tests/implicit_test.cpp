@@ -146,5 +146,31 @@ TEST(ImplicitCoupling, AWindowThatDoesNotConvergeIsNotOk) {
   EXPECT_EQ(*r.not_converged_steps, 50);
 }
 
+// The iterations of a whole run are bounded: 10,000 a step, relaxed so
+// that a step needs thousands, stops at the run's budget (by default 50 per macro
+// step of the run: 2,500 for these 50 steps), not_converged, naming the macro
+// step, the time and the budget; a budget given is kept to the iteration.
+TEST(ImplicitCoupling, TheRunsIterationsAreBoundedByItsBudget) {
+  const Scene scene = short_scene("scenes/paper.toml", 0.005);
+  CouplingOptions c = implicit(InputMode::kHold, AcceleratorKind::kConstant);
+  c.max_iterations = 10000;
+  c.convergence = 1e-15;
+  c.accelerator.relaxation = 1e-4;  // a step's iterations creep: thousands to converge
+  for (const long given : {0L, 30L}) {
+    c.iteration_budget = given;
+    const long budget = given > 0 ? given : engine::kIterationsPerStep * 50;
+    const run::RunRecord r = judged(scene, "rs-xx-jacobi", 1e-4, c);
+    EXPECT_EQ(r.status, "not_converged") << r.message;
+    EXPECT_NE(r.message.find("reached the run's budget of " + std::to_string(budget)),
+              std::string::npos)
+        << r.message;
+    EXPECT_NE(r.message.find("stopped at macro step 1 (t = 0.0001 s)"), std::string::npos)
+        << r.message;
+    long used = 0;
+    for (const auto& row : r.convergence) used = std::max<long>(used, row.iteration);
+    EXPECT_EQ(used, budget);  // all of them in the first step, none more
+  }
+}
+
 }  // namespace
 }  // namespace railcosim

@@ -186,6 +186,12 @@ void add_coupling_options(CLI::App& run_command, RunArgs& a) {
   run->add_option("--max-iterations", a.c.max_iterations, "Implicit: iterations per macro step")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
+  run->add_option("--iteration-budget", a.c.iteration_budget,
+                  "Implicit: iterations over the whole run; a run that spends them stops "
+                  "not_converged (0: 50 per macro step of the run, which a run at the default "
+                  "--max-iterations never spends)")
+      ->check(CLI::Range(0L, 10'000'000'000L))
+      ->capture_default_str();
   run->add_option("--convergence", a.c.convergence,
                   "Implicit: a macro step has converged when, for every exchanged quantity, "
                   "||G(x) - x|| <= this x the largest norm the quantity has had in the run (a "

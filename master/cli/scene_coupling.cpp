@@ -43,6 +43,7 @@ std::vector<Taken> keys_of(const SceneCoupling& c) {
           taken("accelerator", "--accelerator", c.accelerator),
           taken("relaxation", "--relaxation", c.relaxation),
           taken("max_iterations", "--max-iterations", c.max_iterations),
+          taken("iteration_budget", "--iteration-budget", c.iteration_budget),
           taken("convergence", "--convergence", c.convergence),
           taken("reused_windows", "--reused-windows", c.reused_windows),
           taken("feedthrough", "--feedthrough", c.feedthrough),
@@ -65,6 +66,7 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene) {
   take("--accelerator", c.accelerator, r.accelerator);
   take("--relaxation", c.relaxation, r.c.accelerator.relaxation);
   take("--max-iterations", c.max_iterations, r.c.max_iterations);
+  take("--iteration-budget", c.iteration_budget, r.c.iteration_budget);
   take("--convergence", c.convergence, r.c.convergence);
   take("--reused-windows", c.reused_windows, r.c.accelerator.windows_reused);
   take("--feedthrough", c.feedthrough, r.feedthrough);

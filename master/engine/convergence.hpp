@@ -2,6 +2,7 @@
 // quantity per iteration and macro step.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,20 @@ struct ConvergenceLog {
   std::vector<int> iterations;  // per macro step
   long not_converged = 0;       // macro steps that hit the iteration limit
   long first_not_converged = -1;
+  long total = 0;  // iterations over the run so far
+};
+
+// Implicit coupling: the run's iterations reached their budget
+// (CouplingOptions::iteration_budget) before macro step `step` converged.
+class IterationBudgetSpent : public std::runtime_error {
+ public:
+  IterationBudgetSpent(long budget_, long step_)
+      : std::runtime_error("the implicit iterations reached the run's budget of " +
+                           std::to_string(budget_) +
+                           " (--iteration-budget, [coupling] iteration_budget)"),
+        budget(budget_),
+        step(step_) {}
+  long budget, step;
 };
 
 }  // namespace railcosim::engine

@@ -94,6 +94,8 @@ void check(const CouplingOptions& o) {
     throw std::invalid_argument("--convergence must be in (0, 1)");
   if (o.max_iterations < 1 || o.max_iterations > 10000)
     throw std::invalid_argument("--max-iterations must be in [1, 10000]");
+  if (o.iteration_budget < 0 || o.iteration_budget > 10'000'000'000L)
+    throw std::invalid_argument("--iteration-budget must be in [0, 10000000000]");
   if (!(o.accelerator.relaxation > 0 && o.accelerator.relaxation <= 1))
     throw std::invalid_argument("--relaxation must be in (0, 1]");
   if (o.accelerator.windows_reused < 0 || o.accelerator.windows_reused > 100)

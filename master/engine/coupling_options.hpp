@@ -44,11 +44,17 @@ std::string to_string(CouplingMethod m);
 InputMode parse_input_mode(const std::string& s, const std::string& what);
 CouplingMethod parse_coupling_method(const std::string& s, const std::string& what);
 
+// The default iteration budget of an implicit run, per macro step of it.
+inline constexpr long kIterationsPerStep = 50;  // = the default max_iterations
+
 struct CouplingOptions {
   CouplingMethod method = CouplingMethod::kExplicit;
   InputMode inputs = InputMode::kHold;
   AcceleratorOptions accelerator;  // implicit only
   int max_iterations = 50;         // implicit: per macro step
+  // implicit: iterations over the whole run; 0: none (the run's own default,
+  // kIterationsPerStep per macro step of the run, is set by the runner).
+  long iteration_budget = 0;
   // implicit: converged when, for every exchanged quantity (one cut, one
   // direction, one of displacement/velocity/force), ||G(x) - x|| <=
   // convergence * the largest norm that quantity has had in the run so far

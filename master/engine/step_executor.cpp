@@ -346,6 +346,9 @@ std::vector<StepResult> StepExecutor::implicit_step(long n) {
         stack(std::vector<InterfaceData>(nodes_, out_[plan_.links[k].q][plan_.links[k].i])));
   if (!accel_) make_blocks();
   for (int k = 1;; ++k) {
+    if (o_.iteration_budget > 0 && log_.total >= o_.iteration_budget)
+      throw IterationBudgetSpent(o_.iteration_budget, n);
+    ++log_.total;
     if (k > 1)
       for (std::size_t p = 0; p < P; ++p) ps_[p]->restore(checkpoint[p]);
     std::vector<StepResult> r = pass(n, &x);

@@ -267,12 +267,14 @@ std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions&
   return direct;
 }
 
-// Marks the run diverged at macro step n + 1 for `why`.
-void diverged(RunRecord& r, const RunOptions& o, long n, const std::string& why) {
+// Marks the run diverged (or another status: stopped) at macro step n + 1
+// for `why`.
+void diverged(RunRecord& r, const RunOptions& o, long n, const std::string& why,
+              const std::string& status = "diverged") {
   std::ostringstream s;
-  s << "diverged at macro step " << n + 1 << " (t = " << static_cast<double>(n + 1) * o.macro_step
-    << " s): " << why;
-  r.status = "diverged";
+  s << (status == "diverged" ? "diverged" : "stopped") << " at macro step " << n + 1
+    << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): " << why;
+  r.status = status;
   r.message = s.str();
   logger("master")->warn("{}: {}", r.case_name, r.message);
 }
@@ -291,6 +293,12 @@ long step_through(RunRecord& r, MacroSteps& steps, const Scene& scene, const Run
       // A subsystem whose micro steps run away: the co-simulation diverges.
       diverged(r, o, n, e.what());
       return n + 1;
+    } catch (const engine::IterationBudgetSpent& e) {
+      std::ostringstream why;
+      why << e.what() << " before it converged to a relative residual of " << o.coupling.convergence
+          << ": loosen --convergence or raise the budget";
+      diverged(r, o, n, why.str(), "not_converged");
+      return n;
     }
     record_row(n + 1, m);
     if (o.on_progress) o.on_progress(n + 1, N);
@@ -358,7 +366,10 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   if (o.on_channels) o.on_channels(r.extra_channels);
   std::vector<std::string> roles;
   for (const ParticipantSpec& p : P.specs) roles.push_back(p.role);
-  auto schedule = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, P.ps, P.routing,
+  engine::CouplingOptions coupling = o.coupling;
+  if (coupling.iteration_budget == 0)
+    coupling.iteration_budget = engine::kIterationsPerStep * steps_to(scene, o.macro_step);
+  auto schedule = engine::make_schedule(spec.scheme, o.feedthrough, coupling, P.ps, P.routing,
                                         roles, o.macro_step);
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
