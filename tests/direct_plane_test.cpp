@@ -16,6 +16,7 @@
 #include "auth.hpp"
 #include "connection.hpp"
 #include "cosim_support.hpp"
+#include "one_shot_peer.hpp"
 #include "process_support.hpp"
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
@@ -140,7 +141,11 @@ class PeerRefusal : public ::testing::Test {
  protected:
   static constexpr const char* kSecret = "a shared secret of the track node";
 
-  void SetUp() override {
+  void SetUp() override { start(nullptr); }
+
+  // The session, its one link to the vehicle participant accepted here, or
+  // made by this node to `connect_to` when given.
+  void start(const Address* connect_to) {
     NodeOptions o;
     o.role = "track";
     o.token = kSecret;
@@ -169,6 +174,10 @@ class PeerRefusal : public ::testing::Test {
     auto* l = links.mutable_links()->add_links();
     l->set_peer("vehicle");
     l->add_interfaces(0);
+    if (connect_to != nullptr) {
+      l->set_host(connect_to->host);
+      l->set_port(connect_to->port);
+    }
     master_->send(links);
     ASSERT_TRUE(master_->receive(milliseconds(5000)).has_ack());
     // The window makes the node wait for its peer.
@@ -257,6 +266,33 @@ TEST_F(PeerRefusal, AnUnexpectedParticipantAWrongSessionAndAWrongSecretAreRefuse
   const std::string why = refusal(failed, wire::Error::TIMEOUT);
   EXPECT_NE(why.find("from vehicle did not open within 1500 ms"), std::string::npos) << why;
   EXPECT_NE(why.find("refused meanwhile"), std::string::npos) << why;
+}
+
+// An impostor listening at the vehicle's address, without the secret: the
+// track node connects, the impostor answers its hello as the vehicle but
+// cannot prove it holds the secret, and the node refuses the link before it
+// sends any coupling data (the accepting end must authenticate too).
+class PeerImpostor : public PeerRefusal {
+ protected:
+  void SetUp() override {
+    wire::Envelope reply;
+    reply.mutable_hello_reply()->set_participant("vehicle");
+    reply.mutable_hello_reply()->set_protocol_version(kProtocolVersion);
+    impostor_ = std::make_unique<test::OneShotPeer>(encode_frame(reply, kDefaultMaxFrameBytes));
+    const Address at = impostor_->address();
+    start(&at);
+  }
+  std::unique_ptr<test::OneShotPeer> impostor_;
+};
+
+TEST_F(PeerImpostor, ANodeRefusesAnAcceptingEndThatCannotProveTheSecret) {
+  wire::Envelope failed = master_->receive(milliseconds(5000));
+  while (failed.has_reports()) failed = master_->receive(milliseconds(5000));
+  const std::string why = refusal(failed, wire::Error::UNAUTHORIZED);
+  EXPECT_NE(why.find("peer link to the vehicle participant at " + impostor_->address().str()),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("cannot prove that it holds the shared secret"), std::string::npos) << why;
 }
 
 // A peer that opens its link and then stays silent: the window fails after
