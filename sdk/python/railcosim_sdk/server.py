@@ -123,6 +123,7 @@ class Server:
                 kind = req.WhichOneof("body")
                 return plane.on_links(req, out) if kind == "links" else plane.on_window(req, out)
         s = Session(self.p, self.token, self.name, self.config, hook)
+        s.master = master  # progress frames (progress.py) go to the master too
         req_id = 0
         try:
             while not s.closing:
@@ -132,9 +133,9 @@ class Server:
                 except socket.timeout:
                     raise ProtocolError(E.TIMEOUT, "the master sent no complete request within "
                                         "%g s" % timeout)
-                req_id = req.id
+                req_id = s.request_id = req.id
                 master.send(s.handle(req))
-                req_id = 0
+                req_id = s.request_id = 0
         except LinkClosed as e:
             if e.inside_frame:
                 master.send_error(0, E.BAD_FRAME, "the connection closed inside a frame",

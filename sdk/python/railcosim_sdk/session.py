@@ -11,6 +11,7 @@ import numpy as np
 from . import packed
 from . import participant as api
 from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's name)
+from .progress import Ticker
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
@@ -29,6 +30,9 @@ class Session:
         self.closing = False
         self.step = -1
         self.H = 0.0
+        self.progress_ms = 0    # Configure.progress_ms
+        self.master = None      # the master's Channel, when a server runs the session
+        self.request_id = 0     # the id of the request being answered
         self.interfaces = []
         self.held = None       # list of api.Inputs for the coming step
         self.held_wire = None  # (start, end) lists of InterfaceData, for Save
@@ -130,7 +134,8 @@ class Session:
     def advance(self, n, r=None):
         """Macro step n with the held inputs; fills its StepReport (new or r)."""
         try:
-            outputs = self.p.advance(n * self.H, self.H, self.held)
+            with Ticker(self, n):
+                outputs = self.p.advance(n * self.H, self.H, self.held)
         except api.StepFailed as e:
             raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
         self.step = n + 1
@@ -234,6 +239,7 @@ class Session:
             raise ProtocolError(E.BAD_REQUEST, "configure: macro_step must be > 0")
         self.interfaces = [api.Interface(i) for i in c.interfaces]
         self.H = c.macro_step
+        self.progress_ms = c.progress_ms  # > 0: progress frames while a step works
         self.p.run = api.Run(c)
         config = self.config
         if config is None:  # no --config: the scene's own table for this participant
