@@ -208,7 +208,9 @@ TEST(TcpMaster, ARunWithAGivenSoilNodeEqualsTheInProcessRun) {
 
 // --- nodes that misbehave ---------------------------------------------------
 
-TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
+// Its word alone (nothing has grown: a tolerance no step can meet) ends the
+// run failed, naming the node, not diverged.
+TEST(TcpNodes, ANodeThatGivesUpOnAStepWhileNothingGrowsMakesTheRunFailed) {
   const Scene scene = with_keys(test::paper_scene(), {{"simulation.end_time", 0.001}});
   NodePool pool;
   run::RunOptions o;
@@ -216,9 +218,10 @@ TEST(TcpNodes, ANodeThatGivesUpOnAStepMakesTheRunDiverged) {
   o.tolerance = 1e-30;  // no step can meet it
   const run::RunRecord r = run::run_cosim(scene, parse_case("wr-xx-gauss-seidel"), o,
                                           tcp_transport(scene, {}, pool).factory, "tcp");
-  EXPECT_EQ(r.status, "diverged");
+  EXPECT_EQ(r.status, "failed");
   EXPECT_NE(r.message.find("micro steps"), std::string::npos) << r.message;
-  EXPECT_NE(r.message.find("node"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("node at 127.0.0.1:"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("not judged diverged"), std::string::npos) << r.message;
 }
 
 TEST(TcpNodes, GarbageFromANodeIsAFailureNamingIt) {

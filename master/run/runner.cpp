@@ -14,6 +14,7 @@
 #include "remote/reply_check.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
+#include "run/step_loop.hpp"
 
 namespace railcosim::run {
 
@@ -44,15 +45,6 @@ std::vector<double> sleeper_positions(const Scene& scene) {
 
 long steps_to(const Scene& scene, double H) {
   return std::lround(scene.end_time / H);
-}
-
-void check_stop(const RunOptions& o, long n) {
-  if (o.stop && o.stop->load() != 0) {
-    std::ostringstream s;
-    s << "interrupted by signal " << o.stop->load() << " at macro step " << n
-      << " (t = " << static_cast<double>(n) * o.macro_step << " s)";
-    throw std::runtime_error(s.str());
-  }
 }
 
 // The iterations of an implicit run into its record; a run with macro steps
@@ -267,72 +259,18 @@ std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions&
   return direct;
 }
 
-// Marks the run diverged (or another status: stopped) at macro step n + 1
-// for `why`.
-void diverged(RunRecord& r, const RunOptions& o, long n, const std::string& why,
-              const std::string& status = "diverged") {
-  std::ostringstream s;
-  s << (status == "diverged" ? "diverged" : "stopped") << " at macro step " << n + 1
-    << " (t = " << static_cast<double>(n + 1) * o.macro_step << " s): " << why;
-  r.status = status;
-  r.message = s.str();
-  logger("master")->warn("{}: {}", r.case_name, r.message);
-}
-
-// The stepping loop: macro steps 0 .. N - 1, each recorded, until the end
-// or a divergence; returns the macro steps done.
-long step_through(RunRecord& r, MacroSteps& steps, const Scene& scene, const RunOptions& o, long N,
-                  double bound,
-                  const std::function<void(long, const std::vector<StepResult>&)>& record_row) {
-  for (long n = 0; n < N; ++n) {
-    check_stop(o, n);
-    std::vector<StepResult> m;
-    try {
-      m = steps.advance(n);
-    } catch (const StepFailure& e) {
-      // A subsystem whose micro steps run away: the co-simulation diverges.
-      diverged(r, o, n, e.what());
-      return n + 1;
-    } catch (const engine::IterationBudgetSpent& e) {
-      std::ostringstream why;
-      why << e.what() << " before it converged to a relative residual of " << o.coupling.convergence
-          << ": loosen --convergence or raise the budget";
-      diverged(r, o, n, why.str(), "not_converged");
-      return n;
-    }
-    record_row(n + 1, m);
-    if (o.on_progress) o.on_progress(n + 1, N);
-    bool finite = true;
-    double umax = 0;
-    for (const StepResult& x : m) {
-      finite = finite && x.finite;
-      umax = std::max(umax, x.max_abs_displacement);
-    }
-    if (!finite || umax > bound) {
-      std::ostringstream s;
-      if (!finite)
-        s << "a state value is not finite";
-      else
-        s << "|u| = " << umax << " m exceeds " << scene.divergence_factor
-          << " x the largest static displacement (" << bound << " m)";
-      diverged(r, o, n, s.str());
-      return n + 1;
-    }
-  }
-  return N;
-}
-
 // The record's completion: the participants' final results (none from a
-// node that gave up on a diverging step) and the positions of the fields.
+// participant that gave up on a step) and the positions of the fields.
 void complete_record(RunRecord& r, const Scene& scene, const Participants& P) {
   for (std::size_t p = 0; p < P.ps.size(); ++p) {
     ParticipantResults res;
     try {
       res = P.ps[p]->results();
     } catch (const std::exception& e) {
-      // A node that gave up on a diverging step has ended its session.
-      if (r.status != "diverged") throw;
-      logger("master")->warn("{}: no final results after the divergence: {}", r.case_name,
+      // A participant that gave up on a step (diverged, or failed) is mid-step,
+      // or has ended its session.
+      if (r.status != "diverged" && r.status != "failed") throw;
+      logger("master")->warn("{}: no final results after the run stopped: {}", r.case_name,
                              e.what());
     }
     std::string key = "s";  // s1, s2, ...: appended, which spares GCC 12 a false -Wrestrict
@@ -389,7 +327,7 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   // by the nodes over their peer links.
   MacroSteps* steps = schedule.get();
   if (direct) steps = direct.get();
-  r.macro_steps = step_through(r, *steps, scene, o, N, bound, record_row);
+  r.macro_steps = step_through(r, *steps, scene, o, N, bound, record_row, initial);
   if (direct) direct->drain();
   if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
   complete_record(r, scene, P);
