@@ -237,4 +237,18 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
   }
 }
 
+void judge_unmeasured(RunRecord& run, const std::string& why) {
+  if (run.status == "diverged" || run.status == "failed") return;
+  const std::string growth = growth_words(run);
+  if (run.stability == "unstable") {
+    run.status = "amplified";
+    run.message = "unstable: " + growth + "; errors not judged: " + why;
+  } else if (run.status == "not_converged") {
+    run.message += "; errors not judged: " + why;
+  } else {
+    run.status = "not_judged";
+    run.message = "not judged: " + why;
+  }
+}
+
 }  // namespace railcosim::run

@@ -165,8 +165,8 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
 
 }  // namespace
 
-void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
-            const RunOptions& options, bool probe) {
+void assess_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                   const RunOptions& options, bool probe) {
   if (run.status != "failed") {
     // A node the user started may run a model of its own behind the
     // scene's name: the map and the probe, built from the scene, would judge
@@ -181,6 +181,11 @@ void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, cons
     run.defect_grows = d.grows;
     if (d.grows) run.stability = "unstable";
   }
+}
+
+void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
+            const RunOptions& options, bool probe) {
+  assess_growth(run, scene, spec, options, probe);
   judge(run, reference, scene);
 }
 

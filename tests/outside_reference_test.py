@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""Runs with a soil the master cannot build into its monolithic model (the
+Python soil of examples/python_soil, given with --node soil=HOST:PORT) are
+judged against the product's best co-simulation of the same participants
+(implicit, converged to 1e-10, at half the macro step), not against the
+built-in soil's monolithic run:
+
+- the example soil, whose physics is the built-in soil's, ends ok, its
+  summary naming the co-simulation reference, its macro step, its coupling
+  (linear inputs: the SDK takes no substep waveforms) and the Richardson
+  estimate of the reference's own error;
+- a soil four times stiffer (through its own --config) is judged against
+  its own co-simulation and ends ok too (against the built-in monolithic
+  run its history error is 0.69: `inaccurate` before this version);
+- a lagged wheel-rail coupling with that soil is still caught (amplified,
+  history error over 1), and --reference-step sets the reference's step;
+- a soil that gives up at every macro step shorter than 1e-4 s cannot make
+  a reference: the run's status is not_judged, saying why (it was `ok`).
+
+Usage: outside_reference_test.py SOURCE_DIR BIN_DIR
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+SRC, BIN = sys.argv[1], sys.argv[2]
+SOIL = os.path.join(SRC, "examples", "python_soil", "soil_participant.py")
+
+# Gives up (StepFailed) at any macro step shorter than the scene's 1e-4 s.
+SHORT_STEP_SOIL = """
+import runpy
+ns = runpy.run_path({soil!r})
+class NoShortSteps(ns["LumpedSoil"]):
+    def advance(self, t, H, inputs):
+        if H < 0.99e-4:
+            raise ns["rc"].StepFailed("this soil takes no macro step under 1e-4 s (H = %g s)" % H)
+        return super().advance(t, H, inputs)
+ns["rc"].serve(NoShortSteps())
+"""
+
+
+class OutsideReference(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = tempfile.mkdtemp(prefix="outside_reference_")
+        cls.procs = []
+        with open(os.path.join(SRC, "scenes", "soil.toml")) as f:
+            text = f.read()
+        # 0.02 s (200 macro steps of 1e-4 s), 10 fixed micro steps (the example
+        # soil's Newmark takes a fixed count).
+        text = re.sub(r"(?m)^end_time = .*$", "end_time = 0.02", text)
+        text = re.sub(r"(?m)^(tolerance = .*)$", r"\1\nmicro_steps = 10", text)
+        cls.scene = cls.write("soil.toml", text)
+        stiff = re.sub(r"(?m)^stiffness = 121.08e6 ", "stiffness = 484.32e6 ", text)
+        assert stiff != text
+        cls.stiff_config = cls.write("stiff.toml", stiff)
+        cls.env = dict(os.environ, RAILCOSIM_SDK_CACHE=os.path.join(cls.work, "cache"))
+        cls.same = cls.start("same", SOIL, cls.scene)
+        cls.stiff = cls.start("stiff", SOIL, cls.stiff_config)
+        short = cls.write("short.py", SHORT_STEP_SOIL.format(soil=SOIL))
+        cls.short = cls.start("short", short, cls.scene)
+
+    @classmethod
+    def tearDownClass(cls):
+        for p in cls.procs:
+            p.kill()
+            p.wait()
+        shutil.rmtree(cls.work, ignore_errors=True)
+
+    @classmethod
+    def write(cls, name, text):
+        path = os.path.join(cls.work, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    @classmethod
+    def start(cls, name, program, config):
+        out = os.path.join(cls.work, name + ".out")
+        with open(out, "w") as f:
+            p = subprocess.Popen(["/usr/bin/python3", program, "--config", config], stdout=f,
+                                 stderr=subprocess.DEVNULL, env=cls.env)
+        cls.procs.append(p)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            with open(out) as f:
+                m = re.search(r"^listening on (\S+)$", f.read(), re.M)
+            if m:
+                return m.group(1)
+            time.sleep(0.1)
+        raise RuntimeError("the soil %s did not start within 30 s" % name)
+
+    def run_master(self, name, case, soil, *args):
+        out = os.path.join(self.work, name)
+        p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", self.scene, "--case",
+                            case, "--out", out, "--node", "soil=" + soil] + list(args),
+                           capture_output=True, text=True, timeout=120, env=self.env)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr[-3000:])
+        with open(os.path.join(out, case, "summary.json")) as f:
+            return json.load(f)
+
+    def assert_cosim_reference(self, s, macro_step, stability="not judged"):
+        ref = s["reference"]
+        self.assertEqual(ref["kind"], "co-simulation", s)
+        self.assertEqual(ref["macro_step_s"], macro_step, s)
+        self.assertEqual(ref["coupling"], "implicit-linear-iqn-ils", s)
+        self.assertIn("participant soil takes no substep waveforms", ref["note"])
+        self.assertEqual(ref["estimate_order"], 2)
+        # The reference's own error, estimated, is far below the bounds.
+        self.assertLess(ref["history_error_estimate"], 1e-4, s)
+        self.assertLess(ref["rel_l2_error_estimate"], 1e-4, s)
+        self.assertEqual(s["stability"]["verdict"], stability, s)
+
+    def test_same_physics_is_ok(self):
+        s = self.run_master("same", "ss-xx-jacobi", self.same)
+        self.assertEqual(s["status"], "ok", s)
+        self.assert_cosim_reference(s, 5e-05)
+        self.assertLess(s["history_error"], 0.1 * 0.1, s)
+        self.assertIn("judged against the co-simulation reference", s["message"])
+
+    def test_different_physics_is_not_inaccurate(self):
+        s = self.run_master("stiff", "ss-xx-jacobi", self.stiff)
+        self.assertEqual(s["status"], "ok", s)
+        self.assert_cosim_reference(s, 5e-05)
+        self.assertLess(s["history_error"], 0.1 * 0.1, s)
+
+    def test_unstable_coupling_is_still_caught(self):
+        s = self.run_master("lagged", "wr-xt+ss-xx-jacobi", self.stiff, "--reference-step", "2.5e-5")
+        self.assertEqual(s["status"], "amplified", s)
+        self.assert_cosim_reference(s, 2.5e-05, "unstable")
+        self.assertGreater(s["history_error"], 1.0, s)
+
+    def test_no_reference_is_not_judged(self):
+        s = self.run_master("short", "ss-xx-jacobi", self.short)
+        self.assertEqual(s["status"], "not_judged", s)
+        self.assertIsNone(s["history_error"], s)
+        self.assertEqual(s["reference"]["kind"], "none", s)
+        self.assertIn("not judged: no co-simulation reference: the reference run "
+                      "(implicit-linear-iqn-ils, H = 5e-05 s) ended diverged", s["message"])
+        self.assertIn("this soil takes no macro step under 1e-4 s", s["message"])
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1])
