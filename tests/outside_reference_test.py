@@ -14,6 +14,9 @@ built-in soil's monolithic run:
   run its history error is 0.69: `inaccurate` before this version);
 - a lagged wheel-rail coupling with that soil is still caught (amplified,
   history error over 1), and --reference-step sets the reference's step;
+- a reference whose own estimated error is over half the bound is not
+  judged by (not_judged, asking for a finer --reference-step); a finer one
+  judges the same run;
 - a soil that gives up at every macro step shorter than 1e-4 s cannot make
   a reference: the run's status is not_judged, saying why (it was `ok`).
 
@@ -97,9 +100,10 @@ class OutsideReference(unittest.TestCase):
             time.sleep(0.1)
         raise RuntimeError("the soil %s did not start within 30 s" % name)
 
-    def run_master(self, name, case, soil, *args):
+    def run_master(self, name, case, soil, *args, scene=None):
         out = os.path.join(self.work, name)
-        p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", self.scene, "--case",
+        p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", scene or self.scene,
+                            "--case",
                             case, "--out", out, "--node", "soil=" + soil] + list(args),
                            capture_output=True, text=True, timeout=120, env=self.env)
         self.assertEqual(p.returncode, 0, p.stdout + p.stderr[-3000:])
@@ -136,6 +140,28 @@ class OutsideReference(unittest.TestCase):
         self.assertEqual(s["status"], "amplified", s)
         self.assert_cosim_reference(s, 2.5e-05, "unstable")
         self.assertGreater(s["history_error"], 1.0, s)
+
+    def test_a_reference_too_coarse_to_judge_by_is_said_so(self):
+        # A bound of 0.01 (the scene's cosim.amplification_threshold): a
+        # reference at the run's own 2e-3 s estimates its error at 8.7e-3,
+        # over half of it; at 2.5e-4 s at 1.2e-4, and the run (history
+        # error 0.031) is inaccurate against it.
+        with open(self.scene) as f:
+            text = f.read()
+        tight = self.write("tight.toml", text.replace("amplification_threshold = 0.1 ",
+                                                      "amplification_threshold = 0.01"))
+        with open(tight) as f:
+            self.assertNotEqual(f.read(), text)
+        args = ("wr-xx+ss-xx-jacobi", self.stiff, "--macro-step", "2e-3")
+        s = self.run_master("coarse", *args, "--reference-step", "2e-3", scene=tight)
+        self.assertEqual(s["status"], "not_judged", s)
+        self.assertIsNone(s["history_error"], s)
+        self.assertGreater(s["reference"]["history_error_estimate"], 0.005, s)
+        self.assertIn("give a finer --reference-step", s["message"])
+        s = self.run_master("fine", *args, "--reference-step", "2.5e-4", scene=tight)
+        self.assertEqual(s["status"], "inaccurate", s)
+        self.assertLess(s["reference"]["history_error_estimate"], 0.001, s)
+        self.assertGreater(s["history_error"], 0.01, s)
 
     def test_no_reference_is_not_judged(self):
         s = self.run_master("short", "ss-xx-jacobi", self.short)
