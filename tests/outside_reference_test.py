@@ -12,6 +12,8 @@ built-in soil's monolithic run:
 - a soil four times stiffer (through its own --config) is judged against
   its own co-simulation and ends ok too (against the built-in monolithic
   run its history error is 0.69: `inaccurate` before this version);
+- the same soil behind an `external` scene is judged the same way (it was
+  `ok` with every error null);
 - a lagged wheel-rail coupling with that soil is still caught (amplified,
   history error over 1), and --reference-step sets the reference's step;
 - a reference whose own estimated error is over half the bound is not
@@ -128,6 +130,21 @@ class OutsideReference(unittest.TestCase):
         self.assert_cosim_reference(s, 5e-05)
         self.assertLess(s["history_error"], 0.1 * 0.1, s)
         self.assertIn("judged against the co-simulation reference", s["message"])
+
+    def test_an_external_soil_is_judged(self):
+        # The same soil behind soil.model = "external": compared with nothing
+        # and called ok before (errors null); now measured as above.
+        with open(self.scene) as f:
+            text = f.read()
+        external = self.write("external.toml", text.replace('model = "lumped"',
+                                                            'model = "external"'))
+        with open(external) as f:
+            self.assertNotEqual(f.read(), text)
+        s = self.run_master("external", "ss-xx-jacobi", self.same, scene=external)
+        self.assertEqual(s["status"], "ok", s)
+        self.assertIsNotNone(s["history_error"], s)
+        self.assert_cosim_reference(s, 5e-05)
+        self.assertLess(s["history_error"], 0.1 * 0.1, s)
 
     def test_different_physics_is_not_inaccurate(self):
         s = self.run_master("stiff", "ss-xx-jacobi", self.stiff)
