@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <sstream>
+#include <type_traits>
 
 #include "log.hpp"
 #include "run/evaluation.hpp"
