@@ -15,7 +15,9 @@ built-in soil's monolithic run:
 - the same soil behind an `external` scene is judged the same way (it was
   `ok` with every error null);
 - a lagged wheel-rail coupling with that soil is still caught (amplified,
-  history error over 1), and --reference-step sets the reference's step;
+  history error over 1), unstable at rest by the matrix-free growth rate
+  through the participants at the dense map's rate, and --reference-step
+  sets the reference's step;
 - a reference whose own estimated error is over half the bound is not
   judged by (not_judged, asking for a finer --reference-step); a finer one
   judges the same run;
@@ -151,12 +153,22 @@ class OutsideReference(unittest.TestCase):
         self.assertEqual(s["status"], "ok", s)
         self.assert_cosim_reference(s, 5e-05)
         self.assertLess(s["history_error"], 0.1 * 0.1, s)
+        # Its matrix-free rho does not grow; its verdict stays not judged.
+        self.assertLessEqual(s["stability"]["rho_matrix_free"], 1.0, s)
+        self.assertEqual(s["stability"]["matrix_free_steps"], 200, s)
 
     def test_unstable_coupling_is_still_caught(self):
         s = self.run_master("lagged", "wr-xt+ss-xx-jacobi", self.stiff, "--reference-step", "2.5e-5")
         self.assertEqual(s["status"], "amplified", s)
         self.assert_cosim_reference(s, 2.5e-05, "unstable")
         self.assertGreater(s["history_error"], 1.0, s)
+        # Unstable at rest, measured through the participants themselves
+        # (matrix-free): the dense map of the same case with the built-in
+        # soil of that stiffness, in process, has rho = 1.102, 973 /s.
+        st = s["stability"]
+        self.assertEqual(st["basis"], "matrix-free", s)
+        self.assertAlmostEqual(st["rho_rate_per_s"], 973.0, delta=0.02 * 973.0)
+        self.assertIn("measured through the participants (matrix-free", s["message"])
 
     def test_a_reference_too_coarse_to_judge_by_is_said_so(self):
         # A bound of 0.01 (the scene's cosim.amplification_threshold): a

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "run/cosim_reference.hpp"
+#include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
 #include "run/stability.hpp"
 
@@ -26,6 +27,7 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   // A soil the master starts (FE, Green's functions) writes its measures
   // into the run's folder, which reference runs would overwrite.
   if (given_node || scene.soil_model == "external") {
+    judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
     assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step);
   } else if (scene.started_soil() != nullptr) {
     r.reference_kind = "none";

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <memory>
 
 #include "engine/coupled_statics.hpp"
 #include "engine/window_schedule.hpp"
 #include "newmark.hpp"
+#include "run/stability.hpp"
 #include "scene_text.hpp"
 
 namespace railcosim::run {
@@ -168,6 +170,29 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
     r.rate_per_s = per_step / H;
   }
   return r;
+}
+
+void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                              const RunOptions& options, const std::string& transport,
+                              const remote::TransportSetup& setup) {
+  if (run.status != "ok" || options.coupling.method != engine::CouplingMethod::kExplicit) return;
+  const long steps =
+      std::min(kMatrixFreeMaxSteps, std::lround(scene.end_time / options.macro_step));
+  MatrixFreeRho m;
+  try {
+    m = matrix_free_rho(scene, spec, options, transport, setup, steps);
+  } catch (const std::exception& e) {
+    run.spectral_note = std::string("the matrix-free measure failed: ") + e.what();
+    return;
+  }
+  run.matrix_free_rho = m.rho;
+  run.matrix_free_steps = m.steps;
+  if (m.growth >= kMatrixFreeGrowth && m.rate_per_s >= unstable_rate(scene.end_time)) {
+    run.stability = "unstable";
+    run.stability_basis = "matrix-free";
+    run.spectral_radius = m.rho;
+    run.spectral_rate = m.rate_per_s;
+  }
 }
 
 }  // namespace railcosim::run

@@ -65,4 +65,19 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
                               const std::string& transport, const remote::TransportSetup& setup,
                               long max_steps);
 
+// The most parked macro steps a run's measure takes (its own count if fewer).
+inline constexpr long kMatrixFreeMaxSteps = 2000;
+
+// A run's stability from the matrix-free measure, for a run whose
+// participants the master cannot hold (explicit coupling that ran to its
+// end): unstable, on the basis "matrix-free", when the perturbation grew
+// kMatrixFreeGrowth times at a rate of at least unstable_rate(t_end);
+// otherwise the verdict is left as it is (the measure cannot resolve the
+// slow growths of stable-looking runs: matrix_free_rho and its steps are
+// recorded all the same). A measure that fails leaves its reason in
+// spectral_note.
+void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                              const RunOptions& options, const std::string& transport,
+                              const remote::TransportSetup& setup);
+
 }  // namespace railcosim::run

@@ -173,7 +173,7 @@ void assess_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
     // the built-in model instead. The defect along the run is its own.
     if (probe)
       judge_growth(run, scene, spec, options);
-    else
+    else if (run.stability.empty())  // else measured without the map (matrix_free.hpp)
       run.stability = kNotJudged;
     const DefectGrowth d = defect_growth(coupling_defect(run), options.macro_step);
     run.defect_growth = d.growth;
@@ -198,6 +198,9 @@ std::string stability_json(const RunRecord& r) {
     << ", \"map_dimension\": " << (r.map_dimension ? std::to_string(*r.map_dimension) : "null")
     << ", \"map_s\": " << opt(r.map_seconds);
   if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
+  if (r.matrix_free_steps)
+    s << ", \"rho_matrix_free\": " << opt(r.matrix_free_rho)
+      << ", \"matrix_free_steps\": " << *r.matrix_free_steps;
   s << ", \"growth\": " << opt(r.error_growth) << ", \"rate_per_s\": " << opt(r.error_growth_rate)
     << ", \"probe_s\": " << opt(r.probe_time) << ", \"defect_growth\": " << opt(r.defect_growth)
     << ", \"defect_rate_per_s\": " << opt(r.defect_rate)
