@@ -140,7 +140,7 @@ def run_for_real(bin_dir, cwd, cmd):
     run = [os.path.join(bin_dir, "master")] + words[1:]
     out = subprocess.run(run, cwd=cwd, capture_output=True, text=True, timeout=120)
     first = (out.stdout.splitlines() or [""])[0]
-    if out.returncode != 0 or not re.match(r"^%s: (ok|inaccurate|amplified|diverged|not_converged), "
+    if out.returncode != 0 or not re.match(r"^%s: (ok|inaccurate|amplified|diverged|not_converged|not_judged), "
                                            % re.escape(case), first):
         return "run for real: exit %d, first line %r:\n%s" % (out.returncode, first, out.stderr[-1500:])
     return None

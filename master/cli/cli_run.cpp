@@ -264,6 +264,11 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--vehicle", a.vehicle,
                   "HOST:PORT of a running vehicle_node (= --node vehicle=...)");
   run->add_option("--track", a.track, "HOST:PORT of a running track_node (= --node track=...)");
+  run->add_option("--reference-step", a.reference_step,
+                  "Macro step of the co-simulation reference a run is judged against where no "
+                  "monolithic one can be built (a --node participant, an external soil), s; "
+                  "default: half the run's")
+      ->check(CLI::PositiveNumber);
   run->add_option("--out", a.out, "Output folder; the run writes OUT/CASE/")->capture_default_str();
   run->add_option("--token-file", a.token_file, "Shared secret of nodes started with --token-file")
       ->check(CLI::ExistingFile);
@@ -322,6 +327,7 @@ int do_run(const RunArgs& command_line) {
   if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
   job.out = a.out;
   job.folder = spec.name();
+  job.reference_step = a.reference_step;
   run::RunRecord reference;
   job.reference = [&]() -> const run::RunRecord& {
     log->info("{}: computing the monolithic reference (H = {} s, tolerance = {} m)", spec.name(),

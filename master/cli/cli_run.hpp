@@ -30,6 +30,7 @@ struct RunArgs {
   std::string data_plane = "direct";
   long window_steps = 0;
   double step_budget = 120;   // s
+  double reference_step = 0;  // s; 0: half the macro step (run/cosim_reference.hpp)
   engine::CouplingOptions c;  // the numbers; the names above are parsed into it
   bool check = false;         // master --check: stop once everything is read and checked
 };

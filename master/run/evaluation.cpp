@@ -165,6 +165,9 @@ void map_words(std::ostream& s, const RunRecord& run) {
     s << ", e-folds every " << duration_words(1 / *run.spectral_rate) << " ("
       << std::setprecision(3) << *run.spectral_rate << " 1/s; the run lasts "
       << duration_words(run.t_end) << ")";
+  if (run.stability_basis == "matrix-free")
+    s << ", measured through the participants (matrix-free, " << run.matrix_free_steps.value_or(0)
+      << " macro steps parked)";
   if (!run.map_micro_steps) return;
   double most = 0;  // the moving run's micro steps per macro step, on average
   for (const auto& [who, count] : run.micro_steps)
@@ -179,7 +182,8 @@ void map_words(std::ostream& s, const RunRecord& run) {
 // What the stability verdict rests on, in words ("" when nothing was judged).
 std::string growth_words(const RunRecord& run) {
   std::ostringstream s;
-  if (run.stability_basis == "map" && run.spectral_radius && run.spectral_rate) {
+  if ((run.stability_basis == "map" || run.stability_basis == "matrix-free") &&
+      run.spectral_radius && run.spectral_rate) {
     map_words(s, run);
   } else if (run.error_growth && run.probe_time) {  // the probe's
     s << "a perturbation of the static state grew " << *run.error_growth << " times in "
@@ -234,6 +238,20 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
   } else {
     run.status = run.stability == "unstable" ? "amplified" : "inaccurate";
     run.message = why.str();
+  }
+}
+
+void judge_unmeasured(RunRecord& run, const std::string& why) {
+  if (run.status == "diverged" || run.status == "failed") return;
+  const std::string growth = growth_words(run);
+  if (run.stability == "unstable") {
+    run.status = "amplified";
+    run.message = "unstable: " + growth + "; errors not judged: " + why;
+  } else if (run.status == "not_converged") {
+    run.message += "; errors not judged: " + why;
+  } else {
+    run.status = "not_judged";
+    run.message = "not judged: " + why;
   }
 }
 

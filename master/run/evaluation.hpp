@@ -75,4 +75,10 @@ std::string rho_words(double rho);
 // added to its message).
 void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 
+// The judgement of a run with no reference to measure its errors against
+// (`why` says why not): amplified when its stability is unstable, else
+// "not_judged" (a not_converged run keeps its status, `why` added); a
+// diverged or failed run keeps its status.
+void judge_unmeasured(RunRecord& run, const std::string& why);
+
 }  // namespace railcosim::run

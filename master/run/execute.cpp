@@ -3,6 +3,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "run/cosim_reference.hpp"
+#include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
 #include "run/stability.hpp"
 
@@ -14,15 +16,28 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   if (job.spec.monolithic) return run_monolithic(scene, o);
   const remote::SceneTransport t =
       remote::make_transport(remote::parse_transport(job.transport, "transport"), scene, job.nodes);
-  // The probe builds the scene's own participants in process: it cannot
-  // build one served by a node the user started, whatever runs there.
+  // A node the user started may run physics of its own behind the scene's
+  // name: neither the monolithic model nor the map can stand for it.
   bool given_node = false;
   const remote::ParticipantFactory factory = [&](const SubsystemConfig& c) {
     if (job.nodes.given.count(c.participant.role) != 0) given_node = true;
     return t.factory(c);
   };
   RunRecord r = run_cosim(scene, job.spec, o, factory, t.name);
-  if (!scene.outside_soil()) assess(r, job.reference(), scene, job.spec, o, !given_node);
+  // A soil the master starts (FE, Green's functions) writes its measures
+  // into the run's folder, which reference runs would overwrite.
+  if (given_node || scene.soil_model == "external") {
+    judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
+    assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step);
+  } else if (scene.started_soil() != nullptr) {
+    r.reference_kind = "none";
+    r.reference_note =
+        "the soil is a program the master starts, which writes its measures into the run's "
+        "folder: no co-simulation reference is made for it";
+  } else {
+    r.reference_kind = "monolithic";
+    assess(r, job.reference(), scene, job.spec, o);
+  }
   return r;
 }
 

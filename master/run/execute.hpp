@@ -24,6 +24,10 @@ struct RunJob {
   // The monolithic reference a co-simulation is judged against (not called
   // for the monolithic case, nor for a soil outside the master's models).
   std::function<const RunRecord&()> reference;
+  // Where the monolithic reference cannot be built (a participant on a node
+  // given by address, an external soil): the co-simulation reference's
+  // macro step (cosim_reference.hpp; 0: half the run's).
+  double reference_step = 0;
   // Called with the run's folder once it exists, before the run starts.
   std::function<void(const std::filesystem::path&)> on_folder;
   // Called after every macro step with the steps done and the total.

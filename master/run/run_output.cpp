@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include "run/stability.hpp"
+#include "run/cosim_reference.hpp"
 #include "spectra.hpp"
 
 namespace railcosim::run {
@@ -117,7 +117,7 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
   s << "  \"rel_l2_error\": " << json_opt(r.rel_l2_error) << ",\n";
   s << "  \"history_error\": " << json_opt(r.history_error) << ",\n";
-  if (!r.stability.empty()) s << "  " << stability_json(r) << ",\n";
+  s << judgement_json(r);
   s << "  \"transport\": " << json_string(r.transport) << ",\n";
   if (!r.data_plane.empty()) s << "  \"data_plane\": " << json_string(r.data_plane) << ",\n";
   if (!r.data_plane_mode.empty()) s << "  \"data_plane_mode\": \"" << r.data_plane_mode << "\",\n";

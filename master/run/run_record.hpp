@@ -27,7 +27,8 @@ struct RunRecord {
       micro_steps;  // per subsystem ("monolithic", or "s1", "s2", ... in load order)
   // ok; inaccurate (stable, error over the scene's bounds); amplified (the
   // coupling makes a perturbation grow: stability.hpp); diverged;
-  // not_converged; failed.
+  // not_converged; not_judged (no reference to measure its error against:
+  // cosim_reference.hpp); failed.
   std::string status = "ok";
   std::string message;                                  // why, when not ok
   std::optional<double> max_abs_error_m, rel_l2_error;  // none when not comparable
@@ -46,11 +47,21 @@ struct RunRecord {
   std::optional<long> map_dimension;
   std::optional<long> map_micro_steps;  // per macro step, the most of a participant
   std::string spectral_note;
+  // The growth rate measured through the participants (matrix_free.hpp):
+  // its rho and the parked macro steps it took; the verdict's basis
+  // "matrix-free" when it found a clear growth.
+  std::optional<double> matrix_free_rho;
+  std::optional<long> matrix_free_steps;
   // The check over the moving run (stability.hpp): the growth of the
   // coupling's defect between the second and the last quarter, its rate
   // (1/s), and whether it says the run grows.
   std::optional<double> defect_growth, defect_rate;
   bool defect_grows = false;
+  // What the errors are measured against: "monolithic", "co-simulation"
+  // (cosim_reference.hpp: its macro step, coupling and Richardson estimates
+  // of its own history and deflection errors), "none", or "" (not judged).
+  std::string reference_kind, reference_coupling, reference_note;
+  std::optional<double> reference_macro_step, reference_history_error, reference_rel_l2_error;
   std::string transport = remote::kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"
   std::string data_plane_mode;         // direct: "windows" or "lock step"

@@ -165,15 +165,15 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
 
 }  // namespace
 
-void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
-            const RunOptions& options, bool probe) {
+void assess_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                   const RunOptions& options, bool probe) {
   if (run.status != "failed") {
     // A node the user started may run a model of its own behind the
     // scene's name: the map and the probe, built from the scene, would judge
     // the built-in model instead. The defect along the run is its own.
     if (probe)
       judge_growth(run, scene, spec, options);
-    else
+    else if (run.stability.empty())  // else measured without the map (matrix_free.hpp)
       run.stability = kNotJudged;
     const DefectGrowth d = defect_growth(coupling_defect(run), options.macro_step);
     run.defect_growth = d.growth;
@@ -181,6 +181,11 @@ void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, cons
     run.defect_grows = d.grows;
     if (d.grows) run.stability = "unstable";
   }
+}
+
+void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
+            const RunOptions& options, bool probe) {
+  assess_growth(run, scene, spec, options, probe);
   judge(run, reference, scene);
 }
 
@@ -193,6 +198,9 @@ std::string stability_json(const RunRecord& r) {
     << ", \"map_dimension\": " << (r.map_dimension ? std::to_string(*r.map_dimension) : "null")
     << ", \"map_s\": " << opt(r.map_seconds);
   if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
+  if (r.matrix_free_steps)
+    s << ", \"rho_matrix_free\": " << opt(r.matrix_free_rho)
+      << ", \"matrix_free_steps\": " << *r.matrix_free_steps;
   s << ", \"growth\": " << opt(r.error_growth) << ", \"rate_per_s\": " << opt(r.error_growth_rate)
     << ", \"probe_s\": " << opt(r.probe_time) << ", \"defect_growth\": " << opt(r.defect_growth)
     << ", \"defect_rate_per_s\": " << opt(r.defect_rate)

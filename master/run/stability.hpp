@@ -99,6 +99,9 @@ inline constexpr const char* kNotJudged = "not judged";
 // probe; a defect that grows along the moving run makes it unstable too.
 void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
             const RunOptions& options, bool probe = true);
+// Its first half: the stability verdict and the defect check, no errors.
+void assess_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                   const RunOptions& options, bool probe = true);
 
 // The stability part of summary.json: "stability": {...} (no trailing comma).
 std::string stability_json(const RunRecord& run);

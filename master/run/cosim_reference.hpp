@@ -1,0 +1,59 @@
+// The reference a co-simulation is judged against where the product cannot
+// build the monolithic model: a participant served by a node given by
+// address (which may run physics of its own behind the scene's name), or a
+// scene whose soil is `external`.
+//
+// The reference is the product's best co-simulation of the same
+// participants: the same case (its split, so the same participants, served
+// by the same nodes), implicit coupling converged to kReferenceConvergence
+// with IQN-ILS, its inputs substep waveforms of degree 3 (falling back to
+// linear ramps for participants that take no waveforms), at a finer macro
+// step H_ref = H / k. Its own error is estimated by Richardson
+// extrapolation from a second reference run at 2 H_ref: for a method of
+// order p the difference of the two, over 2^p - 1, estimates the error of
+// the finer one (p = 2: Newmark's trapezoidal rule, and a converged coupling
+// with inputs at least linear over the step, are second order).
+#pragma once
+
+#include <string>
+
+#include "cosim_case.hpp"
+#include "remote/transport.hpp"
+#include "run/run_record.hpp"
+#include "run/runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim::run {
+
+// The implicit iterations of the reference converge to this relative
+// residual (coupling_options.hpp), a hundredth of the default.
+inline constexpr double kReferenceConvergence = 1e-10;
+inline constexpr int kReferenceMaxIterations = 100;
+// The order assumed by the Richardson estimate of the reference's error.
+inline constexpr int kReferenceOrder = 2;
+// A reference whose estimated error is over this fraction of a bound the
+// run is judged by (cosim.amplification_threshold, kMaxDeflectionError)
+// cannot tell ok from inaccurate: the run is then not judged.
+inline constexpr double kReferenceErrorShare = 0.5;
+
+// The run's rows every `k`-th row of `fine` (its history and coupling
+// history; its final fields as they are): a run at H_ref seen at k H_ref.
+RunRecord every_kth_row(const RunRecord& fine, long k);
+
+// Makes the co-simulation reference for a run of `spec` at options.macro_step
+// from participants made by `make` over `transport`, at the macro step
+// `reference_step` (0: H / 2; else H / k, k the nearest whole number of
+// reference steps in H, at least 1), and judges the run against it
+// (assess(), without the map or the probe, which would build the
+// built-in participants). Where no reference can be made (a reference run
+// fails, diverges or does not converge) or its estimated error is too large
+// to judge by, the status becomes "not_judged" and the message says why.
+void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                          const RunOptions& options, const remote::ParticipantFactory& make,
+                          const std::string& transport, double reference_step);
+
+// The judgement's parts of summary.json, each line "  \"key\": {...},\n":
+// the stability (stability.hpp) and what the run was judged against.
+std::string judgement_json(const RunRecord& run);
+
+}  // namespace railcosim::run

@@ -1,0 +1,198 @@
+#include "run/matrix_free.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <functional>
+#include <memory>
+
+#include "engine/coupled_statics.hpp"
+#include "engine/window_schedule.hpp"
+#include "newmark.hpp"
+#include "run/stability.hpp"
+#include "scene_text.hpp"
+
+namespace railcosim::run {
+namespace {
+
+using FreeMemory = engine::StepExecutor::Memory;
+
+// Every output the master holds (each participant's at t_n), in one fixed
+// order, with its kind: 0 displacement, 1 velocity, 2 force.
+template <class M, class F>
+void each_output(M& memory, F&& f) {
+  for (auto& cd : memory.out)
+    for (auto& d : cd) {
+      for (auto& x : d.displacement) f(x, 0);
+      for (auto& x : d.velocity) f(x, 1);
+      for (auto& x : d.force) f(x, 2);
+    }
+}
+
+std::vector<double> outputs_of(FreeMemory m) {
+  std::vector<double> v;
+  each_output(m, [&v](double x, int) { v.push_back(x); });
+  return v;
+}
+
+// The perturbation of each output: kMatrixFreePerturbation of the largest
+// displacement (force) at rest; a velocity as a displacement over H.
+std::vector<double> perturbation_sizes(FreeMemory m, double H) {
+  double u = 0, f = 0;
+  each_output(m, [&](double x, int kind) {
+    if (kind == 0) u = std::max(u, std::abs(x));
+    if (kind == 2) f = std::max(f, std::abs(x));
+  });
+  const double du = kMatrixFreePerturbation * (u > 0 ? u : 1e-3);
+  const double df = kMatrixFreePerturbation * (f > 0 ? f : 1e5);
+  std::vector<double> e;
+  each_output(m, [&](double, int kind) { e.push_back(kind == 0 ? du : kind == 1 ? du / H : df); });
+  return e;
+}
+
+// The parked co-simulation, its participants made by `make`, saved at rest
+// after two macro steps (so that extrapolated inputs have their points).
+struct ParkedParticipants {
+  static constexpr long kStart = 2;
+  std::vector<std::unique_ptr<Participant>> owned;
+  std::vector<Participant*> ps;
+  std::unique_ptr<engine::Schedule> schedule;
+  std::vector<ParticipantState> saved;
+  FreeMemory rest;
+
+  ParkedParticipants(const Scene& parked, const CaseSpec& spec, const RunOptions& o,
+                     const remote::ParticipantFactory& make) {
+    const std::vector<ParticipantSpec> specs = partition(parked, spec);
+    std::vector<std::string> roles;
+    std::vector<CouplingData> zero;
+    for (const ParticipantSpec& p : specs) {
+      SubsystemConfig c;
+      c.participant = p;
+      c.macro_step = o.macro_step;
+      c.tolerance = o.tolerance;
+      c.micro_steps = parked.micro_steps;
+      c.carry_acceleration = parked.restart == "carry";
+      owned.push_back(make(c));
+      ps.push_back(owned.back().get());
+      roles.push_back(p.role);
+      zero.push_back(engine::zero_inputs(parked, p));
+    }
+    const engine::Routing routing = engine::make_routing(specs);
+    const engine::StaticsOutcome statics = engine::find_static_state(ps, routing, zero);
+    schedule = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles,
+                                     o.macro_step);
+    schedule->initialize(statics.inputs);
+    for (long n = 0; n < kStart; ++n) schedule->advance(n);
+    for (Participant* p : ps) saved.push_back(p->save());
+    rest = schedule->memory();
+  }
+};
+
+// The least-squares slope of y against its index over [from, y.size()).
+double log_slope(const std::vector<double>& y, std::size_t from) {
+  const double n = static_cast<double>(y.size() - from);
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = from; i < y.size(); ++i) {
+    const double x = static_cast<double>(i);
+    sx += x, sy += y[i], sxx += x * x, sxy += x * y[i];
+  }
+  const double d = n * sxx - sx * sx;
+  return d > 0 ? (n * sxy - sx * sy) / d : 0.0;
+}
+
+}  // namespace
+
+MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                              const std::string& transport, const remote::TransportSetup& setup,
+                              long max_steps) {
+  const double H = options.macro_step;
+  const Scene parked =
+      with_keys(scene, {{"vehicle.speed_kmh", 0.0},
+                        {"simulation.macro_step", H},
+                        {"simulation.end_time",
+                         static_cast<double>(ParkedParticipants::kStart + max_steps + 1) * H}});
+  const remote::SceneTransport t =
+      remote::make_transport(remote::parse_transport(transport, "transport"), parked, setup);
+  ParkedParticipants c(parked, spec, options, t.factory);
+  const std::vector<double> e = perturbation_sizes(c.rest, H);
+  // One pass from the saved state at rest, every output moved by `sign`
+  // times its size; `step` is called with the outputs after each macro step
+  // and returns whether to go on.
+  auto pass = [&](double sign, const std::function<bool(long, const std::vector<double>&)>& step) {
+    FreeMemory start = c.rest;
+    std::size_t at = 0;
+    // Signs that repeat with period 3 and 7, so that no simple mode is left out.
+    each_output(start, [&](double& x, int) {
+      x += sign * ((at % 3 == 0) != (at % 7 == 0) ? -1.0 : 1.0) * e[at];
+      ++at;
+    });
+    for (std::size_t p = 0; p < c.ps.size(); ++p) c.ps[p]->restore(c.saved[p]);
+    c.schedule->set_memory(start);
+    for (long j = 0; j < max_steps; ++j) {
+      try {
+        c.schedule->advance(ParkedParticipants::kStart + j);
+      } catch (const StepFailure&) {
+        return;  // the perturbation ran away: the steps before it measure the growth
+      }
+      if (!step(j, outputs_of(c.schedule->memory()))) return;
+    }
+  };
+  // The unmoved pass drifts from rest by round-off, at the coupling's own
+  // rate: it ends where that drift reaches 1e-3 of the static magnitudes
+  // (before a node gives up on a diverging step), and the measure with it.
+  const std::vector<double> rest = outputs_of(c.rest);
+  std::vector<std::vector<double>> unmoved;
+  pass(0.0, [&](long, const std::vector<double>& y) {
+    double drift = 0;
+    for (std::size_t i = 0; i < y.size(); ++i)
+      drift = std::max(drift, std::abs(y[i] - rest[i]) * kMatrixFreePerturbation / e[i]);
+    if (!(drift < kMatrixFreeDrift)) return false;
+    unmoved.push_back(y);
+    return true;
+  });
+  const double first = std::sqrt(static_cast<double>(e.size()));
+  std::vector<double> log_norm;
+  MatrixFreeRho r;
+  pass(1.0, [&](long j, const std::vector<double>& y) {
+    if (static_cast<std::size_t>(j) >= unmoved.size()) return false;
+    double sum = 0;
+    for (std::size_t i = 0; i < y.size(); ++i) sum += std::pow((y[i] - unmoved[j][i]) / e[i], 2);
+    const double norm = std::sqrt(sum);
+    if (!std::isfinite(norm)) return false;
+    log_norm.push_back(std::log(std::max(norm, 1e-300)));
+    r.steps = j + 1;
+    r.growth = norm / first;
+    return r.growth < kMatrixFreeGrowth;
+  });
+  if (log_norm.size() >= 2) {
+    const double per_step = log_slope(log_norm, log_norm.size() / 2);
+    r.rho = std::exp(per_step);
+    r.rate_per_s = per_step / H;
+  }
+  return r;
+}
+
+void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                              const RunOptions& options, const std::string& transport,
+                              const remote::TransportSetup& setup) {
+  if (run.status != "ok" || options.coupling.method != engine::CouplingMethod::kExplicit) return;
+  const long steps =
+      std::min(kMatrixFreeMaxSteps, std::lround(scene.end_time / options.macro_step));
+  MatrixFreeRho m;
+  try {
+    m = matrix_free_rho(scene, spec, options, transport, setup, steps);
+  } catch (const std::exception& e) {
+    run.spectral_note = std::string("the matrix-free measure failed: ") + e.what();
+    return;
+  }
+  run.matrix_free_rho = m.rho;
+  run.matrix_free_steps = m.steps;
+  if (m.growth >= kMatrixFreeGrowth && m.rate_per_s >= unstable_rate(scene.end_time)) {
+    run.stability = "unstable";
+    run.stability_basis = "matrix-free";
+    run.spectral_radius = m.rho;
+    run.spectral_rate = m.rate_per_s;
+  }
+}
+
+}  // namespace railcosim::run

@@ -1,0 +1,83 @@
+// The growth rate of a coupling measured through its participants
+// themselves, wherever they live (in process, on nodes over TCP, on the
+// Python SDK): no matrix, only the participants' own save and restore.
+//
+// With the vehicle parked (vehicle.speed_kmh = 0, set in the scene's text,
+// so that nodes are sent the scene they step) the coupled static state is a
+// fixed point of the macro step. From it, after two macro steps, every
+// participant is saved (save()) with the master's coupling memory. The
+// co-simulation is then stepped twice from that saved state: once as it
+// is, once with the coupling data the master holds (each participant's
+// outputs at t_n) moved by kMatrixFreePerturbation of their static
+// magnitudes, in a fixed pattern of signs. The difference of the two
+// passes' coupling data, each coordinate over its perturbation, is the
+// perturbation carried by the macro-step map through every participant's
+// inner state; its norm grows like rho^n once the dominant mode leads. rho
+// is the exponential of the least-squares slope of ln(norm) against n over
+// the second half of the steps taken (the first half lets the other modes
+// fall behind): a power iteration whose iterate is never renormalised. It
+// ends when the perturbation has grown kMatrixFreeGrowth times, when the
+// unperturbed pass has drifted kMatrixFreeDrift from rest (an unstable
+// coupling grows from round-off too), or after the most steps asked for;
+// both passes stay in the linear range of the Hertz contact.
+//
+// How far it can be trusted (measured over TCP against the dense map of
+// spectral.hpp, tests/matrix_free_test.cpp): where the dominant mode is
+// separated in modulus from the rest, its rate agrees with the dense one
+// to 2 % (rs-xx-jacobi at H = 1e-3 s: rho = 1.055, 54 /s); where the
+// lightly damped structural modes lead (|lambda| within about 1e-3 of 1)
+// it measures their slow decay only to about 1 / (the steps taken), so
+// growths slower than that (the paper scene's rho = 1.0000229 at 5e-5 s)
+// are beyond it. The participants take the micro steps they take: the dense
+// map fixes the count of the step at rest, and so must the scene (its
+// simulation.micro_steps) for the two to describe the same map.
+#pragma once
+
+#include <string>
+
+#include "cosim_case.hpp"
+#include "remote/transport.hpp"
+#include "run/runner.hpp"
+#include "scene.hpp"
+
+namespace railcosim::run {
+
+// The perturbation of the coupling data, relative to their static values.
+inline constexpr double kMatrixFreePerturbation = 1e-9;
+// The perturbation's growth at which the iteration ends.
+inline constexpr double kMatrixFreeGrowth = 1e6;
+// The unperturbed pass's largest drift from rest (relative to the static
+// values) at which the iteration ends.
+inline constexpr double kMatrixFreeDrift = 1e-3;
+
+struct MatrixFreeRho {
+  double rho = 0;         // exp(slope): the growth per macro step
+  double rate_per_s = 0;  // ln(rho) / H
+  long steps = 0;         // macro steps measured (each pass)
+  double growth = 1;      // the perturbation's growth over them
+};
+
+// The estimate for a co-simulation case under these options (explicit
+// coupling), its participants made over `transport` (a name of the
+// transport table) with `setup` for the parked scene, over at most
+// `max_steps` macro steps.
+MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                              const std::string& transport, const remote::TransportSetup& setup,
+                              long max_steps);
+
+// The most parked macro steps a run's measure takes (its own count if fewer).
+inline constexpr long kMatrixFreeMaxSteps = 2000;
+
+// A run's stability from the matrix-free measure, for a run whose
+// participants the master cannot hold (explicit coupling that ran to its
+// end): unstable, on the basis "matrix-free", when the perturbation grew
+// kMatrixFreeGrowth times at a rate of at least unstable_rate(t_end);
+// otherwise the verdict is left as it is (the measure cannot resolve the
+// slow growths of stable-looking runs: matrix_free_rho and its steps are
+// recorded all the same). A measure that fails leaves its reason in
+// spectral_note.
+void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec& spec,
+                              const RunOptions& options, const std::string& transport,
+                              const remote::TransportSetup& setup);
+
+}  // namespace railcosim::run
