@@ -7,7 +7,10 @@ convolutions of track.TrackSoil.step, memory M steps), each the fastest of
 --repeats. Ratios are against the smallest N measured in the same run.
 
     /usr/bin/python3 bench/green_soil_bench.py [--greens] [--reach 200] [--f-max 100]
-        [--steps 1000] [--counts 20 50 100] [--repeats 3]
+        [--steps 1000] [--counts 20 50 100] [--repeats 3] [--workers 1 2]
+
+The Green's functions are timed once per worker count (--workers, default
+1 and the usable cores), ratios against the first count in the same run.
 """
 import argparse
 import os
@@ -26,7 +29,7 @@ LAYERS = [Layer(1.4, 1800.0, 128.0, 0.375, 0.044), Layer(2.7, 1800.0, 176.0, 0.1
           Layer(1.0, 1800.0, 355.0, 0.478, 0.037)]  # scenes/ground_vibration.toml
 
 
-def greens(reach, f_max):
+def greens(reach, f_max, workers):
     n = int(reach / 0.6) + 1
     pairs = [(0.6 * k, 0.0) for k in range(n)] + [(0.6 * k, 1.3) for k in range(n)]
     points = [(0.0, d - 0.65) for d in (8.0, 16.0, 32.0, 64.0)] + \
@@ -34,7 +37,7 @@ def greens(reach, f_max):
     rec = R.Record(dt=1e-3, duration=reach / 100.0 + 1.0, f_max=f_max)
     f, w = rec.frequencies()
     start = time.perf_counter()
-    R.spectra(LAYERS, R.Footprint(0.6, 1.3), pairs, points, w)
+    R.spectra(LAYERS, R.Footprint(0.6, 1.3), pairs, points, w, workers=workers)
     return len(pairs), len(points), len(w), time.perf_counter() - start
 
 
@@ -62,12 +65,18 @@ def main():
     p.add_argument("--steps", type=int, default=1000)
     p.add_argument("--counts", type=int, nargs="+", default=[20, 50, 100])
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--workers", type=int, nargs="+", default=[1, R.usable_cores()],
+                   help="worker processes for the Green's functions, each count timed once")
     a = p.parse_args()
     print("load average at start: %.1f" % os.getloadavg()[0])
     if a.greens:
-        n_p, n_q, n_w, t = greens(a.reach, a.f_max)
-        print("Green's functions: %d footprint offsets, %d receiver offsets, %d frequencies "
-              "to %g Hz: %.1f s" % (n_p, n_q, n_w, a.f_max, t))
+        serial = None
+        for workers in a.workers:
+            n_p, n_q, n_w, t = greens(a.reach, a.f_max, workers)
+            serial = serial or t
+            print("Green's functions: %d footprint offsets, %d receiver offsets, %d frequencies "
+                  "to %g Hz, %d worker(s): %.1f s (%.2f x the first)"
+                  % (n_p, n_q, n_w, a.f_max, workers, t, t / serial))
     with tempfile.TemporaryDirectory() as cache:
         base = None
         for n in a.counts:

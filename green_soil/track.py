@@ -64,10 +64,11 @@ def kelvin_ramp(k, c, H, t):
 class TrackSoil:
     """footprints: (x, y, along, across) per coupling point (equal
     rectangles); receivers: (x, y) surface points; H the step; memory the
-    responses' length (s; at most the run's)."""
+    responses' length (s; at most the run's); workers the processes that
+    compute the Green's functions (0: the usable cores)."""
 
     def __init__(self, layers, footprints, receivers, H, memory, f_max=150.0,
-                 disc=greens.Discretisation(), cache_dir=None):
+                 disc=greens.Discretisation(), cache_dir=None, workers=0):
         sizes = {(round(f[2], 9), round(f[3], 9)) for f in footprints}
         if len(sizes) != 1:
             raise ValueError("the footprints differ in size (%s); this soil needs equal ones"
@@ -85,7 +86,7 @@ class TrackSoil:
         self.M = max(1, int(math.ceil(memory / H - 1e-9)))
         rec = R.Record(dt=H, duration=max(self.M * H, MIN_RECORD), f_max=f_max)
         spec_p, spec_q, self.cache_hit = R.cached_spectra(layers, self.fp, pairs, points, rec,
-                                                          disc, cache_dir)
+                                                          disc, cache_dir, workers)
         static, _ = R.spectra(layers, self.fp, pairs, [], [0.0], disc)
         _, w = rec.frequencies()
         hat = R.hat_spectrum(rec)
