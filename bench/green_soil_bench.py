@@ -3,8 +3,9 @@
 functions of the ground-vibration scene's layers (0 to f_max, footprint
 distances to --reach m on both rails, receivers at 8 to 64 m), and the
 participant's cost per macro step against the number of footprints (the
-convolutions of track.TrackSoil.step, memory M steps), each the fastest of
---repeats. Ratios are against the smallest N measured in the same run.
+convolutions of track.TrackSoil.step, memory M steps, 256 steps: four
+blocks of the partitioned convolution at M = 1000), partitioned and direct,
+each the fastest of --repeats. Ratios are against the smallest N measured in the same run.
 
     /usr/bin/python3 bench/green_soil_bench.py [--greens] [--reach 200] [--f-max 100]
         [--steps 1000] [--counts 20 50 100] [--repeats 3] [--workers 1 2]
@@ -41,19 +42,19 @@ def greens(reach, f_max, workers):
     return len(pairs), len(points), len(w), time.perf_counter() - start
 
 
-def per_step(n, steps, repeats, cache):
+def per_step(n, steps, repeats, cache, block):
     fps = [(0.3 + 0.6 * k, 0.65, 0.6, 1.3) for k in range(n)]
     soil = TrackSoil(LAYERS, fps, [(0.3 * n, 8.0), (0.3 * n, 32.0)], 1e-4, steps * 1e-4,
-                     f_max=100.0, cache_dir=cache)
+                     f_max=100.0, cache_dir=cache, block=block)
     rng = np.random.default_rng(1)
     forces = 5e4 + 1e3 * rng.standard_normal((64, n))
     best = np.inf
     for _ in range(repeats):
         soil.reset(forces[0])
         start = time.perf_counter()
-        for k in range(64):
-            soil.step(forces[k - 1], forces[k])
-        best = min(best, (time.perf_counter() - start) / 64)
+        for k in range(4 * 64):
+            soil.step(forces[(k - 1) % 64], forces[k % 64])
+        best = min(best, (time.perf_counter() - start) / (4 * 64))
     return best
 
 
@@ -80,10 +81,12 @@ def main():
     with tempfile.TemporaryDirectory() as cache:
         base = None
         for n in a.counts:
-            t = per_step(n, a.steps, a.repeats, cache)
+            direct = per_step(n, a.steps, a.repeats, cache, 1)
+            t = per_step(n, a.steps, a.repeats, cache, None)
             base = base or t
-            print("N = %4d footprints, M = %d memory steps: %.3f ms per macro step (%.1f x N = %d)"
-                  % (n, a.steps, 1e3 * t, t / base, a.counts[0]))
+            print("N = %4d footprints, M = %d memory steps: %.3f ms per macro step partitioned "
+                  "(%.1f x N = %d), direct sum %.3f ms (partitioned / direct %.2f)"
+                  % (n, a.steps, 1e3 * t, t / base, a.counts[0], 1e3 * direct, t / direct))
 
 
 if __name__ == "__main__":
