@@ -3,11 +3,15 @@
 functions of the ground-vibration scene's layers (0 to f_max, footprint
 distances to --reach m on both rails, receivers at 8 to 64 m), and the
 participant's cost per macro step against the number of footprints (the
-convolutions of track.TrackSoil.step, memory M steps), each the fastest of
---repeats. Ratios are against the smallest N measured in the same run.
+convolutions of track.TrackSoil.step, memory M steps, 256 steps: four
+blocks of the partitioned convolution at M = 1000), partitioned and direct,
+each the fastest of --repeats. Ratios are against the smallest N measured in the same run.
 
     /usr/bin/python3 bench/green_soil_bench.py [--greens] [--reach 200] [--f-max 100]
-        [--steps 1000] [--counts 20 50 100] [--repeats 3]
+        [--steps 1000] [--counts 20 50 100] [--repeats 3] [--workers 1 2]
+
+The Green's functions are timed once per worker count (--workers, default
+1 and the usable cores), ratios against the first count in the same run.
 """
 import argparse
 import os
@@ -26,7 +30,7 @@ LAYERS = [Layer(1.4, 1800.0, 128.0, 0.375, 0.044), Layer(2.7, 1800.0, 176.0, 0.1
           Layer(1.0, 1800.0, 355.0, 0.478, 0.037)]  # scenes/ground_vibration.toml
 
 
-def greens(reach, f_max):
+def greens(reach, f_max, workers):
     n = int(reach / 0.6) + 1
     pairs = [(0.6 * k, 0.0) for k in range(n)] + [(0.6 * k, 1.3) for k in range(n)]
     points = [(0.0, d - 0.65) for d in (8.0, 16.0, 32.0, 64.0)] + \
@@ -34,23 +38,23 @@ def greens(reach, f_max):
     rec = R.Record(dt=1e-3, duration=reach / 100.0 + 1.0, f_max=f_max)
     f, w = rec.frequencies()
     start = time.perf_counter()
-    R.spectra(LAYERS, R.Footprint(0.6, 1.3), pairs, points, w)
+    R.spectra(LAYERS, R.Footprint(0.6, 1.3), pairs, points, w, workers=workers)
     return len(pairs), len(points), len(w), time.perf_counter() - start
 
 
-def per_step(n, steps, repeats, cache):
+def per_step(n, steps, repeats, cache, block):
     fps = [(0.3 + 0.6 * k, 0.65, 0.6, 1.3) for k in range(n)]
     soil = TrackSoil(LAYERS, fps, [(0.3 * n, 8.0), (0.3 * n, 32.0)], 1e-4, steps * 1e-4,
-                     f_max=100.0, cache_dir=cache)
+                     f_max=100.0, cache_dir=cache, block=block)
     rng = np.random.default_rng(1)
     forces = 5e4 + 1e3 * rng.standard_normal((64, n))
     best = np.inf
     for _ in range(repeats):
         soil.reset(forces[0])
         start = time.perf_counter()
-        for k in range(64):
-            soil.step(forces[k - 1], forces[k])
-        best = min(best, (time.perf_counter() - start) / 64)
+        for k in range(4 * 64):
+            soil.step(forces[(k - 1) % 64], forces[k % 64])
+        best = min(best, (time.perf_counter() - start) / (4 * 64))
     return best
 
 
@@ -62,19 +66,27 @@ def main():
     p.add_argument("--steps", type=int, default=1000)
     p.add_argument("--counts", type=int, nargs="+", default=[20, 50, 100])
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--workers", type=int, nargs="+", default=[1, R.usable_cores()],
+                   help="worker processes for the Green's functions, each count timed once")
     a = p.parse_args()
     print("load average at start: %.1f" % os.getloadavg()[0])
     if a.greens:
-        n_p, n_q, n_w, t = greens(a.reach, a.f_max)
-        print("Green's functions: %d footprint offsets, %d receiver offsets, %d frequencies "
-              "to %g Hz: %.1f s" % (n_p, n_q, n_w, a.f_max, t))
+        serial = None
+        for workers in a.workers:
+            n_p, n_q, n_w, t = greens(a.reach, a.f_max, workers)
+            serial = serial or t
+            print("Green's functions: %d footprint offsets, %d receiver offsets, %d frequencies "
+                  "to %g Hz, %d worker(s): %.1f s (%.2f x the first)"
+                  % (n_p, n_q, n_w, a.f_max, workers, t, t / serial))
     with tempfile.TemporaryDirectory() as cache:
         base = None
         for n in a.counts:
-            t = per_step(n, a.steps, a.repeats, cache)
+            direct = per_step(n, a.steps, a.repeats, cache, 1)
+            t = per_step(n, a.steps, a.repeats, cache, None)
             base = base or t
-            print("N = %4d footprints, M = %d memory steps: %.3f ms per macro step (%.1f x N = %d)"
-                  % (n, a.steps, 1e3 * t, t / base, a.counts[0]))
+            print("N = %4d footprints, M = %d memory steps: %.3f ms per macro step partitioned "
+                  "(%.1f x N = %d), direct sum %.3f ms (partitioned / direct %.2f)"
+                  % (n, a.steps, 1e3 * t, t / base, a.counts[0], 1e3 * direct, t / direct))
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ model = "green", checked key by key (numpy and the standard library only).
     memory = 1.0                 # s, the responses' length (at most the run's)
     receivers = [8.0, 16.0]      # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: the middle)
+    workers = 0                  # processes computing the Green's functions (0: the usable cores)
     [[soil.layers]]              # top down; the last is the half-space
     thickness = 1.4              # m
     density = 1800.0             # kg/m^3
@@ -20,7 +21,7 @@ import math
 
 from fe_soil.params import Layer
 
-TOP_KEYS = {"model", "f_max", "memory", "receivers", "receiver_x", "layers"}
+TOP_KEYS = {"model", "f_max", "memory", "receivers", "receiver_x", "layers", "workers"}
 LAYER_KEYS = {"thickness", "density", "shear_wave_speed", "poisson", "damping"}
 DEFAULTS = {"f_max": 150.0, "memory": 1.0, "receivers": [8.0, 16.0, 32.0]}
 
@@ -78,6 +79,11 @@ def parse(table):
     out["receivers"] = [_number({"receivers": r}, "receivers", "", lo=0.0, lo_open=False)
                         for r in receivers]
     out["receiver_x"] = _number(table, "receiver_x", "") if "receiver_x" in table else None
+    workers = table.get("workers", 0)
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 0 <= workers <= 256:
+        raise ConfigError("[soil] workers must be an integer from 0 (the usable cores) to 256 "
+                          "(got %r)" % (workers,))
+    out["workers"] = workers
     layers = table.get("layers")
     if not isinstance(layers, list) or not layers or not all(isinstance(l, dict) for l in layers):
         raise ConfigError("[soil] layers is missing: give one [[soil.layers]] table or more, top "

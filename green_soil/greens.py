@@ -89,10 +89,14 @@ def tail_integral(r, k_max):
     return out
 
 
-def smooth_part(layers, omegas, r, d: Discretisation, block=256):
+def smooth_part(layers, omegas, r, d: Discretisation, block=256, f_grid=None):
     """g(r, w) - g_s(r, w) (n_r, n_w): the point load's displacement minus
-    the top layer's Boussinesq value, for complex circular frequencies."""
+    the top layer's Boussinesq value, for complex circular frequencies.
+    The wavenumber grid is that of the highest frequency f_grid (Hz;
+    default the highest of omegas), so that a block of frequencies gets
+    the same grid as the whole set."""
     f_max = max(abs(np.real(w)) for w in omegas) / (2.0 * math.pi)
+    f_max = f_max if f_grid is None else f_grid
     dk_max, k_max = d.grid_limits(layers, max(f_max, 1.0), float(np.max(r)))
     k, wk = k_grid(d, dk_max, k_max)
     spec = np.empty((len(k), len(omegas)), complex)

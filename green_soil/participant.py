@@ -79,7 +79,7 @@ class GreenSoilParticipant(rc.Participant):
         start = time.perf_counter()
         try:
             self.soil = TrackSoil(cfg["layers"], fps, [(rx, d) for d in cfg["receivers"]], H,
-                                  memory, cfg["f_max"])
+                                  memory, cfg["f_max"], workers=cfg["workers"])
         except ValueError as e:
             raise rc.BadInterface(str(e))
         self.clock = {"build": time.perf_counter() - start, "advance": 0.0, "n": 0}

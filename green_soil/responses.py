@@ -17,6 +17,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import multiprocessing
 import os
 from dataclasses import dataclass
 
@@ -35,33 +36,72 @@ class Footprint:
     across: float
 
 
-def spectra(layers, fp: Footprint, pair_offsets, point_offsets, omegas,
-            d: greens.Discretisation = greens.Discretisation()):
-    """(pairs, points): complex arrays (n, n_w) of the mean displacement over
-    a footprint under a unit force spread over another offset by (dx, dy),
-    and of the displacement at points offset (dx, dy) from a loaded
-    footprint's centre, at the complex circular frequencies `omegas`."""
+def usable_cores():
+    """The cores this process may run on (its affinity), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover (no affinity on this platform)
+        return max(1, os.cpu_count() or 1)
+
+
+def _smooth_means(args):
+    """The spline part of spectra() for one block of frequencies: the means
+    of g - g_s over the footprint pairs and at the points (no Boussinesq
+    part). A top-level function, so that worker processes can run it."""
+    layers, fp, pair_offsets, point_offsets, omegas, d, f_grid = args
     a, b = fp.along, fp.across
     offsets = list(pair_offsets) + list(point_offsets)
     reach = max([math.hypot(abs(x) + a, abs(y) + b) for x, y in offsets] + [1.0])
     r = np.arange(0.0, reach + 4.0 * d.dr, d.dr)
-    smooth = greens.smooth_part(layers, omegas, r, d)
-    spline = interpolate.CubicSpline(r, smooth, axis=0)
-    mu_scale = np.array([top_static(layers, w) for w in omegas])
+    spline = interpolate.CubicSpline(r, greens.smooth_part(layers, omegas, r, d, f_grid=f_grid),
+                                     axis=0)
     sx, wx = greens.tent_rule(a, d.quad_along)
     sy, wy = greens.tent_rule(b, d.quad_across)
     wq = np.outer(wx, wy).ravel()
     pairs = np.empty((len(pair_offsets), len(omegas)), complex)
     for i, (dx, dy) in enumerate(pair_offsets):
-        rr = np.hypot(dx + sx[:, None], dy + sy[None, :]).ravel()
-        pairs[i] = wq @ spline(rr) + greens.static_pair(dx, dy, a, b) * mu_scale
+        pairs[i] = wq @ spline(np.hypot(dx + sx[:, None], dy + sy[None, :]).ravel())
     px, pwx = greens.box_rule(a, d.quad_along)
     py, pwy = greens.box_rule(b, d.quad_across)
     pw = np.outer(pwx, pwy).ravel()
     points = np.empty((len(point_offsets), len(omegas)), complex)
     for i, (dx, dy) in enumerate(point_offsets):
-        rr = np.hypot(dx + px[:, None], dy + py[None, :]).ravel()
-        points[i] = pw @ spline(rr) + greens.static_point(dx, dy, a, b) * mu_scale
+        points[i] = pw @ spline(np.hypot(dx + px[:, None], dy + py[None, :]).ravel())
+    return pairs, points
+
+
+def spectra(layers, fp: Footprint, pair_offsets, point_offsets, omegas,
+            d: greens.Discretisation = greens.Discretisation(), workers=1):
+    """(pairs, points): complex arrays (n, n_w) of the mean displacement over
+    a footprint under a unit force spread over another offset by (dx, dy),
+    and of the displacement at points offset (dx, dy) from a loaded
+    footprint's centre, at the complex circular frequencies `omegas`.
+    The frequencies are independent: `workers` processes (0: the usable
+    cores) take contiguous blocks of them on the same wavenumber and radial
+    grids, so the result does not depend on their number (to rounding in
+    the linear algebra's blocking, far below 1e-12 relative)."""
+    omegas = np.asarray(omegas, dtype=complex)
+    f_grid = float(np.max(np.abs(omegas.real))) / (2.0 * math.pi) if len(omegas) else 0.0
+    workers = usable_cores() if workers == 0 else workers
+    blocks = [blk for blk in np.array_split(np.arange(len(omegas)), max(1, workers)) if len(blk)]
+    jobs = [(layers, fp, list(pair_offsets), list(point_offsets), omegas[blk], d, f_grid)
+            for blk in blocks]
+    if len(jobs) > 1:
+        ctx = multiprocessing.get_context("fork")
+        with ctx.Pool(len(jobs)) as pool:
+            parts = pool.map(_smooth_means, jobs, chunksize=1)
+    else:
+        parts = [_smooth_means(job) for job in jobs]
+    pairs = np.concatenate([p for p, _ in parts], axis=1) if parts else np.empty(
+        (len(pair_offsets), 0), complex)
+    points = np.concatenate([q for _, q in parts], axis=1) if parts else np.empty(
+        (len(point_offsets), 0), complex)
+    a, b = fp.along, fp.across
+    mu_scale = np.array([top_static(layers, w) for w in omegas])
+    for i, (dx, dy) in enumerate(pair_offsets):
+        pairs[i] += greens.static_pair(dx, dy, a, b) * mu_scale
+    for i, (dx, dy) in enumerate(point_offsets):
+        points[i] += greens.static_point(dx, dy, a, b) * mu_scale
     return pairs, points
 
 
@@ -156,10 +196,10 @@ def default_cache_dir():
 
 
 def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discretisation(),
-                   cache_dir=None):
+                   cache_dir=None, workers=1):
     """spectra() at rec's bins, kept in cache_dir (default
     $XDG_CACHE_HOME/railcosim/green_soil) under a hash of everything that
-    enters them; returns (pairs, points, hit)."""
+    enters them (not the number of workers); returns (pairs, points, hit)."""
     cache_dir = cache_dir or default_cache_dir()
     path = os.path.join(cache_dir, cache_key(layers, fp, pair_offsets, point_offsets, rec, d)
                         + ".npz")
@@ -167,7 +207,7 @@ def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discre
         with np.load(path) as z:
             return z["pairs"], z["points"], True
     _, w = rec.frequencies()
-    pairs, points = spectra(layers, fp, pair_offsets, point_offsets, w, d)
+    pairs, points = spectra(layers, fp, pair_offsets, point_offsets, w, d, workers)
     os.makedirs(cache_dir, exist_ok=True)
     tmp = path + ".%d.tmp.npz" % os.getpid()
     np.savez(tmp, pairs=pairs, points=points)

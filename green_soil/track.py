@@ -64,10 +64,12 @@ def kelvin_ramp(k, c, H, t):
 class TrackSoil:
     """footprints: (x, y, along, across) per coupling point (equal
     rectangles); receivers: (x, y) surface points; H the step; memory the
-    responses' length (s; at most the run's)."""
+    responses' length (s; at most the run's); workers the processes that
+    compute the Green's functions (0: the usable cores); block the
+    partition's length L (None: about 2 sqrt(M); 1: the direct sum)."""
 
     def __init__(self, layers, footprints, receivers, H, memory, f_max=150.0,
-                 disc=greens.Discretisation(), cache_dir=None):
+                 disc=greens.Discretisation(), cache_dir=None, workers=0, block=None):
         sizes = {(round(f[2], 9), round(f[3], 9)) for f in footprints}
         if len(sizes) != 1:
             raise ValueError("the footprints differ in size (%s); this soil needs equal ones"
@@ -85,7 +87,7 @@ class TrackSoil:
         self.M = max(1, int(math.ceil(memory / H - 1e-9)))
         rec = R.Record(dt=H, duration=max(self.M * H, MIN_RECORD), f_max=f_max)
         spec_p, spec_q, self.cache_hit = R.cached_spectra(layers, self.fp, pairs, points, rec,
-                                                          disc, cache_dir)
+                                                          disc, cache_dir, workers)
         static, _ = R.spectra(layers, self.fp, pairs, [], [0.0], disc)
         _, w = rec.frequencies()
         hat = R.hat_spectrum(rec)
@@ -125,6 +127,9 @@ class TrackSoil:
         self.settled = float(np.max(np.abs(self.S_static - self.elastic_static))
                              / np.abs(self.elastic_static).max())
         self.n, self.n_receivers = n, len(receivers)
+        self.block = _block_length(self.M) if block is None else block
+        if self.block > 1:
+            self.spectra_ = [_tail_spectra(K, self.block) for K in (self.S, self.V, self.R)]
         self.reset(np.zeros(n))
 
     def reset(self, forces):
@@ -134,6 +139,7 @@ class TrackSoil:
         self.f_old = np.array(forces, dtype=float)  # F_(n-M)
         self.f_last = np.array(forces, dtype=float)  # F_n
         self.steps = 0
+        self.tails = None
         return self.S_static @ self.f_old
 
     def _window(self):
@@ -163,14 +169,55 @@ class TrackSoil:
         self.f_last = f_end.copy()
         self.steps += 1
         win = self._window()
-        u = np.einsum("mij,mj->i", self.S, win) + self.S_static @ self.f_old
-        v = np.einsum("mij,mj->i", self.V, win)
-        r = np.einsum("mij,mj->i", self.R, win)
-        return u, v, r
+        if self.block <= 1:
+            u, v, r = (np.einsum("mij,mj->i", K, win) for K in (self.S, self.V, self.R))
+            return u + self.S_static @ self.f_old, v, r
+        L, j = self.block, (self.steps - 1) % self.block
+        if j == 0:  # lags >= L of the block's L outputs, from increments now final
+            self.tails = [_tails(sp, win[:-1], self.M, L) for sp in self.spectra_]
+        near = win[self.M - L:]
+        u, v, r = (np.einsum("mij,mj->i", K[self.M - L:], near) + t[j]
+                   for K, t in zip((self.S, self.V, self.R), self.tails))
+        return u + self.S_static @ self.f_old, v, r
 
     def save(self):
-        return (self.buf.copy(), self.pos, self.f_old.copy(), self.f_last.copy(), self.steps)
+        tails = None if self.tails is None else [t.copy() for t in self.tails]
+        return (self.buf.copy(), self.pos, self.f_old.copy(), self.f_last.copy(), self.steps,
+                tails)
 
     def restore(self, state):
-        buf, self.pos, f_old, f_last, self.steps = state
+        buf, self.pos, f_old, f_last, self.steps, tails = state
         self.buf, self.f_old, self.f_last = buf.copy(), f_old.copy(), f_last.copy()
+        self.tails = None if tails is None else [t.copy() for t in tails]
+
+
+# Partitioned convolution: the lags below L are summed directly at every
+# step (the newest increment may still move, see step()); the lags L to
+# M - 1 of L outputs at once, at the first step of each block of L, by FFT
+# from the increments before it, which no later step changes. Cost per step
+# about L N^2 + (M / L) N^2 complex multiply-adds plus N FFTs of length
+# about 2 M per block, against M N^2 for the direct sum; the kernels'
+# spectra hold M to 2 M times N^2 complex numbers each.
+
+
+def _block_length(M):
+    """L about 2 sqrt(M) (the two parts' costs balanced); 1 (direct) for a
+    short memory."""
+    return 1 if M < 64 else int(2.0 * math.sqrt(M))
+
+
+def _tail_spectra(K, L):
+    """The spectra of the kernel's lags L..M-1 (K oldest first, (M, rows, n))."""
+    M = K.shape[0]
+    nfft = 1 << int(math.ceil(math.log2(2 * M)))
+    lagged = np.zeros((nfft,) + K.shape[1:])
+    lagged[L:M] = K[::-1][L:M]
+    return np.fft.rfft(lagged, axis=0), nfft
+
+
+def _tails(spec, history, M, L):
+    """(L, rows): sum over lags p in [L, M) of K_p x_(n+j-p), j < L, from the
+    M - 1 increments before step n (history, oldest first)."""
+    kf, nfft = spec
+    hf = np.fft.rfft(history, nfft, axis=0)
+    return np.fft.irfft(np.einsum("fij,fj->fi", kf, hf), nfft, axis=0)[M - 1:M - 1 + L]

@@ -1,0 +1,67 @@
+"""The Green's functions computed by several worker processes, each taking
+a block of the frequencies, are bit for bit those of one process: the
+blocks share the wavenumber grid (that of the highest frequency of all),
+the radial grid and the footprint quadrature. Checked for 2 and 3 workers
+(3 does not divide the frequencies evenly, so the blocks differ in size),
+footprint pairs on both rails and receiver points, on the ground-vibration
+scene's layers with their damping; and the cache key does not depend on
+the number of workers (a cache filled by one serves the other)."""
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import support
+from green_soil import config, responses as R
+
+FP = R.Footprint(0.6, 1.3)
+PAIRS = [(0.6 * k, 0.0) for k in range(8)] + [(0.6 * k, 1.3) for k in range(8)]
+POINTS = [(0.0, 7.35), (0.0, 8.65), (0.0, 15.35)]
+REC = R.Record(dt=2e-3, duration=0.5, f_max=60.0)
+
+
+class WorkersTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        _, cls.w = REC.frequencies()
+        cls.serial = R.spectra(support.LAYERED, FP, PAIRS, POINTS, cls.w, workers=1)
+
+    def test_blocks_are_bitwise_the_serial_result(self):
+        self.assertEqual(len(self.w), 61)  # split 31 + 30 and 21 + 20 + 20
+        for workers in (2, 3):
+            pairs, points = R.spectra(support.LAYERED, FP, PAIRS, POINTS, self.w, workers=workers)
+            for name, got, want in (("pairs", pairs, self.serial[0]),
+                                    ("points", points, self.serial[1])):
+                self.assertEqual(got.shape, want.shape)
+                diff = np.max(np.abs(got - want)) / np.max(np.abs(want))
+                self.assertTrue(np.array_equal(got, want),
+                                "%s with %d workers differ from one worker by %.3g relative"
+                                % (name, workers, diff))
+
+    def test_workers_key(self):
+        layers = [{"thickness": 1.0, "density": 1800.0, "shear_wave_speed": 200.0,
+                   "poisson": 0.25}]
+        self.assertEqual(config.parse({"layers": layers})["workers"], 0)
+        self.assertEqual(config.parse({"layers": layers, "workers": 2})["workers"], 2)
+        for bad in (-1, 1.5, True, 257):
+            with self.assertRaisesRegex(config.ConfigError, r"\[soil\] workers must be an integer"):
+                config.parse({"layers": layers, "workers": bad})
+
+    def test_usable_cores_is_the_affinity(self):
+        self.assertEqual(R.usable_cores(), len(os.sched_getaffinity(0)))
+
+    def test_cache_is_shared_between_worker_counts(self):
+        with tempfile.TemporaryDirectory(prefix="green_workers_") as cache:
+            p2, q2, hit2 = R.cached_spectra(support.LAYERED, FP, PAIRS, POINTS, REC,
+                                            cache_dir=cache, workers=2)
+            p1, q1, hit1 = R.cached_spectra(support.LAYERED, FP, PAIRS, POINTS, REC,
+                                            cache_dir=cache, workers=1)
+            self.assertEqual((hit2, hit1), (False, True))
+            self.assertTrue(np.array_equal(p1, self.serial[0]))
+            self.assertTrue(np.array_equal(q1, self.serial[1]))
+            self.assertTrue(np.array_equal(p2, p1))
+
+
+if __name__ == "__main__":
+    unittest.main()
