@@ -21,6 +21,7 @@ relayed, send and receive; the same direct). Usage:
   /usr/bin/python3 bench/python_sdk_overhead.py [STEPS]
 """
 
+import argparse
 import os
 import runpy
 import struct
@@ -170,7 +171,10 @@ def direct(steps, kind=SOIL["LumpedSoil"]):
 
 
 def main():
-    steps = int(sys.argv[1]) if len(sys.argv) > 1 else 3000
+    parser = argparse.ArgumentParser(description="The Python SDK's cost per macro step.")
+    parser.add_argument("steps", nargs="?", type=int, default=3000, metavar="STEPS",
+                        help="macro steps per measurement (default 3000)")
+    steps = parser.parse_args().steps
     best = {}
     for _ in range(3):  # the best of three, against a busy machine
         for name, f in (("physics", physics), ("relayed", relayed), ("direct", direct),

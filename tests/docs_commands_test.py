@@ -13,9 +13,14 @@ checks each command as follows:
   run, and every --option they name must be one the program's --help lists;
 - `sed ... > FILE` lines are run as written (the docs make scene variants
   that way, and later commands use them);
-- every other command (the scripts, Python modules and programs, CMake,
-  GNU parallel, Slurm): every path it names inside the repository
-  (scenes/, scripts/, examples/, bench/, fe_soil/, docs/) must exist.
+- Python modules and scripts (`python3 -m MODULE ...`, `python3 FILE.py
+  ...`, also under mpirun): run for real with --help from the repository's
+  root, which must exit 0 and print the usage, and every --option the
+  command names (in [brackets] too) must be one that usage lists, so a
+  renamed option fails here;
+- every other command (shell scripts, CMake, GNU parallel, Slurm): every
+  path it names inside the repository (scenes/, scripts/, examples/,
+  bench/, fe_soil/, docs/) must exist.
 
 Then every `master run` command that can run cheaply (no node given by
 address, no secret, not the FE soil, nothing optional) runs for real, as
@@ -113,6 +118,41 @@ def check_paths(source, cmd):
     return None
 
 
+# Options a module reads before handing the rest to the SDK's parser, whose
+# --help is the one printed: named here so that every other option is held
+# to the usage.
+UNLISTED = {("fe_soil.participant", "--output-dir")}
+
+
+def python_target(cmd):
+    """(target words, name) of a Python command, or None: `-m MODULE` or a FILE.py."""
+    words = shlex.split(re.sub(r"\s*\[[^\]]*\]", "", cmd))
+    for i, word in enumerate(words):
+        if os.path.basename(word).startswith("python3"):
+            rest = words[i + 1:]
+            if rest[:1] == ["-m"] and len(rest) > 1:
+                return ["-m", rest[1]], rest[1]
+            if rest and rest[0].endswith(".py"):
+                return [rest[0]], rest[0]
+            return None
+    return None
+
+
+def check_python(source, cmd):
+    """Runs a documented Python module or script with --help; returns a failure or None."""
+    target, name = python_target(cmd)
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([source, os.path.join(source, "sdk", "python")]))
+    out = subprocess.run([sys.executable] + target + ["--help"], cwd=source, env=env,
+                         capture_output=True, text=True, timeout=60)
+    usage = out.stdout
+    if out.returncode != 0 or not usage.startswith("usage:"):
+        return "%s --help: exit %d: %s" % (name, out.returncode, (out.stdout + out.stderr).strip()[-800:])
+    for flag in re.findall(r"(?<![\w-])--[a-z][a-z-]*", cmd):
+        if flag not in re.findall(r"(?<![\w-])--[a-z][a-z-]*", usage) and (name, flag) not in UNLISTED:
+            return "%s is not an option of %s (its --help)" % (flag, name)
+    return None
+
+
 def cheap_run(cmd):
     """A `master run` command that runs in seconds on shortened scenes."""
     words = cmd.split()
@@ -150,7 +190,7 @@ def main():
     bin_dir, source = sys.argv[1], sys.argv[2]
     docs = [os.path.join(source, "README.md")] + sorted(glob.glob(os.path.join(source, "docs", "*.md")))
     cwd = tempfile.mkdtemp(prefix="docs-commands-")
-    failures, checked, paths, real = [], 0, 0, []
+    failures, checked, paths, pythons, real = [], 0, 0, 0, []
     try:
         shutil.copytree(os.path.join(source, "scenes"), os.path.join(cwd, "scenes"))
         with open(os.path.join(cwd, "cosim.token"), "w") as f:
@@ -169,6 +209,9 @@ def main():
                 elif first == "sed" and ">" in cmd:
                     out = subprocess.run(cmd, shell=True, cwd=cwd, capture_output=True, text=True)
                     why = out.stderr.strip() if out.returncode else None
+                elif python_target(cmd):
+                    why = check_paths(source, cmd) or check_python(source, cmd)
+                    pythons += 1
                 else:
                     why = check_paths(source, cmd)
                     paths += 1
@@ -188,8 +231,8 @@ def main():
                 failures.append("%s:%d: %s\n    %s" % (name, line, cmd, why))
     finally:
         shutil.rmtree(cwd, ignore_errors=True)
-    print("%d commands of the product checked with --check (%d of them run for real), %d others' paths "
-          "checked" % (checked, len(real), paths))
+    print("%d commands of the product checked with --check (%d of them run for real), %d Python "
+          "modules and scripts run with --help, %d others' paths checked" % (checked, len(real), pythons, paths))
     if checked < MIN_CHECKED:
         failures.append("only %d product commands found (at least %d expected): the reading of "
                         "the docs' shell blocks is broken" % (checked, MIN_CHECKED))

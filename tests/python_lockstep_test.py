@@ -11,15 +11,15 @@ alike; and a request of another kind (GetResults) answered as usual, ending
 the lock step. Usage: python_lockstep_test.py SOURCE_DIR"""
 
 import os
-import socket
-import struct
-import subprocess
 import sys
 import tempfile
 
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, pb  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sdk_session_support import Master, write_soil_config  # noqa: E402
+from sdk_session_support import serve as support_serve  # noqa: E402
 
 failures = []
 H = 1e-4
@@ -31,44 +31,11 @@ def check(what, cond, detail=""):
 
 
 work = tempfile.mkdtemp()
-with open(os.path.join(work, "soil.toml"), "w") as f:
-    f.write("[soil]\nmass = 699.6\nstiffness = 121.08e6\ndamping = 341.9e3\n"
-            "coupling_stiffness = 43.72e6\ncoupling_damping = 0.0\n")
+config = write_soil_config(work)
 
 
 def serve(*options):
-    child = subprocess.Popen(
-        ["/usr/bin/python3", os.path.join(src, "examples", "python_soil", "soil_participant.py"),
-         "--config", os.path.join(work, "soil.toml")] + list(options),
-        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-    line = child.stdout.readline()
-    assert line.startswith("listening on "), line
-    host, port = line.split()[-1].rsplit(":", 1)
-    return child, (host, int(port))
-
-
-class Master:
-    def __init__(self, address):
-        self.s = socket.create_connection(address, timeout=10)
-        self.buf = b""
-        self.id = 0
-
-    def send(self, **body):
-        self.id += 1
-        p = pb.Envelope(id=self.id, **body).SerializeToString()
-        self.s.sendall(struct.pack(">I", len(p)) + p)
-        return self.receive()
-
-    def receive(self):
-        while len(self.buf) < 4 or len(self.buf) < 4 + struct.unpack(">I", self.buf[:4])[0]:
-            chunk = self.s.recv(65536)
-            if not chunk:
-                return None
-            self.buf += chunk
-        n = struct.unpack(">I", self.buf[:4])[0]
-        e = pb.Envelope.FromString(self.buf[4:4 + n])
-        self.buf = self.buf[4 + n:]
-        return e
+    return support_serve(src, config, *options)
 
 
 def error(m, r, code, message):

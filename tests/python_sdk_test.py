@@ -12,7 +12,6 @@ WindowDone. Usage: python_sdk_test.py SOURCE_DIR"""
 import os
 import socket
 import struct
-import subprocess
 import sys
 import tempfile
 import time
@@ -22,6 +21,8 @@ sys.path.insert(0, os.path.join(src, "sdk", "python"))
 from railcosim_sdk.auth import auth_proof  # noqa: E402
 from railcosim_sdk.session import auth_answer  # noqa: E402
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, pb  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sdk_session_support import Master as SessionMaster, serve, write_soil_config  # noqa: E402
 
 failures = []
 
@@ -97,48 +98,10 @@ work = tempfile.mkdtemp()
 SECRET = "s3cret of the test run"
 with open(os.open(os.path.join(work, "token"), os.O_WRONLY | os.O_CREAT, 0o600), "w") as f:
     f.write("  %s\n" % SECRET)
-with open(os.path.join(work, "soil.toml"), "w") as f:
-    f.write("[soil]\nmass = 699.6\nstiffness = 121.08e6\ndamping = 341.9e3\n"
-            "coupling_stiffness = 43.72e6\ncoupling_damping = 0.0\n")
-child = subprocess.Popen(
-    ["/usr/bin/python3", os.path.join(src, "examples", "python_soil", "soil_participant.py"),
-     "--config", os.path.join(work, "soil.toml"), "--token-file", os.path.join(work, "token")],
-    stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+child, address = serve(src, write_soil_config(work), "--token-file", os.path.join(work, "token"))
 try:
-    line = child.stdout.readline()
-    assert line.startswith("listening on "), line
-    host, port = line.split()[-1].rsplit(":", 1)
-
-    class Master:
-        def __init__(self):
-            self.s = socket.create_connection((host, int(port)), timeout=5)
-            self.buf = b""
-            self.id = 0
-
-        def send(self, **body):
-            self.id += 1
-            p = pb.Envelope(id=self.id, **body).SerializeToString()
-            self.s.sendall(struct.pack(">I", len(p)) + p)
-            return self.receive()
-
-        def receive(self):
-            while len(self.buf) < 4 or len(self.buf) < 4 + struct.unpack(">I", self.buf[:4])[0]:
-                chunk = self.s.recv(65536)
-                if not chunk:
-                    return None
-                self.buf += chunk
-            n = struct.unpack(">I", self.buf[:4])[0]
-            e = pb.Envelope.FromString(self.buf[4:4 + n])
-            self.buf = self.buf[4 + n:]
-            return e
-
-        def hello(self, participant="soil", secret=SECRET):
-            r = self.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="master",
-                                         participant=participant))
-            if not r.HasField("challenge"):
-                return r
-            return self.send(auth=pb.Auth(mac=auth_answer(secret, participant,
-                                                          r.challenge.nonce)))
+    def Master():
+        return SessionMaster(address, timeout=5, secret=SECRET)
 
     def error(r, code, message, conn=None):
         if conn is not None:  # the session ends: wait until it is closed
@@ -263,7 +226,7 @@ try:
     w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=1)).SerializeToString()
     m.s.sendall(struct.pack(">I", len(w)) + w)
     time.sleep(0.2)
-    silent = [socket.create_connection((host, int(port)), timeout=5) for _ in range(100)]
+    silent = [socket.create_connection(address, timeout=5) for _ in range(100)]
     t0 = time.monotonic()
     peer = Master()
     c = peer.send(hello=pb.Hello(protocol_version=PROTOCOL_VERSION, role="peer", participant="soil",
@@ -275,7 +238,7 @@ try:
           r.HasField("hello_reply") and r.hello_reply.participant == "soil", str(r))
     check("within 1.5 s of 100 silent connections", time.monotonic() - t0 < 1.5,
           "%.2f s" % (time.monotonic() - t0))
-    quiet = Master.__new__(Master)
+    quiet = SessionMaster.__new__(SessionMaster)
     quiet.s, quiet.buf, quiet.id = silent[0], b"", 0
     late = quiet.receive()
     check("a silent connection is closed after its handshake time", late is not None and
@@ -302,7 +265,7 @@ try:
     w = pb.Envelope(id=m.id, window=pb.Window(first_step=0, end_step=1)).SerializeToString()
     m.s.sendall(struct.pack(">I", len(w)) + w)
     conn, _ = peer_server.accept()
-    peer = Master.__new__(Master)
+    peer = SessionMaster.__new__(SessionMaster)
     peer.s, peer.buf, peer.id = conn, b"", 0
     conn.settimeout(5)
     h = peer.receive()
