@@ -1,7 +1,6 @@
 """A load's content above the resolved frequency (pure Python): the share
 against the Ricker wavelet's closed form, and a 25 Hz Ricker on a mesh of
 the 20 Hz rule reported as not resolved at every receiver."""
-import math
 import os
 import sys
 import unittest
