@@ -7,15 +7,16 @@ import numpy as np
 
 
 def energy_above(signal, dt, f):
-    """The fraction of the energy of `signal` (sampled every dt s, its mean
-    removed) that lies above f Hz, from its discrete Fourier transform
+    """The fraction of the energy of `signal` (sampled every dt s along its
+    first axis, each column's mean removed; the columns' spectra summed, so
+    each footprint's own force history counts, not their sum) above f Hz, from its discrete Fourier transform
     (zero-padded to four times its length so the split falls between close
     lines; each line stands for the band of its width around it, and the
     line the split falls in counts by the part above f). 0 for a constant
     signal."""
-    x = np.asarray(signal, dtype=float)
-    x = x - x.mean()
-    spec = np.abs(np.fft.rfft(x, n=4 * len(x))) ** 2
+    x = np.asarray(signal, dtype=float).reshape(len(signal), -1)
+    x = x - x.mean(axis=0)
+    spec = (np.abs(np.fft.rfft(x, n=4 * len(x), axis=0)) ** 2).sum(axis=1)
     freq = np.fft.rfftfreq(4 * len(x), dt)
     total = spec.sum()
     if total <= 0.0:

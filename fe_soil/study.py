@@ -307,7 +307,7 @@ def main(argv=None):
             "checks": found, "total": time.perf_counter() - started, "load": load()}
     info["resolution"] = resolution(ts["soil"], cfg)
     info["load_content"] = spectrum.load_verdicts(
-        ts["forces"][:, 1:].sum(axis=1), ts["H"], cfg["receivers"],
+        ts["forces"][:, 1:], ts["H"], cfg["receivers"],
         [min(f, g) for _, f, g in info["resolution"][1]])
     study_report.write(out, runs, info)
     print("study: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)

@@ -30,7 +30,7 @@ def kb_max(r):
 def load_content(info):
     """The sentence on the load's content above each receiver's resolved
     frequency (the lower of the two estimates)."""
-    return ("The load (the sum of the forces into the soil) against the resolved frequency, "
+    return ("The load (each footprint's force into the soil, their spectra summed) against the resolved frequency, "
             "per receiver: %s." % "; ".join(v[3] for v in info["load_content"]))
 
 
