@@ -60,6 +60,18 @@ class Spectrum(unittest.TestCase):
             self.assertNotIn("not resolved", text)
             self.assertIn(": resolved", text)
 
+    def test_each_footprints_history_counts_not_their_sum(self):
+        # Two footprints under opposite slow pulses and a small fast one on
+        # the first: their sum holds only the fast pulse (its closed-form
+        # share), each footprint mostly the slow one (the fast pulse has
+        # about 1e-4 x 5/40 of its energy: a share near 1e-5).
+        slow, fast = ricker_load(5.0), 1e-2 * ricker_load(40.0)
+        loads = np.stack([slow + fast, -slow], axis=1)
+        share = spectrum.energy_above(loads, DT, 20.0)
+        self.assertLess(share, 1e-3)
+        self.assertAlmostEqual(spectrum.energy_above(loads.sum(axis=1), DT, 20.0),
+                               spectrum.ricker_energy_above(40.0, 20.0), delta=2e-4)
+
 
 if __name__ == "__main__":
     unittest.main()
