@@ -32,7 +32,7 @@ import tomllib
 import numpy as np
 
 from . import config as fe_config
-from . import measures, two_step
+from . import measures, spectrum, two_step
 from . import progress as fe_progress
 
 # (key, label, case, extra options of master run)
@@ -306,6 +306,9 @@ def main(argv=None):
             "kc": ts["kc"],
             "checks": found, "total": time.perf_counter() - started, "load": load()}
     info["resolution"] = resolution(ts["soil"], cfg)
+    info["load_content"] = spectrum.load_verdicts(
+        ts["forces"][:, 1:], ts["H"], cfg["receivers"],
+        [min(f, g) for _, f, g in info["resolution"][1]])
     study_report.write(out, runs, info)
     print("study: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)
 

@@ -27,6 +27,13 @@ def kb_max(r):
     return max(r["kb_fmax_x"], r["kb_fmax_y"], r["kb_fmax_z"])
 
 
+def load_content(info):
+    """The sentence on the load's content above each receiver's resolved
+    frequency (the lower of the two estimates)."""
+    return ("The load (each footprint's force into the soil, their spectra summed) against the resolved frequency, "
+            "per receiver: %s." % "; ".join(v[3] for v in info["load_content"]))
+
+
 def answer(runs, info):
     d = info["distances"]
     L = ["## Answer", "",
@@ -46,7 +53,7 @@ def answer(runs, info):
              info["resolution"][0],
              "; ".join("%g m: %.2g m, %.3g Hz (phase %.3g Hz)" % (x, h, f, g)
                        for (h, f, g), x in zip(info["resolution"][1], d))),
-         "",
+         "", load_content(info), "",
          "### Free field per distance", "",
          "| distance | method | PPV (m/s) | PPV_z (m/s) | KB_Fmax | KB_Fmax,z |",
          "|---:|---|---:|---:|---:|---:|"]
