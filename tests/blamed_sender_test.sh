@@ -10,28 +10,7 @@
 #   run fails naming the vehicle node, the sample's time and the macro step.
 # Usage: blamed_sender_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
-bin=$1
-src=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-start() {  # NAME COMMAND...: sets $address from its "listening on" line
-  local name=$1
-  shift
-  "$@" >"$work/$name.out" 2>"$work/$name.err" &
-  pids+=($!)
-  for _ in $(seq 400); do
-    grep -q '^listening on ' "$work/$name.out" && break
-    sleep 0.05
-  done
-  address=$(sed -n 's/^listening on //p' "$work/$name.out")
-  [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
-}
+source "$(dirname "$0")/node_start.bash" "$@"
 
 expect() {  # NAME LOG PATTERN: the run failed (exit 1) and its log holds PATTERN
   grep -q -- "$3" "$2" || { echo "$1: expected '$3'"; cat "$2"; exit 1; }

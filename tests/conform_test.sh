@@ -5,15 +5,7 @@
 # catches each; the example soil on the Python SDK passes too.
 # Usage: conform_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
-bin=$1
-src=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/node_start.bash" "$@"
 sed -e 's/^end_time = .*/end_time = 0.02/' "$src/scenes/soil.toml" >"$work/soil.toml"
 # The Python soil integrates with fixed micro steps.
 sed -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$work/soil.toml" >"$work/soil10.toml"
@@ -23,14 +15,7 @@ export RAILCOSIM_SDK_CACHE=$work/cache
 serve() {  # NAME PROGRAM [ARGS]: starts a node, sets $address
   local name=$1
   shift
-  "$@" --listen 127.0.0.1:0 >"$work/$name.out" 2>"$work/$name.err" &
-  pids+=($!)
-  for _ in $(seq 400); do
-    grep -q '^listening on ' "$work/$name.out" && break
-    sleep 0.05
-  done
-  address=$(sed -n 's/^listening on //p' "$work/$name.out")
-  [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
+  start "$name" "$@" --listen 127.0.0.1:0
 }
 
 conform() {  # EXPECTED_STATUS LOG ARGS...: runs master conform, checks its status

@@ -7,31 +7,10 @@
 # The same with the Python SDK's soil as the receiver of bad data.
 # Usage: peer_data_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
-bin=$1
-src=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/node_start.bash" "$@"
 export RAILCOSIM_SDK_CACHE=$work/cache
 # The Python soil integrates with fixed micro steps: the soil scene with 10.
 sed -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$src/scenes/soil.toml" >"$work/soil10.toml"
-
-start() {  # NAME COMMAND...: sets $address from its "listening on" line
-  local name=$1
-  shift
-  "$@" >"$work/$name.out" 2>"$work/$name.err" &
-  pids+=($!)
-  for _ in $(seq 400); do
-    grep -q '^listening on ' "$work/$name.out" && break
-    sleep 0.05
-  done
-  address=$(sed -n 's/^listening on //p' "$work/$name.out")
-  [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
-}
 
 check() {  # NAME EXPECTED_MESSAGE SOIL DIRECTION BLAMED
   if [[ ${3:-built-in} == python ]]; then

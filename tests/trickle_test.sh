@@ -5,30 +5,9 @@
 # leaves summary.json; and a SIGINT meanwhile stops it within a second.
 # Usage: trickle_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
-bin=$1
-src=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/node_start.bash" "$@"
 # A run long enough to be mid-window when the trickle starts (50,000 steps).
 sed -e "s/^end_time = .*/end_time = 5.0/" -e "s/^speed_kmh = .*/speed_kmh = 10.0/" "$src/scenes/paper.toml" >"$work/long.toml"
-
-start() {  # NAME COMMAND...: sets $address from its "listening on" line
-  local name=$1
-  shift
-  "$@" >"$work/$name.out" 2>"$work/$name.err" &
-  pids+=($!)
-  for _ in $(seq 400); do
-    grep -q '^listening on ' "$work/$name.out" && break
-    sleep 0.05
-  done
-  address=$(sed -n 's/^listening on //p' "$work/$name.out")
-  [[ -n $address ]] || { echo "$name did not start"; cat "$work/$name.err"; exit 1; }
-}
 
 run_master() {  # OUT: the run through a fresh trickling proxy; sets $master
   start track "$bin/track_node" --listen 127.0.0.1:0
