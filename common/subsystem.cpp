@@ -7,6 +7,17 @@
 
 namespace railcosim {
 
+SubsystemConfig subsystem_config(const Scene& scene, const ParticipantSpec& p, double macro_step,
+                                 double tolerance) {
+  SubsystemConfig c;
+  c.participant = p;
+  c.macro_step = macro_step;
+  c.tolerance = tolerance;
+  c.micro_steps = scene.micro_steps;
+  c.carry_acceleration = scene.restart == "carry";
+  return c;
+}
+
 int interface_points(const Scene& scene, const InterfaceSpec& i) {
   return i.kind().moving ? scene.wheel_count() : scene.sleeper_count;
 }

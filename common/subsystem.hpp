@@ -34,6 +34,12 @@ struct SubsystemConfig {
   long max_micro_steps = Newmark::kMaxStepsPerInterval;  // per macro step, see Newmark
 };
 
+// A participant's configuration for a run of `scene` at macro step H with
+// micro-step tolerance `tolerance`: the scene's micro steps and restart
+// convention.
+SubsystemConfig subsystem_config(const Scene& scene, const ParticipantSpec& p, double macro_step,
+                                 double tolerance);
+
 // The number of coupling points of an interface (one per wheel at the
 // contact, one per sleeper otherwise).
 int interface_points(const Scene& scene, const InterfaceSpec& i);

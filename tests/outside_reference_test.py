@@ -198,7 +198,7 @@ class OutsideReference(unittest.TestCase):
         self.assertIsNone(s["history_error"], s)
         self.assertEqual(s["reference"]["kind"], "none", s)
         self.assertIn("not judged: no co-simulation reference: the reference run "
-                      "(implicit-linear-iqn-ils, H = 5e-05 s) ended diverged", s["message"])
+                      "(implicit-linear-iqn-ils, H = 5e-05 s) ended failed", s["message"])
         self.assertIn("this soil takes no macro step under 1e-4 s", s["message"])
 
 

@@ -45,6 +45,13 @@ std::vector<std::string> child_environment(const std::vector<std::string>& overr
   return env;
 }
 
+ExecArgs::ExecArgs(const LaunchCommand& command) : env_text(child_environment(command.env)) {
+  for (const std::string& a : command.argv) argv.push_back(a.c_str());
+  argv.push_back(nullptr);
+  for (const std::string& e : env_text) envp.push_back(e.c_str());
+  envp.push_back(nullptr);
+}
+
 std::string own_directory() {
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
@@ -80,15 +87,7 @@ LaunchedNode::LaunchedNode(const LaunchCommand& command, std::chrono::millisecon
 
 void LaunchedNode::start(const LaunchCommand& command, std::chrono::milliseconds timeout) {
   const std::string& program = command.name;
-  // The child's argv and environment, built before the fork (the child only
-  // calls async-signal-safe functions).
-  std::vector<const char*> argv;
-  for (const std::string& a : command.argv) argv.push_back(a.c_str());
-  argv.push_back(nullptr);
-  const std::vector<std::string> env_text = child_environment(command.env);
-  std::vector<const char*> envp;
-  for (const std::string& e : env_text) envp.push_back(e.c_str());
-  envp.push_back(nullptr);
+  const ExecArgs exec(command);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
@@ -100,7 +99,8 @@ void LaunchedNode::start(const LaunchCommand& command, std::chrono::milliseconds
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(1);
     ::dup2(fds[1], STDOUT_FILENO);
-    ::execve(argv[0], const_cast<char* const*>(argv.data()), const_cast<char* const*>(envp.data()));
+    ::execve(exec.argv[0], const_cast<char* const*>(exec.argv.data()),
+             const_cast<char* const*>(exec.envp.data()));
     ::_exit(127);
   }
   ::close(fds[1]);

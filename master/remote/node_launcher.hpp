@@ -52,6 +52,17 @@ class LaunchedNode {
 // a started program gets.
 std::vector<std::string> child_environment(const std::vector<std::string>& overrides);
 
+// What execve() takes to start `command`: its argv and its environment (the
+// strings they point into are held here; built before a fork, the child
+// only calls async-signal-safe functions).
+struct ExecArgs {
+  explicit ExecArgs(const LaunchCommand& command);
+  ExecArgs(const ExecArgs&) = delete;
+  ExecArgs& operator=(const ExecArgs&) = delete;
+  std::vector<std::string> env_text;
+  std::vector<const char*> argv, envp;
+};
+
 // The folder of the running executable (where the node programs are built).
 std::string own_directory();
 

@@ -29,13 +29,7 @@ struct Finished {
 // within `timeout` (else kills it).
 Finished run_with_input(const LaunchCommand& command, const std::string& input,
                         std::chrono::milliseconds timeout) {
-  std::vector<const char*> argv;
-  for (const std::string& a : command.argv) argv.push_back(a.c_str());
-  argv.push_back(nullptr);
-  const std::vector<std::string> env_text = child_environment(command.env);
-  std::vector<const char*> envp;
-  for (const std::string& e : env_text) envp.push_back(e.c_str());
-  envp.push_back(nullptr);
+  const ExecArgs exec(command);
   int in[2], err[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
     throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
@@ -44,7 +38,8 @@ Finished run_with_input(const LaunchCommand& command, const std::string& input,
   if (pid == 0) {
     ::dup2(in[0], STDIN_FILENO);
     ::dup2(err[1], STDERR_FILENO);
-    ::execve(argv[0], const_cast<char* const*>(argv.data()), const_cast<char* const*>(envp.data()));
+    ::execve(exec.argv[0], const_cast<char* const*>(exec.argv.data()),
+             const_cast<char* const*>(exec.envp.data()));
     ::_exit(127);
   }
   ::close(in[0]);
@@ -90,10 +85,7 @@ void check_started_soil(const Scene& scene, const CaseSpec& spec, double macro_s
   if (soil == nullptr || spec.monolithic) return;
   for (const ParticipantSpec& p : partition(scene, spec)) {
     if (p.role != "soil") continue;
-    SubsystemConfig c;
-    c.participant = p;
-    c.macro_step = macro_step;
-    c.micro_steps = scene.micro_steps;
+    const SubsystemConfig c = subsystem_config(scene, p, macro_step, 0.0);
     const std::string input = configure_envelope(scene, c, false).configure().SerializeAsString();
     const LaunchCommand command = soil_check_command({1, "", soil, scene.source});
     const Finished f = run_with_input(command, input, timeout);

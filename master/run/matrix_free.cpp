@@ -66,12 +66,7 @@ struct ParkedParticipants {
     std::vector<std::string> roles;
     std::vector<CouplingData> zero;
     for (const ParticipantSpec& p : specs) {
-      SubsystemConfig c;
-      c.participant = p;
-      c.macro_step = o.macro_step;
-      c.tolerance = o.tolerance;
-      c.micro_steps = parked.micro_steps;
-      c.carry_acceleration = parked.restart == "carry";
+      const SubsystemConfig c = subsystem_config(parked, p, o.macro_step, o.tolerance);
       owned.push_back(make(c));
       ps.push_back(owned.back().get());
       roles.push_back(p.role);

@@ -208,12 +208,7 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
   Participants P;
   P.specs = partition(scene, spec);
   for (const ParticipantSpec& p : P.specs) {
-    SubsystemConfig c;
-    c.participant = p;
-    c.macro_step = o.macro_step;
-    c.tolerance = o.tolerance;
-    c.micro_steps = scene.micro_steps;
-    c.carry_acceleration = scene.restart == "carry";
+    const SubsystemConfig c = subsystem_config(scene, p, o.macro_step, o.tolerance);
     P.owned.push_back(make(c));
     P.ps.push_back(P.owned.back().get());
   }
