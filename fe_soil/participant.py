@@ -258,11 +258,12 @@ def write(path, text):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(add_help=False)
-    parser.add_argument("--output-dir")
-    parser.add_argument("--scene-file")  # named in configuration errors
+    parser.add_argument("--output-dir", help="where rank 0 writes vibration.csv and receivers.csv "
+                        "at the end of a run")
+    parser.add_argument("--scene-file", help="the scene file, named in configuration errors")
     mine, rest = parser.parse_known_args(argv)
-    if "--check-configure" in rest:  # master run --check: no mesh, no MPI rank
-        rc.serve(FESoilParticipant(None, None, mine.scene_file), rest)
+    if "--check-configure" in rest or "-h" in rest or "--help" in rest:  # no mesh, no MPI rank
+        rc.serve(FESoilParticipant(None, None, mine.scene_file), rest, parents=[parser])
         return
     from . import model  # noqa: F401  (dolfinx loads before the address is printed)
 

@@ -181,7 +181,7 @@ def check_configure(participant, data):
     return 0
 
 
-def serve(participant, argv=None):
+def serve(participant, argv=None, parents=()):
     """Serves `participant` (a Participant instance) until interrupted.
 
     Command line (argv, default sys.argv[1:]):
@@ -195,11 +195,14 @@ def serve(participant, argv=None):
       --token-file FILE    the shared secret (the master's --token-file)
       --relayed-only       do not offer the direct data plane
       --name TEXT          the name given in the hello reply (logs)
+      parents:             argparse parsers (add_help=False) of the program's
+                           own options, listed in --help beside these
       --check-configure    read a serialized Configure from standard input,
                            check it (participant.check) and exit: 0 if it
                            would be accepted, 2 with the reason on stderr
     """
-    p = argparse.ArgumentParser(description="serve the %s participant" % participant.name)
+    p = argparse.ArgumentParser(description="serve the %s participant" % participant.name,
+                                parents=list(parents))
     p.add_argument("--listen", default="127.0.0.1:0")
     p.add_argument("--config")
     p.add_argument("--scene", dest="config", help=argparse.SUPPRESS)  # the example's old name
