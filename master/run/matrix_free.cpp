@@ -9,6 +9,7 @@
 #include "engine/coupled_statics.hpp"
 #include "engine/window_schedule.hpp"
 #include "newmark.hpp"
+#include "run/parked.hpp"
 #include "run/stability.hpp"
 #include "scene_text.hpp"
 
@@ -49,39 +50,6 @@ std::vector<double> perturbation_sizes(FreeMemory m, double H) {
   each_output(m, [&](double, int kind) { e.push_back(kind == 0 ? du : kind == 1 ? du / H : df); });
   return e;
 }
-
-// The parked co-simulation, its participants made by `make`, saved at rest
-// after two macro steps (so that extrapolated inputs have their points).
-struct ParkedParticipants {
-  static constexpr long kStart = 2;
-  std::vector<std::unique_ptr<Participant>> owned;
-  std::vector<Participant*> ps;
-  std::unique_ptr<engine::Schedule> schedule;
-  std::vector<ParticipantState> saved;
-  FreeMemory rest;
-
-  ParkedParticipants(const Scene& parked, const CaseSpec& spec, const RunOptions& o,
-                     const remote::ParticipantFactory& make) {
-    const std::vector<ParticipantSpec> specs = partition(parked, spec);
-    std::vector<std::string> roles;
-    std::vector<CouplingData> zero;
-    for (const ParticipantSpec& p : specs) {
-      const SubsystemConfig c = subsystem_config(parked, p, o.macro_step, o.tolerance);
-      owned.push_back(make(c));
-      ps.push_back(owned.back().get());
-      roles.push_back(p.role);
-      zero.push_back(engine::zero_inputs(parked, p));
-    }
-    const engine::Routing routing = engine::make_routing(specs);
-    const engine::StaticsOutcome statics = engine::find_static_state(ps, routing, zero);
-    schedule = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, ps, routing, roles,
-                                     o.macro_step);
-    schedule->initialize(statics.inputs);
-    for (long n = 0; n < kStart; ++n) schedule->advance(n);
-    for (Participant* p : ps) saved.push_back(p->save());
-    rest = schedule->memory();
-  }
-};
 
 // The least-squares slope of y against its index over [from, y.size()).
 double log_slope(const std::vector<double>& y, std::size_t from) {

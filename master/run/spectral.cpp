@@ -9,6 +9,7 @@
 
 #include "engine/coupled_statics.hpp"
 #include "engine/window_schedule.hpp"
+#include "run/parked.hpp"
 #include "run/stability.hpp"
 #include "subsystem.hpp"
 #include "subsystem_motion.hpp"
@@ -36,34 +37,19 @@ void each_value(M& memory, F&& f) {
       for (auto& d : cd) data(d);
 }
 
-// The parked co-simulation in the master's process, saved at a state of
-// rest: the participants' snapshots and the master's memory after `n0`
-// macro steps from the coupled static state (two, so that extrapolated
-// inputs have their past points).
+// The parked co-simulation (parked.hpp) in the master's process, its
+// participants the scene's own subsystems, whose state it sets and reads
+// coordinate by coordinate.
 class ParkedCoupling {
  public:
-  static constexpr long kStart = 2;
+  static constexpr long kStart = ParkedParticipants::kStart;
 
-  ParkedCoupling(const Scene& parked, const CaseSpec& spec, const RunOptions& o) {
-    const std::vector<ParticipantSpec> specs = partition(parked, spec);
-    std::vector<std::string> roles;
-    std::vector<CouplingData> zero;
-    for (const ParticipantSpec& p : specs) {
-      const SubsystemConfig c = subsystem_config(parked, p, o.macro_step, o.tolerance);
-      subs_.push_back(std::make_unique<Subsystem>(parked, c));
-      ps_.push_back(subs_.back().get());
-      roles.push_back(p.role);
-      zero.push_back(engine::zero_inputs(parked, p));
-    }
-    const engine::Routing routing = engine::make_routing(specs);
-    const engine::StaticsOutcome statics = engine::find_static_state(ps_, routing, zero);
-    schedule_ = engine::make_schedule(spec.scheme, o.feedthrough, o.coupling, ps_, routing, roles,
-                                      o.macro_step);
-    schedule_->initialize(statics.inputs);
-    for (long n = 0; n < kStart; ++n) schedule_->advance(n);
-    for (Participant* p : ps_) saved_.push_back(p->save());
-    memory_ = schedule_->memory();
-  }
+  ParkedCoupling(const Scene& parked, const CaseSpec& spec, const RunOptions& o)
+      : parked_(parked, spec, o, [this, &parked](const SubsystemConfig& c) {
+          auto s = std::make_unique<Subsystem>(parked, c);
+          subs_.push_back(s.get());
+          return std::unique_ptr<Participant>(std::move(s));
+        }) {}
 
   // The coupled state now: every participant's motion, then the memory.
   std::vector<double> state() const {
@@ -72,7 +58,7 @@ class ParkedCoupling {
       const std::vector<double> m = snapshot_motion(s->save());
       x.insert(x.end(), m.begin(), m.end());
     }
-    Memory m = schedule_->memory();
+    Memory m = parked_.schedule->memory();
     each_value(m, [&](double v, Kind) { x.push_back(v); });
     return x;
   }
@@ -80,12 +66,12 @@ class ParkedCoupling {
   // The kind of each coordinate of state().
   std::vector<Kind> kinds() const {
     std::vector<Kind> k;
-    for (const ParticipantState& saved : saved_) {
+    for (const ParticipantState& saved : parked_.saved) {
       const std::size_t n = snapshot_motion(saved).size() / 3;
       for (Kind kind : {Kind::kDisplacement, Kind::kVelocity, Kind::kAcceleration})
         k.insert(k.end(), n, kind);
     }
-    Memory m = memory_;
+    Memory m = parked_.rest;
     each_value(m, [&](double, Kind kind) { k.push_back(kind); });
     return k;
   }
@@ -94,7 +80,7 @@ class ParkedCoupling {
   std::vector<double> step(const std::vector<double>& x) {
     std::size_t at = 0;
     for (std::size_t p = 0; p < subs_.size(); ++p) {
-      ParticipantState moved = saved_[p];
+      ParticipantState moved = parked_.saved[p];
       const std::size_t n = snapshot_motion(moved).size();
       set_snapshot_motion(moved,
                           std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(at),
@@ -102,12 +88,12 @@ class ParkedCoupling {
       subs_[p]->restore(moved);
       at += n;
     }
-    Memory m = memory_;
+    Memory m = parked_.rest;
     each_value(m, [&](double& v, Kind) { v = x[at++]; });
-    schedule_->set_memory(std::move(m));
+    parked_.schedule->set_memory(std::move(m));
     std::vector<long> before;
     for (const auto& s : subs_) before.push_back(s->integrator_state().micro_steps);
-    schedule_->advance(kStart);
+    parked_.schedule->advance(kStart);
     for (std::size_t p = 0; p < subs_.size(); ++p)
       micro_ = std::max(micro_, subs_[p]->integrator_state().micro_steps - before[p]);
     return state();
@@ -118,17 +104,14 @@ class ParkedCoupling {
 
   // Back to the saved state of rest.
   std::vector<double> rest() {
-    for (std::size_t p = 0; p < subs_.size(); ++p) subs_[p]->restore(saved_[p]);
-    schedule_->set_memory(memory_);
+    for (std::size_t p = 0; p < subs_.size(); ++p) subs_[p]->restore(parked_.saved[p]);
+    parked_.schedule->set_memory(parked_.rest);
     return state();
   }
 
  private:
-  std::vector<std::unique_ptr<Subsystem>> subs_;
-  std::vector<Participant*> ps_;
-  std::unique_ptr<engine::Schedule> schedule_;
-  std::vector<ParticipantState> saved_;
-  Memory memory_;
+  std::vector<Subsystem*> subs_;  // the participants of parked_, as the integrators they are
+  ParkedParticipants parked_;
   long micro_ = 0;
 };
 
