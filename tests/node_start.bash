@@ -1,6 +1,6 @@
 # Sourced by the shell tests that start nodes (blamed_sender_test.sh,
-# peer_data_test.sh, trickle_test.sh, conform_test.sh): the arguments BIN_DIR
-# SOURCE_DIR as $bin and $src, a scratch folder $work of the test's own
+# peer_data_test.sh, trickle_test.sh, conform_test.sh, python_soil_test.sh):
+# the arguments BIN_DIR SOURCE_DIR as $bin and $src, a scratch folder $work of the test's own
 # (mktemp, so tests that run side by side never share it), removed on exit
 # with every process start() began, and start() itself.
 # Usage (at the top of a test): source "$(dirname "$0")/node_start.bash" "$@"
@@ -14,12 +14,12 @@ cleanup() {
 }
 trap cleanup EXIT
 
-start() {  # NAME COMMAND...: sets $address from its "listening on" line (20 s at most)
+start() {  # NAME COMMAND...: sets $address from its "listening on" line (40 s at most)
   local name=$1
   shift
   "$@" >"$work/$name.out" 2>"$work/$name.err" &
   pids+=($!)
-  for _ in $(seq 400); do
+  for _ in $(seq 800); do
     grep -q '^listening on ' "$work/$name.out" && break
     sleep 0.05
   done

@@ -10,15 +10,7 @@
 # with substep waveforms must end naming the soil, which takes none.
 # Usage: python_soil_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
-bin=$1
-src=$2
-work=$(mktemp -d)
-pids=()
-cleanup() {
-  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/node_start.bash" "$@"
 export RAILCOSIM_SDK_CACHE=$work/cache
 
 # The soil scene, shortened, with 10 fixed micro steps per macro step.
@@ -26,28 +18,16 @@ sed -e 's/^end_time = .*/end_time = 0.005/' -e 's/^\(tolerance = .*\)/\1\nmicro_
   "$src/scenes/soil.toml" >"$work/soil.toml"
 grep -q '^micro_steps = 10' "$work/soil.toml"
 
-start() {  # NAME PROGRAM [options]: starts a participant; sets $address
+participant() {  # NAME PROGRAM [options]: start(); a .py program with the scene as --config
   local name=$1 program=$2
   shift 2
   if [[ $program == *.py ]]; then
-    /usr/bin/python3 "$program" --config "$work/soil.toml" "$@" >"$work/$name.out" \
-      2>"$work/$name.err" &
+    start "$name" /usr/bin/python3 "$program" --config "$work/soil.toml" "$@"
   else
-    "$program" "$@" >"$work/$name.out" 2>"$work/$name.err" &
-  fi
-  pids+=($!)
-  for _ in $(seq 400); do
-    grep -q '^listening on ' "$work/$name.out" 2>/dev/null && break
-    sleep 0.1
-  done
-  address=$(sed -n 's/^listening on //p' "$work/$name.out")
-  if [[ -z $address ]]; then
-    echo "the participant $name did not start:"
-    cat "$work/$name.err"
-    exit 1
+    start "$name" "$program" "$@"
   fi
 }
-start sdk "$src/examples/python_soil/soil_participant.py"
+participant sdk "$src/examples/python_soil/soil_participant.py"
 good=$address
 # A purpose-broken soil: it ignores Restore.
 cat >"$work/broken.py" <<PY
@@ -58,7 +38,7 @@ class Forgetful(ns["LumpedSoil"]):
         pass
 ns["rc"].serve(Forgetful())
 PY
-start broken "$work/broken.py"
+participant broken "$work/broken.py"
 broken=$address
 # A soil whose integrator gives up at macro step 10 (StepFailed).
 cat >"$work/gives_up.py" <<PY
@@ -71,15 +51,15 @@ class GivesUp(ns["LumpedSoil"]):
         return super().advance(t, H, inputs)
 ns["rc"].serve(GivesUp())
 PY
-start gives-up "$work/gives_up.py"
+participant gives-up "$work/gives_up.py"
 gives_up=$address
 # With a shared secret: the upper node and the SDK soil authenticate the
 # master and each other (the vehicle node, holding the track down to the
 # sleepers in ss-only cases, opens the peer link to the soil).
 (umask 077; echo "a shared secret of the run" >"$work/token")
-start secret-soil "$src/examples/python_soil/soil_participant.py" --token-file "$work/token"
+participant secret-soil "$src/examples/python_soil/soil_participant.py" --token-file "$work/token"
 secret_soil=$address
-start secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "$work/token"
+participant secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "$work/token"
 secret_upper=$address
 
 run() {  # OUT NAME CASE [master options]: one run; NAME the run's folder under OUT
