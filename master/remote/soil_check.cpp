@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -44,18 +45,30 @@ Finished run_with_input(const LaunchCommand& command, const std::string& input,
   }
   ::close(in[0]);
   ::close(err[1]);
-  // The Configure is small (no scene text): it fits the pipe's buffer.
-  const ::sighandler_t old = ::signal(SIGPIPE, SIG_IGN);
-  [[maybe_unused]] const ssize_t w = ::write(in[1], input.data(), input.size());
-  ::signal(SIGPIPE, old);
-  ::close(in[1]);
   Finished f;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto left = [&] {
+    return static_cast<int>(std::max<long long>(
+        0, std::chrono::duration_cast<std::chrono::milliseconds>(deadline -
+                                                                 std::chrono::steady_clock::now())
+               .count()));
+  };
+  // The input, within the deadline too (a program that never reads it must
+  // not hold the master past it); a program that exits first ends the write.
+  ::fcntl(in[1], F_SETFL, O_NONBLOCK);
+  const ::sighandler_t old = ::signal(SIGPIPE, SIG_IGN);
+  for (std::size_t at = 0; at < input.size();) {
+    pollfd p{in[1], POLLOUT, 0};
+    if (left() <= 0 || ::poll(&p, 1, left()) <= 0) break;
+    const ssize_t w = ::write(in[1], input.data() + at, input.size() - at);
+    if (w < 0 && errno != EAGAIN && errno != EINTR) break;
+    if (w > 0) at += static_cast<std::size_t>(w);
+  }
+  ::signal(SIGPIPE, old);
+  ::close(in[1]);
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
     pollfd p{err[0], POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+    if (left() <= 0 || ::poll(&p, 1, left()) <= 0) break;
     char buf[4096];
     const ssize_t n = ::read(err[0], buf, sizeof buf);
     if (n <= 0) {  // it closed stderr: it has exited (or is about to)
