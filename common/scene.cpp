@@ -298,6 +298,9 @@ void read_coupling(SceneReader& r, Scene& sc) {
   text("data_plane", c.data_plane);
   whole("window_steps", c.window_steps);
   number("step_budget", c.step_budget);
+  number("wr_macro_step", c.wr_macro_step);
+  number("rs_macro_step", c.rs_macro_step);
+  number("ss_macro_step", c.ss_macro_step);
 }
 
 void read_simulation(SceneReader& r, Scene& sc) {
