@@ -274,9 +274,11 @@ void coupling_keys(std::vector<Entry>& v) {
   for (const char* cut : {"wr", "rs", "ss"})
     v.push_back(number("coupling", std::string(cut) + "_macro_step", "s",
                        std::string("the window of the ") + cut +
-                           " cut, an integer multiple of simulation.macro_step (--macro-step " +
+                           " cut, an integer multiple of simulation.macro_step, 0: "
+                           "simulation.macro_step (--macro-step " +
                            cut + "=H)")
-                    .range(closed(1e-9, 1e6, "must lie between 1e-9 and 1e6")));
+                    .range(closed(0, 1e6, "must lie between 0 and 1e6"))
+                    .fallback(0));
 }
 
 void track_keys(std::vector<Entry>& v) {
