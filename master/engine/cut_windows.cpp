@@ -13,7 +13,7 @@ bool is_cut_name(const std::string& cut) {
 
 namespace {
 
-std::string shortest(double v) {
+std::string window_text(double v) {
   std::ostringstream s;
   s.precision(17);
   for (int p = 1; p <= 17; ++p) {
@@ -26,7 +26,7 @@ std::string shortest(double v) {
   return s.str();
 }
 
-double positive_seconds(const std::string& text, const std::string& value) {
+double window_seconds(const std::string& text, const std::string& value) {
   char* end = nullptr;
   const double h = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(h) || h <= 0)
@@ -39,7 +39,7 @@ double positive_seconds(const std::string& text, const std::string& value) {
 
 double read_macro_step(const std::string& value, std::map<std::string, CutWindow>& cuts) {
   const std::size_t eq = value.find('=');
-  if (eq == std::string::npos) return positive_seconds(value, value);
+  if (eq == std::string::npos) return window_seconds(value, value);
   const std::string cut = value.substr(0, eq);
   if (!is_cut_name(cut))
     throw std::invalid_argument("--macro-step " + value + ": unknown cut '" + cut +
@@ -47,7 +47,7 @@ double read_macro_step(const std::string& value, std::map<std::string, CutWindow
   if (cuts.count(cut) != 0)
     throw std::invalid_argument("--macro-step " + value + ": cut " + cut + " was already given (" +
                                 cuts.at(cut).origin + ")");
-  cuts[cut] = {.window = positive_seconds(value.substr(eq + 1), value),
+  cuts[cut] = {.window = window_seconds(value.substr(eq + 1), value),
                .origin = "--macro-step " + value};
   return 0;
 }
@@ -64,10 +64,10 @@ std::map<std::string, long> cut_ratios(double finest,
     }
     const double below = std::max(1.0, std::floor(k));
     const double above = std::max(1.0, std::ceil(k));
-    std::string msg = w.origin + ": the window " + shortest(w.window) + " s of cut " + cut +
-                      " is not an integer multiple of the finest window " + shortest(finest) +
-                      " s; the nearest multiples are " + shortest(below * finest) + " s";
-    if (above != below) msg += " and " + shortest(above * finest) + " s";
+    std::string msg = w.origin + ": the window " + window_text(w.window) + " s of cut " + cut +
+                      " is not an integer multiple of the finest window " + window_text(finest) +
+                      " s; the nearest multiples are " + window_text(below * finest) + " s";
+    if (above != below) msg += " and " + window_text(above * finest) + " s";
     throw std::invalid_argument(msg);
   }
   return ratios;
