@@ -33,7 +33,10 @@ struct SceneCoupling {
   std::optional<std::string> data_plane;   // --data-plane
   std::optional<long> window_steps;        // --window-steps
   std::optional<double> step_budget;       // --step-budget, s
-  bool given = false;                      // the scene has the table
+  // A cut's own window (--macro-step CUT=H_cut), s: an integer multiple of
+  // the finest window simulation.macro_step.
+  std::optional<double> wr_macro_step, rs_macro_step, ss_macro_step;
+  bool given = false;  // the scene has the table
 
   bool operator==(const SceneCoupling&) const = default;
 };

@@ -271,6 +271,14 @@ void coupling_keys(std::vector<Entry>& v) {
       number("coupling", "step_budget", "s", "over TCP: a step's time limit (--step-budget)")
           .range(closed(0.1, 86400, "must lie between 0.1 and 86400"))
           .fallback(120));
+  for (const char* cut : {"wr", "rs", "ss"})
+    v.push_back(number("coupling", std::string(cut) + "_macro_step", "s",
+                       std::string("the window of the ") + cut +
+                           " cut, an integer multiple of simulation.macro_step, 0: "
+                           "simulation.macro_step (--macro-step " +
+                           cut + "=H)")
+                    .range(closed(0, 1e6, "must lie between 0 and 1e6"))
+                    .fallback(0));
 }
 
 void track_keys(std::vector<Entry>& v) {

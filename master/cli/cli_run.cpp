@@ -148,11 +148,33 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   check_case_for_scene(spec, scene);
+  check_cut_windows(a, scene, spec, o.macro_step);
   if (!spec.monolithic) remote::check_transport(o.coupling, a.transport);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
   return o;
+}
+
+// --macro-step H (the finest window) and --macro-step CUT=H_cut, repeatable.
+void add_macro_step_option(CLI::App& run_command, RunArgs& a) {
+  CLI::App* run = &run_command;
+  run->add_option_function<std::vector<std::string>>(
+         "--macro-step",
+         [&a](const std::vector<std::string>& values) {
+           try {
+             for (const std::string& v : values) {
+               const double h = engine::read_macro_step(v, a.cut_windows);
+               if (h > 0) a.macro_step = h;
+             }
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError(e.what());
+           }
+         },
+         "Macro step H in seconds, the finest window (default: simulation.macro_step of the "
+         "scene); repeatable as CUT=H_cut to give cut wr, rs or ss its own window, an integer "
+         "multiple of H (default: [coupling] CUT_macro_step of the scene, else H)")
+      ->allow_extra_args(false);
 }
 
 // The coupling options of `master run`: explicit or implicit, the inputs,
@@ -218,9 +240,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "(wheel/rail), rs (rail/sleepers) or ss (sleepers/soil), TYPE xx or xt, SCHEME "
                   "jacobi or gauss-seidel; e.g. rs-xx-jacobi, wr-xt+ss-xx-gauss-seidel")
       ->required();
-  run->add_option("--macro-step", a.macro_step,
-                  "Macro step H in seconds (default: simulation.macro_step of the scene)")
-      ->check(CLI::PositiveNumber);
+  add_macro_step_option(*run, a);
   run->add_option("--tolerance", a.tolerance,
                   "Local error bound of a micro step in metres (default: "
                   "simulation.tolerance of the scene)")

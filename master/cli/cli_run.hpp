@@ -2,8 +2,10 @@
 #pragma once
 
 #include "engine/coupling_options.hpp"
+#include "engine/cut_windows.hpp"
 #include "remote/transport_names.hpp"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,8 @@ struct RunArgs {
   std::string scene_path;
   std::string case_name;
   double macro_step = 0;  // 0: from the scene
+  // --macro-step CUT=H_cut: the cuts given their own window on the command line
+  std::map<std::string, engine::CutWindow> cut_windows;
   double tolerance = 0;   // 0: from the scene
   std::string feedthrough = "lagged";
   std::string restart;  // empty: from the scene

@@ -1,9 +1,13 @@
 #include "cli/scene_coupling.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
+
+#include "model.hpp"
 
 namespace railcosim::cli {
 namespace {
@@ -49,7 +53,27 @@ std::vector<Taken> keys_of(const SceneCoupling& c) {
           taken("feedthrough", "--feedthrough", c.feedthrough),
           taken("data_plane", "--data-plane", c.data_plane),
           taken("window_steps", "--window-steps", c.window_steps),
-          taken("step_budget", "--step-budget", c.step_budget)};
+          taken("step_budget", "--step-budget", c.step_budget),
+          taken("wr_macro_step", "--macro-step", c.wr_macro_step),
+          taken("rs_macro_step", "--macro-step", c.rs_macro_step),
+          taken("ss_macro_step", "--macro-step", c.ss_macro_step)};
+}
+
+std::string cut_name_of(const CutChoice& c) {
+  return cut_kinds()[static_cast<std::size_t>(c.cut)].name;
+}
+
+// The cut windows of the command line, then the scene's for the other cuts.
+std::map<std::string, engine::CutWindow> given_cut_windows(const RunArgs& a, const Scene& scene) {
+  std::map<std::string, engine::CutWindow> w = a.cut_windows;
+  const SceneCoupling& c = scene.coupling;
+  const std::pair<const char*, const std::optional<double>*> keys[] = {
+      {"wr", &c.wr_macro_step}, {"rs", &c.rs_macro_step}, {"ss", &c.ss_macro_step}};
+  for (const auto& [cut, value] : keys)
+    if (value->has_value() && w.count(cut) == 0)
+      w[cut] = {.window = **value,
+                .origin = "[coupling] " + std::string(cut) + "_macro_step in " + scene.source};
+  return w;
 }
 
 }  // namespace
@@ -87,6 +111,26 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene) {
   }
   if (set.empty()) return "";
   return "; the scene's [coupling] (" + scene.source + ") set: " + set;
+}
+
+std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
+                                              const CaseSpec& spec, double finest) {
+  const std::map<std::string, engine::CutWindow> given = given_cut_windows(a, scene);
+  for (const auto& [cut, w] : given) {
+    const bool in_case = std::any_of(spec.cuts.begin(), spec.cuts.end(),
+                                     [&cut](const CutChoice& c) { return cut_name_of(c) == cut; });
+    if (!in_case)
+      throw std::invalid_argument(w.origin + ": case " + spec.name() + " has no cut " + cut);
+  }
+  std::map<std::string, long> ratios = engine::cut_ratios(finest, given);
+  for (const auto& [cut, k] : ratios)
+    if (k > 1)
+      throw std::invalid_argument(
+          given.at(cut).origin + ": cut " + cut + " at " + std::to_string(k) +
+          " finest windows: this version runs every cut at the finest window H, not yet at a "
+          "window of its own; leave the cut's window out or give it H");
+  for (const CutChoice& c : spec.cuts) ratios.emplace(cut_name_of(c), 1);
+  return ratios;
 }
 
 }  // namespace railcosim::cli

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/cli_run.hpp"
+#include "cosim_case.hpp"
 #include "scene.hpp"
 
 namespace railcosim::cli {
@@ -16,5 +17,14 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene);
 // "" when the scene set nothing the run takes; otherwise "; the scene's
 // [coupling] (FILE) set: inputs = "linear", ..." for an error message.
 std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
+
+// The window of each cut of the case as a count of finest windows H: from
+// --macro-step CUT=H_cut, else the scene's [coupling] CUT_macro_step, else 1.
+// Throws std::invalid_argument naming the option or key when a window is
+// given for a cut the case does not have, is no integer multiple of H, or is
+// coarser than H: this version runs every cut at the finest window and says
+// so rather than run a window other than the one asked for.
+std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
+                                              const CaseSpec& spec, double finest);
 
 }  // namespace railcosim::cli
