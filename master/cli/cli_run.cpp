@@ -148,7 +148,14 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
                                   std::to_string(scene.end_time) + " s of " + scene.source);
   }
   check_case_for_scene(spec, scene);
-  check_cut_windows(a, scene, spec, o.macro_step);
+  o.cut_windows = check_cut_windows(a, scene, spec, o.macro_step);
+  if (!spec.monolithic) {
+    try {
+      (void)run::rate_plan(scene, spec, o);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(cut_windows_note(a, scene) + ": " + e.what());
+    }
+  }
   if (!spec.monolithic) remote::check_transport(o.coupling, a.transport);
   if (!spec.monolithic && spec.scheme == Scheme::kGaussSeidel &&
       o.feedthrough == Feedthrough::kResolved)

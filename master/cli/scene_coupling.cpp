@@ -123,14 +123,14 @@ std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& sce
       throw std::invalid_argument(w.origin + ": case " + spec.name() + " has no cut " + cut);
   }
   std::map<std::string, long> ratios = engine::cut_ratios(finest, given);
-  for (const auto& [cut, k] : ratios)
-    if (k > 1)
-      throw std::invalid_argument(
-          given.at(cut).origin + ": cut " + cut + " at " + std::to_string(k) +
-          " finest windows: this version runs every cut at the finest window H, not yet at a "
-          "window of its own; leave the cut's window out or give it H");
   for (const CutChoice& c : spec.cuts) ratios.emplace(cut_name_of(c), 1);
   return ratios;
+}
+
+std::string cut_windows_note(const RunArgs& a, const Scene& scene) {
+  std::string s;
+  for (const auto& [cut, w] : given_cut_windows(a, scene)) s += (s.empty() ? "" : ", ") + w.origin;
+  return s.empty() ? "the cuts' windows" : s;
 }
 
 }  // namespace railcosim::cli

@@ -22,9 +22,10 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
 // --macro-step CUT=H_cut, else the scene's [coupling] CUT_macro_step, else 1.
 // Throws std::invalid_argument naming the option or key when a window is
 // given for a cut the case does not have, is no integer multiple of H, or is
-// coarser than H: this version runs every cut at the finest window and says
-// so rather than run a window other than the one asked for.
+// finer than H.
 std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
                                               const CaseSpec& spec, double finest);
+// Where the cuts' windows came from, for a message ("--macro-step ss=0.001").
+std::string cut_windows_note(const RunArgs& a, const Scene& scene);
 
 }  // namespace railcosim::cli

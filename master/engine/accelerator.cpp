@@ -37,6 +37,7 @@ class Weighted : public Accelerator {
 
 class Constant final : public Weighted {
  public:
+  std::unique_ptr<Accelerator> clone() const override { return std::make_unique<Constant>(*this); }
   Constant(const AcceleratorOptions& o, std::vector<int> blocks)
       : Weighted(std::move(blocks)), omega_(o.relaxation) {}
   VectorXd next(const VectorXd& x, const VectorXd& gx) override { return x + omega_ * (gx - x); }
@@ -49,6 +50,7 @@ class Constant final : public Weighted {
 // every window.
 class Aitken final : public Weighted {
  public:
+  std::unique_ptr<Accelerator> clone() const override { return std::make_unique<Aitken>(*this); }
   Aitken(const AcceleratorOptions& o, std::vector<int> blocks)
       : Weighted(std::move(blocks)), omega0_(o.relaxation) {}
   void start_window() override { first_ = true; }
@@ -78,6 +80,7 @@ class Aitken final : public Weighted {
 // this window and of up to `windows_reused` past ones, newest first.
 class IqnIls final : public Weighted {
  public:
+  std::unique_ptr<Accelerator> clone() const override { return std::make_unique<IqnIls>(*this); }
   IqnIls(const AcceleratorOptions& o, std::vector<int> blocks)
       : Weighted(std::move(blocks)), o_(o) {}
 

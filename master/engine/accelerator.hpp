@@ -61,6 +61,9 @@ class Accelerator {
   virtual Eigen::VectorXd next(const Eigen::VectorXd& x, const Eigen::VectorXd& gx) = 0;
   // The window converged (IQN-ILS keeps its columns for the next windows).
   virtual void end_window() {}
+  // A copy of this accelerator with everything it has learnt (a checkpoint:
+  // the faster group of a multirate step re-runs its windows from one).
+  virtual std::unique_ptr<Accelerator> clone() const = 0;
 };
 
 // `blocks` gives the length of each block; their sum is the vector length.

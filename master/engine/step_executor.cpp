@@ -86,7 +86,7 @@ std::vector<StepResult> StepExecutor::initialize(const std::vector<CouplingData>
     out_[p] = r[p].outputs;
     force[p] = sends_force(out_[p]);
   }
-  plan_ = plan_steps(routing_, plan_options_, force);
+  plan_ = plan_steps(routing_, plan_options_, force, leads_);
   degree_ = waveform_degree(o_.inputs);
   nodes_ = degree_ >= 0 && plan_options_.implicit ? kWaveNodes : 1;
   if (degree_ >= 0)
@@ -113,6 +113,18 @@ std::vector<StepResult> StepExecutor::advance(long n) {
   }
   for (std::size_t p = 0; p < r.size(); ++p) out_[p] = r[p].outputs;
   return r;
+}
+
+StepExecutor::Checkpoint StepExecutor::checkpoint() const {
+  return {.memory = memory(),
+          .accel = accel_ ? std::shared_ptr<const Accelerator>(accel_->clone()) : nullptr,
+          .largest = largest_};
+}
+
+void StepExecutor::restore(const Checkpoint& c) {
+  set_memory(c.memory);
+  accel_ = c.accel ? c.accel->clone() : nullptr;
+  largest_ = c.largest;
 }
 
 void StepExecutor::set_inputs(std::size_t p, long n, const std::vector<CouplingData>* refreshed,

@@ -70,10 +70,28 @@ class StepExecutor : public MacroSteps {
     std::vector<std::vector<CouplingData>> past;
   };
   Memory memory() const { return {out_, past_}; }
+  // Sets the state between macro steps; no pass of the next step has run.
   void set_memory(Memory m) {
     out_ = std::move(m.out);
     past_ = std::move(m.past);
+    last_step_ = -1;
   }
+
+  // A checkpoint of the executor's own state between macro steps: its
+  // memory and what its accelerator has learnt (the participants' states are
+  // their own). The faster group of a multirate step re-runs its windows
+  // from one, so that a pass repeats bit for bit.
+  struct Checkpoint {
+    Memory memory;
+    std::shared_ptr<const Accelerator> accel;  // null before the first implicit step
+    std::vector<double> largest;
+  };
+  Checkpoint checkpoint() const;
+  void restore(const Checkpoint& c);
+
+  // Before initialize(): participants whose values over a step are known
+  // before it (plan_steps()' `leads`; one flag per participant).
+  void set_leading(std::vector<bool> leads) { leads_ = std::move(leads); }
 
   // The plan, once initialize() has compiled it.
   const StepPlan& plan() const { return plan_; }
@@ -114,6 +132,7 @@ class StepExecutor : public MacroSteps {
                std::vector<double>& scale);
 
   std::vector<Participant*> ps_;
+  std::vector<bool> leads_;
   Routing routing_;
   PlanOptions plan_options_;
   CouplingOptions o_;

@@ -36,22 +36,35 @@ void check(const PlanOptions& o) {
 }
 
 StepPlan plan_steps(const Routing& routing, const PlanOptions& o,
-                    const std::vector<bool>& sends_force) {
+                    const std::vector<bool>& sends_force, const std::vector<bool>& leads) {
   check(o);
   const std::size_t P = routing.size();
   if (sends_force.size() != P) throw std::logic_error("plan_steps: one force flag per participant");
+  if (!leads.empty() && leads.size() != P)
+    throw std::logic_error("plan_steps: one leading flag per participant, or none");
+  const auto leading = [&leads](std::size_t p) { return !leads.empty() && leads[p]; };
   StepPlan plan;
+  plan.stage_of.assign(P, 0);
+  plan.refreshed.assign(P, false);
+  // The leading participants first, in a stage of their own.
+  for (std::size_t p = 0; p < P; ++p)
+    if (leading(p)) {
+      if (plan.stages.empty()) plan.stages.emplace_back();
+      plan.stages.back().push_back(p);
+    }
+  const std::size_t first = plan.stages.size();
   // The stages: Jacobi steps every participant at once, Gauss–Seidel one
   // after the other in load order.
   for (std::size_t p = 0; p < P; ++p) {
+    if (leading(p)) continue;
     if (o.scheme == Scheme::kJacobi) {
-      if (plan.stages.empty()) plan.stages.emplace_back();
+      if (plan.stages.size() == first) plan.stages.emplace_back();
       plan.stages.back().push_back(p);
     } else {
       plan.stages.push_back({p});
     }
-    plan.stage_of.push_back(plan.stages.size() - 1);
-    plan.refreshed.push_back(o.feedthrough == Feedthrough::kResolved && sends_force[p]);
+    plan.stage_of[p] = plan.stages.size() - 1;
+    plan.refreshed[p] = o.feedthrough == Feedthrough::kResolved && sends_force[p];
   }
   plan.into.resize(P);
   for (std::size_t p = 0; p < P; ++p)
@@ -66,7 +79,7 @@ StepPlan plan_steps(const Routing& routing, const PlanOptions& o,
         l.source = LinkSource::kStepped;
       else if (plan.refreshed[l.q])
         l.source = LinkSource::kRefreshed;
-      l.iterated = o.implicit && l.source != LinkSource::kStepped;
+      l.iterated = o.implicit && l.source != LinkSource::kStepped && !leading(p);
       plan.into[p].push_back(plan.links.size());
       plan.links.push_back(l);
     }

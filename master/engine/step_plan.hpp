@@ -90,7 +90,12 @@ void check(const PlanOptions& options);
 // scheme, its feedthrough and which participants send a force (one flag per
 // participant, e.g. sends_force() of its outputs at t = 0). Throws
 // std::invalid_argument for resolved feedthrough under Gauss–Seidel.
+// `leads` (empty, or one flag per participant): participants whose values
+// over the step are known before it (a slower participant's view inside
+// the faster group of a multirate plan, rate_plan.hpp): they step in a stage
+// of their own before every other, their receivers take their values at
+// n + 1, and the links into them are never iterated (they take no inputs).
 StepPlan plan_steps(const Routing& routing, const PlanOptions& options,
-                    const std::vector<bool>& sends_force);
+                    const std::vector<bool>& sends_force, const std::vector<bool>& leads = {});
 
 }  // namespace railcosim::engine

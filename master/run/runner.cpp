@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "engine/coupled_statics.hpp"
+#include "engine/multirate.hpp"
 #include "engine/schedule.hpp"
 #include "engine/window_schedule.hpp"
 #include "log.hpp"
@@ -199,6 +200,7 @@ struct Participants {
   std::vector<std::unique_ptr<Participant>> owned;
   std::vector<Participant*> ps;
   engine::Routing routing;
+  engine::RatePlan rates;
   engine::StaticsOutcome statics;
 };
 
@@ -207,9 +209,11 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
                                 const ParticipantFactory& make, const std::string& case_name) {
   Participants P;
   P.specs = partition(scene, spec);
-  for (const ParticipantSpec& p : P.specs) {
-    const SubsystemConfig c = subsystem_config(scene, p, o.macro_step, o.tolerance);
-    P.owned.push_back(make(c));
+  P.rates = rate_plan(scene, spec, o);
+  for (std::size_t k = 0; k < P.specs.size(); ++k) {
+    // A participant steps at its own window (multirate), else at H.
+    const double H = o.macro_step * static_cast<double>(P.rates.window[k]);
+    P.owned.push_back(make(subsystem_config(scene, P.specs[k], H, o.tolerance)));
     P.ps.push_back(P.owned.back().get());
   }
   P.routing = engine::make_routing(P.specs);
@@ -225,24 +229,31 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
 // with held inputs in windows over peer links (returned), the couplings the
 // master decides step by step (implicit, ramped) in lock step. Records the
 // plane the run took.
+// A multirate run goes in lock step (the nodes' windows run one rate), each
+// participant to the end of its own windows; `plan` is null for it.
 std::unique_ptr<DirectExchange> start_data_plane(RunRecord& r, const RunOptions& o,
                                                  const std::string& transport,
                                                  const Participants& P,
-                                                 const engine::Schedule& schedule, double bound,
+                                                 const engine::StepPlan* plan, double bound,
                                                  long N) {
   std::unique_ptr<DirectExchange> direct;
   bool lockstep = false;
   if (o.data_plane == DataPlane::kDirect && is_remote_transport(transport)) {
     // A node that offers neither is worth a word.
-    const bool windows = o.coupling.method == CouplingMethod::kExplicit &&
+    const bool windows = plan && o.coupling.method == CouplingMethod::kExplicit &&
                          o.coupling.inputs == engine::InputMode::kHold;
+    std::string why = remote::relay_reason(P.ps, !windows);
     if (windows)
-      direct = DirectExchange::make(P.ps, schedule.plan(), bound, N, o.direct);
-    else
-      lockstep = remote::enter_lockstep(P.ps, 0, N);
+      direct = DirectExchange::make(P.ps, *plan, bound, N, o.direct);
+    else if (!plan && o.coupling.method == CouplingMethod::kImplicit)
+      why =
+          "a node keeps one checkpoint in lock step, and a multirate implicit step needs its "
+          "slow window's and its fine windows'";
+    else if (why.empty())
+      for (std::size_t p = 0; p < P.ps.size(); ++p)
+        lockstep = remote::enter_lockstep({P.ps[p]}, 0, N / P.rates.window[p]);
     if (!direct && !lockstep)
-      logger("master")->info("{}: relayed data plane ({})", r.case_name,
-                             remote::relay_reason(P.ps, !windows));
+      logger("master")->info("{}: relayed data plane ({})", r.case_name, why);
     else if (lockstep)
       logger("master")->debug(
           "{}: direct data plane in lock step (the master decides every macro step)", r.case_name);
@@ -302,29 +313,40 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   engine::CouplingOptions coupling = o.coupling;
   if (coupling.iteration_budget == 0)
     coupling.iteration_budget = engine::kIterationsPerStep * steps_to(scene, o.macro_step);
-  auto schedule = engine::make_schedule(spec.scheme, o.feedthrough, coupling, P.ps, P.routing,
-                                        roles, o.macro_step);
+  // One rate: the schedule of the case; several: the multirate executor.
+  std::unique_ptr<engine::Schedule> schedule;
+  std::unique_ptr<engine::MultirateExecutor> multirate;
+  if (P.rates.multirate()) {
+    coupling.iteration_budget /= P.rates.ratio;
+    multirate = std::make_unique<engine::MultirateExecutor>(
+        P.rates, P.ps, P.statics.inputs, spec.scheme, coupling, roles, o.macro_step);
+  } else {
+    schedule = engine::make_schedule(spec.scheme, o.feedthrough, coupling, P.ps, P.routing, roles,
+                                     o.macro_step);
+  }
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
     r.history.push_back(row);
     record_coupling(r, P.specs, m);  // evaluation.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
-  const std::vector<StepResult> initial = schedule->initialize(P.statics.inputs);
+  const std::vector<StepResult> initial =
+      multirate ? multirate->initialize(P.statics.inputs) : schedule->initialize(P.statics.inputs);
   record_row(0, initial);
   double static_max = 0;
   for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
   const double bound = divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
   const std::unique_ptr<DirectExchange> direct =
-      start_data_plane(r, o, transport, P, *schedule, bound, N);
+      start_data_plane(r, o, transport, P, schedule ? &schedule->plan() : nullptr, bound, N);
   // The same plan either way: run by the master (in process or relayed), or
   // by the nodes over their peer links.
-  MacroSteps* steps = schedule.get();
+  MacroSteps* steps = multirate ? static_cast<MacroSteps*>(multirate.get()) : schedule.get();
   if (direct) steps = direct.get();
   r.macro_steps = step_through(r, *steps, scene, o, N, bound, record_row, initial);
   if (direct) direct->drain();
-  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, schedule->log(), o);
+  if (o.coupling.method == CouplingMethod::kImplicit)
+    record_convergence(r, multirate ? multirate->log() : schedule->log(), o);
   complete_record(r, scene, P);
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;

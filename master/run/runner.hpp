@@ -4,10 +4,13 @@
 
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
+#include <string>
 
 #include "cosim_case.hpp"
 #include "engine/coupling_options.hpp"
+#include "engine/rate_plan.hpp"
 #include "participant.hpp"
 #include "remote/data_plane.hpp"
 #include "remote/transport.hpp"
@@ -20,6 +23,9 @@ namespace railcosim::run {
 struct RunOptions {
   double macro_step = 0;  // H, s
   double tolerance = 0;   // micro-step local error bound, m
+  // Multirate: a cut's window in finest windows H, by the cut's name ("ss");
+  // a cut not named exchanges every H.
+  std::map<std::string, long> cut_windows;
   Feedthrough feedthrough = Feedthrough::kLagged;
   engine::CouplingOptions coupling;  // explicit with held inputs unless asked otherwise
   // Over TCP: the nodes exchange directly in windows of macro steps where every
@@ -37,6 +43,12 @@ struct RunOptions {
   // Called after every macro step with the steps done and the total.
   std::function<void(long done, long total)> on_progress;
 };
+
+// The rates of a co-simulation case under these options (single-rate when
+// no cut has a window of its own). Throws std::invalid_argument when the
+// windows cannot be coupled (engine/rate_plan.hpp: plan_rates()), or when
+// the end time is not a whole number of the slow window.
+engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
 
 // The record of a run that could not finish: status "failed" and why.
 RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
