@@ -6,8 +6,12 @@
 
 namespace railcosim::engine {
 
-SlowView::SlowView(std::string name, CouplingData start, double fine_step)
-    : name_(std::move(name)), shape_(start), now_(std::move(start)), h_(fine_step) {}
+SlowView::SlowView(std::string name, CouplingData start, double fine_step, int intervals)
+    : name_(std::move(name)),
+      shape_(start),
+      now_(std::move(start)),
+      h_(fine_step),
+      intervals_(std::max(1, intervals)) {}
 
 CouplingData SlowView::statics(const CouplingData&) {
   throw CallOrderError(name_ +
@@ -36,9 +40,17 @@ void SlowView::start_step(long n) {
 
 StepResult SlowView::finish_step() {
   const double t0 = static_cast<double>(n_) * h_, t1 = static_cast<double>(n_ + 1) * h_;
-  // Its samples: the window's ends only, so that they do not move with the
-  // slow participant's micro steps from one iteration to the next.
-  if (record_) samples_.assign(1, OutputSample{.t = t0, .outputs = now_});
+  // Its samples: at `intervals_` equal parts of the fine window, at times
+  // that do not move with the slow participant's micro steps from one
+  // iteration to the next (a degree-p waveform through p + 1 of them keeps
+  // its order in h).
+  if (record_) {
+    samples_.assign(1, OutputSample{.t = t0, .outputs = now_});
+    for (int k = 1; k < intervals_; ++k) {
+      const double t = t0 + (t1 - t0) * k / intervals_;
+      samples_.push_back(OutputSample{.t = t, .outputs = at(t)});
+    }
+  }
   now_ = at(t1);
   if (record_) samples_.push_back(OutputSample{.t = t1, .outputs = now_});
   StepResult r;
@@ -51,6 +63,11 @@ StepResult SlowView::finish_step() {
 }
 
 namespace {
+
+// A view's samples divide each fine window into this many parts: fixed
+// times (they do not move with the slow side's micro steps), enough for a
+// cubic waveform's four.
+constexpr int kViewIntervals = 4;
 
 std::string group_name(const RatePlan& rates, const std::vector<std::string>& roles) {
   std::string s;
@@ -82,7 +99,8 @@ FastGroup::FastGroup(const RatePlan& rates, const std::vector<Participant*>& all
       start.push_back(static_inputs.at(rates.fast[a]).at(static_cast<std::size_t>(to.interface)));
     }
     const std::string role = roles.at(rates.viewed[v]);
-    views_.push_back(std::make_unique<SlowView>(role + " (over its window)", start, fine_step));
+    views_.push_back(
+        std::make_unique<SlowView>(role + " (over its window)", start, fine_step, kViewIntervals));
     inner.push_back(views_.back().get());
     inner_roles.push_back(role);
     inner_start_.emplace_back();
@@ -170,12 +188,27 @@ StepResult FastGroup::finish_step() {
     r.resize(members_.size());
     g = group_result(r);
     fine_.push_back(std::move(r));
-    if (record_)
-      samples_.push_back(
-          OutputSample{.t = static_cast<double>(first + k + 1) * h_, .outputs = g.outputs});
+    if (record_) record_window(first + k, g.outputs);
   }
   last_ = g.outputs;
   return g;
+}
+
+void FastGroup::record_window(long n, const CouplingData& end) {
+  // One member on the slow side: its own substep samples (the slow side's
+  // waveform keeps its order in h); several: the fine window's end.
+  std::size_t b = rates_.group_interfaces.front().first;
+  for (const auto& [a, j] : rates_.group_interfaces) b = a == b ? b : members_.size();
+  if (b == members_.size()) {
+    samples_.push_back(OutputSample{.t = static_cast<double>(n + 1) * h_, .outputs = end});
+    return;
+  }
+  const OutputSamples own = members_[b]->step_samples();
+  for (std::size_t k = 1; k < own.size(); ++k) {
+    OutputSample s{.t = own[k].t, .outputs = {}};
+    for (const auto& [a, j] : rates_.group_interfaces) s.outputs.push_back(own[k].outputs.at(j));
+    samples_.push_back(std::move(s));
+  }
 }
 
 ParticipantState FastGroup::save() {

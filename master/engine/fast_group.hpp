@@ -28,8 +28,9 @@ namespace railcosim::engine {
 class SlowView final : public Participant {
  public:
   // `start`: the values it shows before the first window (its static
-  // outputs); `fine_step`: h, the fine window.
-  SlowView(std::string name, CouplingData start, double fine_step);
+  // outputs); `fine_step`: h, the fine window; `intervals`: its samples
+  // divide a fine window into this many equal parts (at least one).
+  SlowView(std::string name, CouplingData start, double fine_step, int intervals);
   // Its values over the next slow window, one waveform per interface (of
   // pack_values() width).
   void set_window(std::vector<Waveform> values) { window_ = std::move(values); }
@@ -56,6 +57,7 @@ class SlowView final : public Participant {
   std::string name_;
   CouplingData shape_, now_;
   double h_;
+  int intervals_;
   std::vector<Waveform> window_;
   bool record_ = false;
   OutputSamples samples_;
@@ -97,6 +99,8 @@ class FastGroup final : public Participant {
   // Hands each view its interfaces' waveforms (group input g is view
   // view_of_[g].first's interface view_of_[g].second).
   void to_views(const InputWaveforms& w);
+  // Appends fine window n's samples of the group's outputs (`end`: at its end).
+  void record_window(long n, const CouplingData& end);
 
   std::string name_;
   RatePlan rates_;
