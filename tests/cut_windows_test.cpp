@@ -95,10 +95,19 @@ TEST(CutWindows, TheSceneGivesACutItsWindowAndTheFlagWins) {
   const Scene scene = paper_with("wr_macro_step = 1e-3\n");
   ASSERT_EQ(scene.coupling.wr_macro_step, 1e-3);
   const CaseSpec spec = parse_case("wr-xx-gauss-seidel");
-  EXPECT_EQ(refusal([&] { cli::check_cut_windows(Parsed("").args, scene, spec, 1e-4); }),
-            "[coupling] wr_macro_step in multirate.toml: cut wr at 10 finest windows: this "
-            "version runs every cut at the finest window H, not yet at a window of its own; "
-            "leave the cut's window out or give it H");
+  // A default that would leave nothing at H does not apply (one cut: H).
+  EXPECT_EQ(cli::check_cut_windows(Parsed("").args, scene, spec, 1e-4),
+            (std::map<std::string, long>{{"wr", 1}}));
+  // Where the case has a finer cut, it applies; where it is no multiple of
+  // H over one, or for a cut the case lacks, it does not.
+  const CaseSpec two = parse_case("wr-xx+rs-xx-gauss-seidel");
+  EXPECT_EQ(cli::check_cut_windows(Parsed("").args, scene, two, 1e-4),
+            (std::map<std::string, long>{{"rs", 1}, {"wr", 10}}));
+  EXPECT_EQ(cli::check_cut_windows(Parsed("").args, scene, two, 3e-4),
+            (std::map<std::string, long>{{"rs", 1}, {"wr", 1}}));
+  EXPECT_EQ(
+      cli::check_cut_windows(Parsed("").args, paper_with("ss_macro_step = 1e-3\n"), two, 1e-4),
+      (std::map<std::string, long>{{"rs", 1}, {"wr", 1}}));
   const std::map<std::string, long> ratios =
       cli::check_cut_windows(Parsed("--macro-step wr=1e-4").args, scene, spec, 1e-4);
   EXPECT_EQ(ratios, (std::map<std::string, long>{{"wr", 1}}));

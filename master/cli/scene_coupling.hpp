@@ -20,9 +20,11 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
 
 // The window of each cut of the case as a count of finest windows H: from
 // --macro-step CUT=H_cut, else the scene's [coupling] CUT_macro_step, else 1.
-// Throws std::invalid_argument naming the option or key when a window is
-// given for a cut the case does not have, is no integer multiple of H, or is
-// finer than H.
+// Throws std::invalid_argument naming the option when a window given on the
+// command line is for a cut the case does not have, is no integer multiple
+// of H, or is finer than H. The scene's windows are defaults: one applies
+// where the case has its cut, it is an integer multiple of H over one, and
+// some cut of the case stays at H; elsewhere the cut exchanges every H.
 std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
                                               const CaseSpec& spec, double finest);
 // Where the cuts' windows came from, for a message ("--macro-step ss=0.001").
