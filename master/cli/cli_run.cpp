@@ -151,7 +151,7 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
   o.cut_windows = check_cut_windows(a, scene, spec, o.macro_step);
   if (!spec.monolithic) {
     try {
-      (void)run::rate_plan(scene, spec, o);
+      run::check_whole_windows(scene, o, run::rate_plan(scene, spec, o));
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(cut_windows_note(a, scene) + ": " + e.what());
     }

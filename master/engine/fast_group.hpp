@@ -76,6 +76,10 @@ class FastGroup final : public Participant {
   // member, in the order of RatePlan::fast), and at t = 0 after initialize().
   const std::vector<std::vector<StepResult>>& fine_results() const { return fine_; }
   const StepExecutor& inner() const { return *inner_; }
+  // The state between slow windows, set from outside (the stability map):
+  // the group's outputs and the inner level's memory.
+  void set_outputs(CouplingData out) { last_ = std::move(out); }
+  void set_inner_memory(StepExecutor::Memory m) { inner_->set_memory(std::move(m)); }
 
   std::string name() const override { return name_; }
   Channels channels() const override { return {}; }

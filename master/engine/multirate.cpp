@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "engine/window_schedule.hpp"
+
 namespace railcosim::engine {
 namespace {
 
@@ -69,6 +71,32 @@ std::vector<StepResult> MultirateExecutor::initialize(const std::vector<Coupling
   return all;
 }
 
+CoupledSteps::Memory MultirateExecutor::memory() const {
+  Memory m = outer_->memory();
+  const Memory inner = group_->inner().memory();
+  m.out.insert(m.out.end(), inner.out.begin(), inner.out.end());
+  if (m.past.size() != inner.past.size())
+    throw std::logic_error("MultirateExecutor: the levels hold different past points");
+  for (std::size_t k = 0; k < m.past.size(); ++k)
+    m.past[k].insert(m.past[k].end(), inner.past[k].begin(), inner.past[k].end());
+  return m;
+}
+
+void MultirateExecutor::set_memory(Memory m) {
+  const auto n = static_cast<std::ptrdiff_t>(rates_.outer_members.size());
+  Memory outer, inner;
+  outer.out.assign(m.out.begin(), m.out.begin() + n);
+  inner.out.assign(m.out.begin() + n, m.out.end());
+  for (const auto& point : m.past) {
+    outer.past.emplace_back(point.begin(), point.begin() + n);
+    inner.past.emplace_back(point.begin() + n, point.end());
+  }
+  group_->set_outputs(outer.out.at(rates_.group_at));
+  outer_->set_memory(std::move(outer));
+  group_->set_inner_memory(std::move(inner));
+  window_at_ = -1;
+}
+
 std::vector<StepResult> MultirateExecutor::advance(long n) {
   const long M = rates_.ratio, N = n / M;
   if (n % M == 0) {
@@ -93,6 +121,17 @@ std::vector<StepResult> MultirateExecutor::advance(long n) {
                            " asked before its slow window was stepped");
   }
   return window_[static_cast<std::size_t>(n % M)];
+}
+
+std::unique_ptr<CoupledSteps> make_coupled_steps(
+    const RatePlan& rates, Scheme scheme, Feedthrough feedthrough, const CouplingOptions& coupling,
+    std::vector<Participant*> participants, Routing routing, std::vector<std::string> roles,
+    double macro_step, const std::vector<CouplingData>& static_inputs) {
+  if (!rates.multirate())
+    return make_schedule(scheme, feedthrough, coupling, std::move(participants), std::move(routing),
+                         std::move(roles), macro_step);
+  return std::make_unique<MultirateExecutor>(rates, std::move(participants), static_inputs, scheme,
+                                             coupling, std::move(roles), macro_step);
 }
 
 }  // namespace railcosim::engine

@@ -15,7 +15,7 @@
 
 namespace railcosim::engine {
 
-class MultirateExecutor final : public MacroSteps {
+class MultirateExecutor final : public CoupledSteps {
  public:
   // `participants`: every participant of the case, in load order;
   // `static_inputs`: their inputs in the coupled static state. Throws
@@ -25,7 +25,7 @@ class MultirateExecutor final : public MacroSteps {
                     CouplingOptions coupling, std::vector<std::string> roles, double fine_step);
 
   // Every participant's results at t = 0 (in load order).
-  std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs);
+  std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs) override;
   // Fine window n's results; the slow window holding it is stepped at its
   // first fine window. Windows must come in order.
   std::vector<StepResult> advance(long n) override;
@@ -33,7 +33,12 @@ class MultirateExecutor final : public MacroSteps {
   const RatePlan& rates() const { return rates_; }
   // The outer level's plan and its iterations (implicit coupling).
   const StepPlan& plan() const { return outer_->plan(); }
-  const ConvergenceLog& log() const { return outer_->log(); }
+  const ConvergenceLog& log() const override { return outer_->log(); }
+  // Both levels' memories: the outer level's participants, then the inner
+  // level's (their outputs, and their past points side by side).
+  Memory memory() const override;
+  void set_memory(Memory m) override;
+  long map_windows() const override { return rates_.ratio; }
   // The inner level's iterations (of every pass, re-runs included).
   const ConvergenceLog& inner_log() const { return group_->inner().log(); }
 
@@ -46,5 +51,13 @@ class MultirateExecutor final : public MacroSteps {
   std::vector<std::vector<StepResult>> window_;  // per fine window of the current slow window
   long window_at_ = -1;                          // its index
 };
+
+// THE coupling of a case on the master: the schedule of its scheme at one
+// rate, or the multirate executor when `rates` has two. `static_inputs`:
+// the participants' inputs in the coupled static state.
+std::unique_ptr<CoupledSteps> make_coupled_steps(
+    const RatePlan& rates, Scheme scheme, Feedthrough feedthrough, const CouplingOptions& coupling,
+    std::vector<Participant*> participants, Routing routing, std::vector<std::string> roles,
+    double macro_step, const std::vector<CouplingData>& static_inputs);
 
 }  // namespace railcosim::engine

@@ -45,7 +45,38 @@ class MacroSteps {
   virtual std::vector<StepResult> advance(long n) = 0;
 };
 
-class StepExecutor : public MacroSteps {
+// What a run and the stability measures step on the master: the executor
+// of a plan at one rate (StepExecutor) or at two (MultirateExecutor).
+class CoupledSteps : public MacroSteps {
+ public:
+  // The master's part of the coupled state between macro steps: every
+  // participant's outputs at t_n and, for extrapolated inputs, at the points
+  // before. With the participants' states it is the state an explicit
+  // coupling's macro step maps (run/spectral.hpp reads and sets it).
+  struct Memory {
+    std::vector<CouplingData> out;
+    std::vector<std::vector<CouplingData>> past;
+  };
+  virtual Memory memory() const = 0;
+  virtual void set_memory(Memory m) = 0;
+  // Initialises every participant with its inputs at t = 0 (the coupled
+  // static state); returns their results.
+  virtual std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs) = 0;
+  // The iterations of an implicit coupling (of the slowest level).
+  virtual const ConvergenceLog& log() const = 0;
+  // The finest windows one step of the coupled map spans (a multirate
+  // plan's slow window; else 1).
+  virtual long map_windows() const { return 1; }
+  // Step N of the coupled map: finest windows N * map_windows() onwards;
+  // returns the results of the last.
+  std::vector<StepResult> advance_map(long N) {
+    std::vector<StepResult> r;
+    for (long k = 0; k < map_windows(); ++k) r = advance(N * map_windows() + k);
+    return r;
+  }
+};
+
+class StepExecutor : public CoupledSteps {
  public:
   // The participants in load order (they must outlive the executor); `roles`
   // name them in the convergence log (implicit coupling only: may be empty
@@ -57,21 +88,13 @@ class StepExecutor : public MacroSteps {
   // Initialises every participant with its inputs at t = 0 (the coupled
   // static state), keeps their outputs and compiles the plan (which
   // participants send forces is read from these outputs).
-  std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs);
+  std::vector<StepResult> initialize(const std::vector<CouplingData>& inputs) override;
   // Exchanges and steps from nH to (n+1)H as the plan says.
   std::vector<StepResult> advance(long n) override;
 
-  // The master's part of the coupled state between macro steps: every
-  // participant's outputs at t_n and, for extrapolated inputs, at the points
-  // before. With the participants' states it is the state an explicit
-  // coupling's macro step maps (run/spectral.hpp reads and sets it).
-  struct Memory {
-    std::vector<CouplingData> out;
-    std::vector<std::vector<CouplingData>> past;
-  };
-  Memory memory() const { return {out_, past_}; }
+  Memory memory() const override { return {out_, past_}; }
   // Sets the state between macro steps; no pass of the next step has run.
-  void set_memory(Memory m) {
+  void set_memory(Memory m) override {
     out_ = std::move(m.out);
     past_ = std::move(m.past);
     last_step_ = -1;
@@ -96,7 +119,7 @@ class StepExecutor : public MacroSteps {
   // The plan, once initialize() has compiled it.
   const StepPlan& plan() const { return plan_; }
   // The iterations of an implicit coupling (empty for an explicit one).
-  const ConvergenceLog& log() const { return log_; }
+  const ConvergenceLog& log() const override { return log_; }
 
  private:
   // Runs every participant over step n once, stage after stage; `x` gives

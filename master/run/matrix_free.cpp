@@ -16,7 +16,7 @@
 namespace railcosim::run {
 namespace {
 
-using FreeMemory = engine::StepExecutor::Memory;
+using FreeMemory = engine::CoupledSteps::Memory;
 
 // Every output the master holds (each participant's at t_n), in one fixed
 // order, with its kind: 0 displacement, 1 velocity, 2 force.
@@ -69,11 +69,13 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
                               const std::string& transport, const remote::TransportSetup& setup,
                               long max_steps) {
   const double H = options.macro_step;
-  const Scene parked =
-      with_keys(scene, {{"vehicle.speed_kmh", 0.0},
-                        {"simulation.macro_step", H},
-                        {"simulation.end_time",
-                         static_cast<double>(ParkedParticipants::kStart + max_steps + 1) * H}});
+  // A step of the map: the macro step, or a multirate plan's slow window.
+  const double window = H * static_cast<double>(rate_plan(scene, spec, options).ratio);
+  const Scene parked = with_keys(
+      scene, {{"vehicle.speed_kmh", 0.0},
+              {"simulation.macro_step", H},
+              {"simulation.end_time",
+               static_cast<double>(ParkedParticipants::kStart + max_steps + 1) * window}});
   const remote::SceneTransport t =
       remote::make_transport(remote::parse_transport(transport, "transport"), parked, setup);
   ParkedParticipants c(parked, spec, options, t.factory);
@@ -93,7 +95,7 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
     c.schedule->set_memory(start);
     for (long j = 0; j < max_steps; ++j) {
       try {
-        c.schedule->advance(ParkedParticipants::kStart + j);
+        c.schedule->advance_map(ParkedParticipants::kStart + j);
       } catch (const StepFailure&) {
         return;  // the perturbation ran away: the steps before it measure the growth
       }
@@ -130,7 +132,7 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
   if (log_norm.size() >= 2) {
     const double per_step = log_slope(log_norm, log_norm.size() / 2);
     r.rho = std::exp(per_step);
-    r.rate_per_s = per_step / H;
+    r.rate_per_s = per_step / window;
   }
   return r;
 }
@@ -139,8 +141,9 @@ void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec
                               const RunOptions& options, const std::string& transport,
                               const remote::TransportSetup& setup) {
   if (run.status != "ok" || options.coupling.method != engine::CouplingMethod::kExplicit) return;
-  const long steps =
-      std::min(kMatrixFreeMaxSteps, std::lround(scene.end_time / options.macro_step));
+  const long steps = std::min(
+      kMatrixFreeMaxSteps, std::lround(scene.end_time / options.macro_step /
+                                       static_cast<double>(rate_plan(scene, spec, options).ratio)));
   MatrixFreeRho m;
   try {
     m = matrix_free_rho(scene, spec, options, transport, setup, steps);

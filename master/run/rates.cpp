@@ -26,13 +26,16 @@ engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOp
     throw std::invalid_argument(
         "--feedthrough resolved reads a sender's outputs within its step: a cut at a window of "
         "its own has none to read; use lagged feedthrough");
+  return r;
+}
+
+void check_whole_windows(const Scene& scene, const RunOptions& o, const engine::RatePlan& r) {
   const long N = std::lround(scene.end_time / o.macro_step);
   if (N % r.ratio != 0)
     throw std::invalid_argument(
         "the end time " + std::to_string(scene.end_time) + " s of " + scene.source + " is " +
         std::to_string(N) + " finest windows, not a whole number of the slow window (" +
         std::to_string(r.ratio) + " H): change simulation.end_time or the cut's window");
-  return r;
 }
 
 }  // namespace railcosim::run

@@ -210,6 +210,7 @@ Participants start_participants(const Scene& scene, const CaseSpec& spec, const 
   Participants P;
   P.specs = partition(scene, spec);
   P.rates = rate_plan(scene, spec, o);
+  check_whole_windows(scene, o, P.rates);
   for (std::size_t k = 0; k < P.specs.size(); ++k) {
     // A participant steps at its own window (multirate), else at H.
     const double H = o.macro_step * static_cast<double>(P.rates.window[k]);
@@ -313,40 +314,33 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   engine::CouplingOptions coupling = o.coupling;
   if (coupling.iteration_budget == 0)
     coupling.iteration_budget = engine::kIterationsPerStep * steps_to(scene, o.macro_step);
-  // One rate: the schedule of the case; several: the multirate executor.
-  std::unique_ptr<engine::Schedule> schedule;
-  std::unique_ptr<engine::MultirateExecutor> multirate;
-  if (P.rates.multirate()) {
-    coupling.iteration_budget /= P.rates.ratio;
-    multirate = std::make_unique<engine::MultirateExecutor>(
-        P.rates, P.ps, P.statics.inputs, spec.scheme, coupling, roles, o.macro_step);
-  } else {
-    schedule = engine::make_schedule(spec.scheme, o.feedthrough, coupling, P.ps, P.routing, roles,
-                                     o.macro_step);
-  }
+  // One rate: the schedule of the case; two: the multirate executor.
+  if (P.rates.multirate()) coupling.iteration_budget /= P.rates.ratio;
+  const std::unique_ptr<engine::CoupledSteps> coupled =
+      engine::make_coupled_steps(P.rates, spec.scheme, o.feedthrough, coupling, P.ps, P.routing,
+                                 roles, o.macro_step, P.statics.inputs);
+  const auto* single = dynamic_cast<const engine::StepExecutor*>(coupled.get());
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
     r.history.push_back(row);
     record_coupling(r, P.specs, m);  // evaluation.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
-  const std::vector<StepResult> initial =
-      multirate ? multirate->initialize(P.statics.inputs) : schedule->initialize(P.statics.inputs);
+  const std::vector<StepResult> initial = coupled->initialize(P.statics.inputs);
   record_row(0, initial);
   double static_max = 0;
   for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
   const double bound = divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
   const std::unique_ptr<DirectExchange> direct =
-      start_data_plane(r, o, transport, P, schedule ? &schedule->plan() : nullptr, bound, N);
+      start_data_plane(r, o, transport, P, single ? &single->plan() : nullptr, bound, N);
   // The same plan either way: run by the master (in process or relayed), or
   // by the nodes over their peer links.
-  MacroSteps* steps = multirate ? static_cast<MacroSteps*>(multirate.get()) : schedule.get();
+  MacroSteps* steps = coupled.get();
   if (direct) steps = direct.get();
   r.macro_steps = step_through(r, *steps, scene, o, N, bound, record_row, initial);
   if (direct) direct->drain();
-  if (o.coupling.method == CouplingMethod::kImplicit)
-    record_convergence(r, multirate ? multirate->log() : schedule->log(), o);
+  if (o.coupling.method == CouplingMethod::kImplicit) record_convergence(r, coupled->log(), o);
   complete_record(r, scene, P);
   r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return r;

@@ -46,9 +46,12 @@ struct RunOptions {
 
 // The rates of a co-simulation case under these options (single-rate when
 // no cut has a window of its own). Throws std::invalid_argument when the
-// windows cannot be coupled (engine/rate_plan.hpp: plan_rates()), or when
-// the end time is not a whole number of the slow window.
+// windows cannot be coupled (engine/rate_plan.hpp: plan_rates()).
 engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
+// Throws std::invalid_argument when the scene's end time is not a whole
+// number of the plan's slow window.
+void check_whole_windows(const Scene& scene, const RunOptions& options,
+                         const engine::RatePlan& rates);
 
 // The record of a run that could not finish: status "failed" and why.
 RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptions& options,

@@ -17,7 +17,7 @@
 namespace railcosim::run {
 namespace {
 
-using Memory = engine::StepExecutor::Memory;
+using Memory = engine::CoupledSteps::Memory;
 
 // What a coordinate of the coupled state is, for the size of its perturbation.
 enum class Kind { kDisplacement, kVelocity, kAcceleration, kForce };
@@ -93,9 +93,13 @@ class ParkedCoupling {
     parked_.schedule->set_memory(std::move(m));
     std::vector<long> before;
     for (const auto& s : subs_) before.push_back(s->integrator_state().micro_steps);
-    parked_.schedule->advance(kStart);
+    parked_.schedule->advance_map(kStart);
+    // Per a participant's own macro step (a multirate map step spans several
+    // of the fast participants').
+    const long windows = parked_.schedule->map_windows();
     for (std::size_t p = 0; p < subs_.size(); ++p)
-      micro_ = std::max(micro_, subs_[p]->integrator_state().micro_steps - before[p]);
+      micro_ = std::max(micro_, (subs_[p]->integrator_state().micro_steps - before[p]) *
+                                    parked_.rates.window[p] / windows);
     return state();
   }
 
@@ -189,7 +193,10 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
     return s;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  Scene parked = parked_scene(scene, options.macro_step);
+  // A step of the map: the macro step, or a multirate plan's slow window.
+  const double window =
+      options.macro_step * static_cast<double>(rate_plan(scene, spec, options).ratio);
+  Scene parked = parked_scene(scene, window);
   if (parked.micro_steps == 0) {
     // Adaptive micro steps: the map is the step at rest's, with the micro
     // steps it takes there, fixed, so that a perturbation does not change
@@ -212,9 +219,9 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
     }
     Eigen::Index at = 0;
     s.rho = eig.eigenvalues().cwiseAbs().maxCoeff(&at);
-    s.frequency_hz = std::abs(std::arg(eig.eigenvalues()(at))) / (2 * M_PI * options.macro_step);
+    s.frequency_hz = std::abs(std::arg(eig.eigenvalues()(at))) / (2 * M_PI * window);
   }
-  s.rate_per_s = std::log(std::max(s.rho, 1e-300)) / options.macro_step;
+  s.rate_per_s = std::log(std::max(s.rho, 1e-300)) / window;
   s.computed = true;
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;

@@ -73,7 +73,10 @@ Scene parked_scene(const Scene& scene, double macro_step) {
 }
 
 Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOptions& options) {
-  const Scene parked = parked_scene(scene, options.macro_step);
+  // Whole slow windows (multirate).
+  const double window =
+      options.macro_step * static_cast<double>(rate_plan(scene, spec, options).ratio);
+  const Scene parked = parked_scene(scene, window);
   RunOptions o = options;
   o.on_row = nullptr;
   o.on_channels = nullptr;
