@@ -21,7 +21,7 @@ two_links() {  # MODE EXPECTED_MESSAGE
   start "proxy-$1" /usr/bin/python3 "$src/tests/corrupt_proxy.py" "$address" \
     "$src/protocol/railcosim.proto" "$1" 20 from
   local rc=0
-  "$bin/master" run --scene "$src/scenes/soil.toml" --case wr-xx+ss-xx-jacobi \
+  "$bin/master" run --scene "$src/scenes/soil.toml" --case wr-xx+ss-xx-jacobi --macro-step ss=1e-4 \
     --node "soil=$address" --out "$work/$1" >"$work/$1.log" 2>&1 || rc=$?
   [[ $rc == 1 ]] || { echo "$1: exit $rc, expected 1"; cat "$work/$1.log"; exit 1; }
   expect "$1" "$work/$1.log" "$2"

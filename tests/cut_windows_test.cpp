@@ -95,9 +95,9 @@ TEST(CutWindows, TheSceneGivesACutItsWindowAndTheFlagWins) {
   const Scene scene = paper_with("wr_macro_step = 1e-3\n");
   ASSERT_EQ(scene.coupling.wr_macro_step, 1e-3);
   const CaseSpec spec = parse_case("wr-xx-gauss-seidel");
-  // A default that would leave nothing at H does not apply (one cut: H).
+  // A default applies where the case has the cut (the vehicle stays at H).
   EXPECT_EQ(cli::check_cut_windows(Parsed("").args, scene, spec, 1e-4),
-            (std::map<std::string, long>{{"wr", 1}}));
+            (std::map<std::string, long>{{"wr", 10}}));
   // Where the case has a finer cut, it applies; where it is no multiple of
   // H over one, or for a cut the case lacks, it does not.
   const CaseSpec two = parse_case("wr-xx+rs-xx-gauss-seidel");

@@ -19,7 +19,7 @@ run() {
   "$bin/master" run --scene "$src/scenes/soil.toml" --case $case --out "$work/$out" "$@" \
     >"$work/$out.log" 2>&1 || { cat "$work/$out.log"; exit 1; }
 }
-run single
+run single --macro-step ss=1e-4
 run inproc --macro-step ss=1e-3
 run relay --macro-step ss=1e-3 --transport tcp --data-plane relay
 run direct --macro-step ss=1e-3 --transport tcp --data-plane direct

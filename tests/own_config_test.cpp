@@ -142,7 +142,7 @@ TEST(OwnConfig, TheGreenSoilIsAStartedSoilFromItsTableRow) {
 // default value is still a change of the text.
 TEST(OwnConfig, TheSoilScenesFingerprintStays) {
   EXPECT_EQ(scene_fingerprint(load_scene(test::source_path("scenes/soil.toml"))),
-            14135014299713537292ull);
+            2719539509589375300ull);
   const Scene s = test::paper_scene();
   EXPECT_NE(scene_fingerprint(with_keys(s, {{"sleepers.length", 2.6}})), scene_fingerprint(s));
 }

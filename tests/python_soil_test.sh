@@ -14,7 +14,7 @@ source "$(dirname "$0")/node_start.bash" "$@"
 export RAILCOSIM_SDK_CACHE=$work/cache
 
 # The soil scene, shortened, with 10 fixed micro steps per macro step.
-sed -e 's/^end_time = .*/end_time = 0.005/' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
+sed -e 's/^end_time = .*/end_time = 0.005/' -e '/^ss_macro_step/d' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
   "$src/scenes/soil.toml" >"$work/soil.toml"
 grep -q '^micro_steps = 10' "$work/soil.toml"
 

@@ -124,19 +124,14 @@ std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& sce
       throw std::invalid_argument(w.origin + ": case " + spec.name() + " has no cut " + cut);
   std::map<std::string, long> ratios = engine::cut_ratios(finest, a.cut_windows);
   // The scene's windows are defaults: each applies to a case with its cut
-  // where it is an integer multiple of H over one, and not where it would
-  // leave nothing at H (a case of that cut alone runs at H).
+  // where it is an integer multiple of H over one.
   std::map<std::string, long> from_scene;
   for (const auto& [cut, w] : given_cut_windows(a, scene)) {
     if (ratios.count(cut) != 0 || !in_case(cut)) continue;
     const double k = w.window / finest, near = std::round(k);
     if (near >= 2 && std::abs(k - near) <= 1e-9 * k) from_scene[cut] = static_cast<long>(near);
   }
-  const bool all_slow = std::all_of(spec.cuts.begin(), spec.cuts.end(), [&](const CutChoice& c) {
-    const std::string cut = cut_name_of(c);
-    return (ratios.count(cut) != 0 && ratios.at(cut) > 1) || from_scene.count(cut) != 0;
-  });
-  if (!all_slow) ratios.insert(from_scene.begin(), from_scene.end());
+  ratios.insert(from_scene.begin(), from_scene.end());
   for (const CutChoice& c : spec.cuts) ratios.emplace(cut_name_of(c), 1);
   return ratios;
 }

@@ -23,8 +23,8 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
 // Throws std::invalid_argument naming the option when a window given on the
 // command line is for a cut the case does not have, is no integer multiple
 // of H, or is finer than H. The scene's windows are defaults: one applies
-// where the case has its cut, it is an integer multiple of H over one, and
-// some cut of the case stays at H; elsewhere the cut exchanges every H.
+// where the case has its cut and it is an integer multiple of H over one;
+// elsewhere the cut exchanges every H.
 std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
                                               const CaseSpec& spec, double finest);
 // Where the cuts' windows came from, for a message ("--macro-step ss=0.001").

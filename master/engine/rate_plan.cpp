@@ -14,7 +14,7 @@ std::size_t index_in(const std::vector<std::size_t>& v, std::size_t x) {
 // Each participant's window, checked: one slow rate, a slow cut with a slow side.
 void assign_windows(RatePlan& r, const Routing& routing,
                     const std::vector<std::vector<long>>& windows,
-                    const std::vector<std::string>& roles) {
+                    const std::vector<std::string>& roles, const std::vector<bool>& at_finest) {
   const std::size_t P = routing.size();
   for (std::size_t p = 0; p < P; ++p) {
     if (windows.at(p).size() != routing[p].size())
@@ -30,7 +30,7 @@ void assign_windows(RatePlan& r, const Routing& routing,
             "the coarser cuts the same window");
       if (x > 1) r.ratio = x;
     }
-    r.window.push_back(w);
+    r.window.push_back(!at_finest.empty() && at_finest.at(p) ? 1 : w);
   }
   for (std::size_t p = 0; p < P; ++p)
     for (std::size_t j = 0; j < routing[p].size(); ++j) {
@@ -39,9 +39,9 @@ void assign_windows(RatePlan& r, const Routing& routing,
         throw std::invalid_argument(
             "a cut between " + roles.at(p) + " and " + roles.at(q) + " at " +
             std::to_string(windows[p][j]) +
-            " finest windows: both participants have a cut at the finest window, so neither "
-            "could step at the coarser one; split the case so that one side holds only "
-            "coarser cuts, or leave the cut at H");
+            " finest windows: both participants step at the finest window (a cut there, or the "
+            "vehicle), so neither could step at the coarser one; split the case so that one "
+            "side holds only coarser cuts, or leave the cut at H");
     }
   for (std::size_t p = 0; p < P; ++p) (r.window[p] == 1 ? r.fast : r.slow).push_back(p);
   if (r.multirate() && r.fast.empty())
@@ -116,9 +116,9 @@ void route_outer(RatePlan& r, const Routing& routing) {
 }  // namespace
 
 RatePlan plan_rates(const Routing& routing, const std::vector<std::vector<long>>& windows,
-                    const std::vector<std::string>& roles) {
+                    const std::vector<std::string>& roles, const std::vector<bool>& at_finest) {
   RatePlan r;
-  assign_windows(r, routing, windows, roles);
+  assign_windows(r, routing, windows, roles, at_finest);
   if (!r.multirate()) return r;
   route_inner(r, routing);
   route_outer(r, routing);

@@ -54,12 +54,15 @@ struct RatePlan {
 
 // The rates of a case from its routing and each interface's window in
 // finest windows (`windows[p][j]`, that of the cut interface j of
-// participant p lies on; both sides of a cut alike). `roles` name the
-// participants in messages. Throws std::invalid_argument when:
+// participant p lies on; both sides of a cut alike). `at_finest` (empty, or
+// one flag per participant): participants that step at H whatever their
+// cuts' windows (the one holding the vehicle: its moving contact is what H
+// resolves). `roles` name the participants in messages. Throws
+// std::invalid_argument when:
 //   - two cuts have different windows over H (one slow rate in this version);
-//   - a cut's window is over H and both its participants have a finer cut;
+//   - a cut's window is over H and both its participants step at H;
 //   - every participant steps at the slow window (give H the slow window).
 RatePlan plan_rates(const Routing& routing, const std::vector<std::vector<long>>& windows,
-                    const std::vector<std::string>& roles);
+                    const std::vector<std::string>& roles, const std::vector<bool>& at_finest = {});
 
 }  // namespace railcosim::engine

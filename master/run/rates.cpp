@@ -12,15 +12,17 @@ engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOp
   const std::vector<ParticipantSpec> specs = partition(scene, spec);
   std::vector<std::vector<long>> windows;
   std::vector<std::string> roles;
+  std::vector<bool> vehicle;  // steps at H: its moving contact is what H resolves
   for (const ParticipantSpec& p : specs) {
     roles.push_back(p.role);
+    vehicle.push_back(p.parts.has(Component::kVehicle));
     windows.emplace_back();
     for (const InterfaceSpec& i : p.interfaces) {
       const auto w = o.cut_windows.find(i.kind().name);
       windows.back().push_back(w == o.cut_windows.end() ? 1 : w->second);
     }
   }
-  engine::RatePlan r = engine::plan_rates(engine::make_routing(specs), windows, roles);
+  engine::RatePlan r = engine::plan_rates(engine::make_routing(specs), windows, roles, vehicle);
   if (!r.multirate()) return r;
   if (o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(

@@ -48,7 +48,22 @@ std::string Method::label() const {
     s += '+';
     s += coupling.label();
   }
+  for (const auto& [cut, k] : cut_windows)
+    if (k > 1) s += "+" + cut + "-at-" + std::to_string(k) + "H";
   return s;
+}
+
+std::map<std::string, long> scene_cut_windows(const Scene& scene) {
+  std::map<std::string, long> w;
+  const SceneCoupling& c = scene.coupling;
+  const std::pair<const char*, const std::optional<double>*> keys[] = {
+      {"wr", &c.wr_macro_step}, {"rs", &c.rs_macro_step}, {"ss", &c.ss_macro_step}};
+  for (const auto& [cut, value] : keys) {
+    if (!value->has_value()) continue;
+    const double k = **value / scene.macro_step;
+    if (std::round(k) >= 2 && std::abs(k - std::round(k)) <= 1e-9 * k) w[cut] = std::lround(k);
+  }
+  return w;
 }
 
 namespace {
@@ -58,9 +73,9 @@ std::vector<Method> methods_of(const std::vector<std::string>& names) {
   for (const std::string& n : names) {
     if (n == "monolithic") continue;
     const CaseSpec c = parse_case(n);
-    m.push_back({c, Feedthrough::kLagged, {}});
+    m.push_back({c, Feedthrough::kLagged, {}, {}});
     if (c.scheme == Scheme::kJacobi && c.has_force_feedthrough())
-      m.push_back({c, Feedthrough::kResolved, {}});
+      m.push_back({c, Feedthrough::kResolved, {}, {}});
   }
   return m;
 }
@@ -93,6 +108,19 @@ std::vector<Method> methods_for(const Scene& scene) {
     m.push_back(extrapolated);
     m.push_back(waveform);
   }
+  // Multirate: the explicit methods of the cases with the cut and another.
+  for (const auto& [cut, k] : scene_cut_windows(scene))
+    for (std::size_t i = 0; i < plain; ++i) {
+      const Method& base = m[i];
+      const bool has =
+          std::any_of(base.spec.cuts.begin(), base.spec.cuts.end(), [&cut](const CutChoice& c) {
+            return cut_kinds()[static_cast<std::size_t>(c.cut)].name == cut;
+          });
+      if (!has || base.feedthrough != Feedthrough::kLagged) continue;
+      Method multi = base;
+      multi.cut_windows[cut] = k;
+      m.push_back(multi);
+    }
   return m;
 }
 

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,11 @@ struct Method {
   CaseSpec spec;
   Feedthrough feedthrough = Feedthrough::kLagged;
   engine::CouplingOptions coupling;  // explicit with held inputs: the paper's methods
-  // Case name, "-resolved" appended for the resolved variant, and
-  // "+implicit-linear-iqn-ils" or "+explicit-extrapolate1" for other couplings.
+  // Multirate: a cut's window in macro steps H (e.g. {"ss", 5}); empty: one rate.
+  std::map<std::string, long> cut_windows;
+  // Case name, "-resolved" appended for the resolved variant,
+  // "+implicit-linear-iqn-ils" or "+explicit-extrapolate1" for other couplings,
+  // and "+ss-at-5H" for a cut at its own window.
   std::string label() const;
 };
 
@@ -35,7 +39,14 @@ std::vector<Method> all_methods();
 // single-cut Jacobi case three more couplings: implicit with linear inputs and
 // IQN-ILS, explicit with inputs extrapolated at first order, and implicit
 // with cubic substep waveforms and IQN-ILS (implicit-waveform3-iqn-ils).
+// Multirate: where the scene gives a cut a window (`[coupling]
+// CUT_macro_step`, k H at the scene's H, k >= 2), each lagged method of a
+// case with that cut once again with the cut at k H (at every H of the
+// sweep).
 std::vector<Method> methods_for(const Scene& scene);
+// The cuts the scene gives a window of their own, with it in the scene's
+// macro steps (integer multiples over one only).
+std::map<std::string, long> scene_cut_windows(const Scene& scene);
 
 // The transport a study runs a coupling over: the study's, except for
 // substep waveforms, which the study runs in process ("inproc").

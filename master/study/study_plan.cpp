@@ -137,12 +137,20 @@ bool divides(double H, double t_end) {
   return std::abs(n - std::round(n)) <= 1e-9 * n && n >= 1;
 }
 
+bool has_cut(const CaseSpec& spec, const std::string& cut) {
+  return std::any_of(spec.cuts.begin(), spec.cuts.end(), [&cut](const CutChoice& c) {
+    return cut_kinds()[static_cast<std::size_t>(c.cut)].name == cut;
+  });
+}
+
 // The folder of a method below its group's: CASE, resolved/CASE, or
 // COUPLING/CASE (e.g. implicit-linear-iqn-ils/wr-xx-jacobi).
 std::string method_folder(const Method& m) {
   std::string f;
   if (m.feedthrough == Feedthrough::kResolved) f = "resolved/";
   if (!m.coupling.is_plain()) f = m.coupling.label() + "/";
+  for (const auto& [cut, k] : m.cut_windows)
+    if (k > 1) f += cut + "-at-" + std::to_string(k) + "H/";
   return f + m.spec.name();
 }
 
@@ -152,7 +160,8 @@ struct VariantRuns {
   StudyPlan& plan;
   const StudyOptions& o;
   const Variant& v;
-  std::string prefix;  // the variant's folder and '/' ("" without a sweep)
+  std::string prefix;                         // the variant's folder and '/' ("" without a sweep)
+  std::map<std::string, long> scene_windows;  // scene_cut_windows() of the variant's scene
 
   // One run of `group` in the folder `where` below the variant's; no method:
   // the monolithic model.
@@ -168,6 +177,11 @@ struct VariantRuns {
     if (m) {
       r.feedthrough = m->feedthrough;
       r.coupling = m->coupling;
+      // The scene's windows for the case's cuts, at H unless the method
+      // gives its own.
+      for (const auto& [cut, k] : scene_windows)
+        if (has_cut(m->spec, cut)) r.cut_windows[cut] = 1;
+      for (const auto& [cut, k] : m->cut_windows) r.cut_windows[cut] = k;
     }
     r.transport = m ? run_transport(m->coupling, o.transport) : o.transport;
     r.folder = prefix + where + (m ? method_folder(*m) : "monolithic");
@@ -231,9 +245,10 @@ void add_restart_runs(const VariantRuns& to, const Scene& scene, const std::stri
 // of H, the restart check, the tolerances and the converged reference.
 void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const std::string& base,
                  const std::string& scene_path) {
-  const VariantRuns to{plan, o, v, v.dir.empty() ? "" : v.dir + "/"};
+  VariantRuns to{plan, o, v, v.dir.empty() ? "" : v.dir + "/", {}};
   const std::string scene_rel = to.prefix + "scene.toml";
   const Scene scene = variant_scene(to, base, scene_path, scene_rel);
+  to.scene_windows = scene_cut_windows(scene);
   const std::vector<double> sweep =
       o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
   for (double H : sweep)
@@ -290,12 +305,17 @@ StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
 
   const std::string base = read_text(scene_path);
   // The user's scene must be sound before anything else.
-  if (parse_scene(base, scene_path).coupling.given)
+  // A [coupling] table may give cuts their windows (the study's multirate
+  // methods); anything else it sets is how master run couples one case.
+  SceneCoupling coupling = parse_scene(base, scene_path).coupling;
+  coupling.wr_macro_step = coupling.rs_macro_step = coupling.ss_macro_step = std::nullopt;
+  coupling.given = false;
+  if (!(coupling == SceneCoupling{}))
     throw std::invalid_argument(
         scene_path +
-        ": the scene has a [coupling] table, which sets how master run couples one case; a "
-        "study runs every coupling method itself and would have its runs take the table's "
-        "values: study a copy of the scene without it");
+        ": the scene's [coupling] table sets how master run couples one case; a study runs "
+        "every coupling method itself and would have its runs take the table's values: study "
+        "a copy of the scene without it (the cuts' windows, CUT_macro_step, may stay)");
   plan.scene_files.emplace_back("scene.toml", base);
   for (const Variant& v : variants_of(o.sweeps)) add_variant(plan, o, v, base, scene_path);
   return plan;

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +43,10 @@ struct PlannedRun {
   std::string transport;  // of a co-simulation run
   double macro_step = 0;
   double tolerance = 0;
+  // Every cut of the case the scene or the method gives a window of its own,
+  // in macro steps (1: at H): `--macro-step CUT=k*H`, so that the run's
+  // rates are the method's whatever the scene's defaults.
+  std::map<std::string, long> cut_windows;
 };
 
 struct StudyPlan {

@@ -1,5 +1,6 @@
 // The text of a study plan: its command lines, written and read back.
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -98,6 +99,11 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
       r.scene = v.rfind(base, 0) == 0 ? v.substr(base.size()) : v;
     } else if (k == "--case") {
       r.case_name = v;
+    } else if (k == "--macro-step" && v.find('=') != std::string::npos) {
+      // A cut's window, after the finest: k H.
+      const double window = number(v.substr(v.find('=') + 1), what);
+      r.cut_windows[v.substr(0, v.find('='))] =
+          r.macro_step > 0 ? std::lround(window / r.macro_step) : 0;
     } else if (k == "--macro-step") {
       r.macro_step = number(v, what);
     } else if (k == "--tolerance") {
@@ -144,6 +150,8 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
   c += shell_word((plan.out / r.scene).string());
   c += " --case " + r.case_name + " --macro-step " + run::format_double(r.macro_step) +
        " --tolerance " + run::format_double(r.tolerance);
+  for (const auto& [cut, k] : r.cut_windows)
+    c += " --macro-step " + cut + "=" + run::format_double(r.macro_step * static_cast<double>(k));
   if (r.case_name != "monolithic") {
     c += " --transport " + r.transport;
     if (r.feedthrough == Feedthrough::kResolved) c += " --feedthrough resolved";
