@@ -32,5 +32,5 @@ from .participant import (BadInterface, BadRequest, Footprint, Inputs, Interface
 from .server import serve
 from .waveforms import Sampled
 
-__all__ = ["Participant", "Interface", "Footprint", "Inputs", "Waveform", "Sampled", "Run", "StepFailed",
-           "BadInterface", "BadRequest", "serve"]
+__all__ = ["Participant", "Interface", "Footprint", "Inputs", "Waveform", "Sampled", "Run",
+           "StepFailed", "BadInterface", "BadRequest", "serve"]
