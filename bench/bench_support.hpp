@@ -19,6 +19,13 @@
 
 namespace railcosim {
 
+// The network benchmarks' common ground: the paper's macro step, and the
+// raw socket baseline every overhead is divided by (measured in the same
+// run): the lowest of kRawForks medians of kRawSamples round trips.
+inline constexpr double kMacroStep = 1e-4;  // H, s
+inline constexpr int kRawSamples = 2000;    // round trips per raw measurement
+inline constexpr int kRawForks = 3;         // raw measurements per repeat
+
 // The largest Step request and StepReport frame of a macro step of the case
 // (the inputs and outputs of the participants at t = 0, which have their
 // sizes all run long). `ramped`: the step carries the inputs at the step's
@@ -62,6 +69,11 @@ inline RawRoundTrip lowest_raw_round_trip(std::size_t request, std::size_t reply
     if (r.median_us < raw.median_us) raw = r;
   }
   return raw;
+}
+
+// The baseline of a repeat with these frame sizes (kRawForks x kRawSamples).
+inline RawRoundTrip raw_baseline(std::size_t request, std::size_t reply) {
+  return lowest_raw_round_trip(request, reply, kRawSamples, kRawForks);
 }
 
 // Exits with status 1, naming `program` and the case, when a run failed or

@@ -34,10 +34,7 @@ using remote::NodePool;
 using remote::ParticipantFactory;
 using remote::tcp_transport;
 
-constexpr double kMacroStep = 1e-4;  // H, s: the paper's
-constexpr int kRawSamples = 2000;    // round trips per raw measurement
-constexpr int kRawForks = 3;         // raw measurements per repeat: the lowest median counts
-constexpr double kTarget = 1.2;      // overhead per iteration, raw round trips
+constexpr double kTarget = 1.2;  // overhead per iteration, raw round trips
 
 struct Timed {
   double per_step = 0;    // wall time per macro step, s
@@ -135,7 +132,7 @@ int main(int argc, char** argv) {
         std::tie(row.request, row.reply) = step_frame_bytes(scene, spec, kMacroStep, true);
         for (int k = 0; k < repeats; ++k) {
           std::fprintf(stderr, "%s: repeat %d of %d\n", row.name.c_str(), k + 1, repeats);
-          row.raw.push_back(lowest_raw_round_trip(row.request, row.reply, kRawSamples, kRawForks));
+          row.raw.push_back(raw_baseline(row.request, row.reply));
           const Timed local = timed_run(scene, spec, inproc, "inproc", DataPlane::kRelay);
           row.inproc = std::min(row.inproc, local.per_step);
           row.iterations = local.iterations;

@@ -41,10 +41,6 @@ namespace {
 using remote::DataPlane;
 using remote::ParticipantFactory;
 
-constexpr double kMacroStep = 1e-4;  // H, s
-constexpr int kRawSamples = 2000;    // round trips per raw measurement
-constexpr int kRawForks = 3;         // raw measurements per repeat: the lowest median counts
-
 // A participant whose steps are timed (the in-process soil's physics).
 class TimedSteps final : public Participant {
  public:
@@ -211,7 +207,7 @@ int main(int argc, char** argv) {
     const auto [request, reply] = step_frame_bytes(scene, spec, kMacroStep, true);
     for (int k = 0; k < repeats; ++k) {
       std::fprintf(stderr, "%s: repeat %d of %d\n", name, k + 1, repeats);
-      const RawRoundTrip raw = lowest_raw_round_trip(request, reply, kRawSamples, kRawForks);
+      const RawRoundTrip raw = raw_baseline(request, reply);
       if (k == 0 || raw.median_us < cpp.raw.median_us) cpp.raw = py.raw = raw;
       // The in-process run is short: the best of three against the load.
       Timed local;

@@ -38,13 +38,6 @@ using remote::NodePool;
 using remote::ParticipantFactory;
 using remote::tcp_transport;
 
-constexpr double kMacroStep = 1e-4;  // H, s: the paper's
-constexpr int kRawSamples = 2000;    // round trips per raw measurement
-// Raw measurements per repeat, each with a new child; the lowest median is
-// the repeat's baseline: the fastest plain sockets go, never one the product
-// beats by luck of placement.
-constexpr int kRawForks = 3;
-
 // The data planes measured (a plane left out gets "pending" columns).
 std::vector<DataPlane> data_planes() {
   return {DataPlane::kRelay, DataPlane::kDirect};
@@ -202,7 +195,7 @@ int main(int argc, char** argv) {
       // the machine touches all of them alike.
       for (int k = 0; k < repeats; ++k) {
         std::fprintf(stderr, "%s: repeat %d of %d\n", name.c_str(), k + 1, repeats);
-        row.raw.push_back(lowest_raw_round_trip(row.request, row.reply, kRawSamples, kRawForks));
+        row.raw.push_back(raw_baseline(row.request, row.reply));
         row.inproc =
             std::min(row.inproc, wall_per_step(scene, spec, inproc, "inproc", DataPlane::kRelay));
         for (DataPlane d : data_planes()) {

@@ -7,10 +7,12 @@
 # from the scene), and compare each run with the same run on the built-in
 # soil node with the installed `master compare` (fixed micro steps on both):
 # explicit Jacobi and Gauss–Seidel, X-X and X-T, two and three participants,
-# the direct and the relayed data plane, and implicit coupling with ramped
-# inputs (save/restore). Then `master conform`, the refusals (BAD_REQUEST
-# naming the file and the key; a --config the program cannot read) and
-# `master compare`'s exit status on runs that differ.
+# the direct and the relayed data plane, implicit coupling with ramped
+# inputs (save/restore) and with substep waveforms (degree 3 and 1; the
+# waveform run bit for bit alike relayed and in lock step). Then `master
+# conform`, the refusals (BAD_REQUEST naming the file and the key; a
+# --config the program cannot read) and `master compare`'s exit status on
+# runs that differ.
 # Usage: cpp_sdk_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1
@@ -81,9 +83,22 @@ run_both ss-xx-gauss-seidel
 grep -q '"data_plane": "direct"' "$work/outside/wr-xx+ss-xx-jacobi/summary.json"
 run_both rs-xx+ss-xx-jacobi --coupling implicit --inputs linear
 grep -q '"method": "implicit"' "$work/outside/rs-xx+ss-xx-jacobi/summary.json"
+# Substep waveforms: the soil takes each micro step's load from Waveform::at
+# and records its outputs (in lock step on the direct plane, as relayed).
+run_both ss-xx-jacobi --coupling implicit --inputs waveform3
+run_both ss-xt-gauss-seidel --coupling implicit --inputs waveform1
+grep -q '"data_plane_mode": "lock step"' "$work/outside/ss-xx-jacobi/summary.json" ||
+  fail "the waveform run did not go in lock step" "$work/outside/ss-xx-jacobi/summary.json"
+"$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --node "soil=$good" \
+  --out "$work/relayed" --coupling implicit --inputs waveform3 --data-plane relay \
+  >"$work/master.log" 2>&1 || fail "relayed waveform run failed" "$work/master.log"
+for f in "$work/relayed/ss-xx-jacobi"/*.csv; do
+  cmp "$f" "$work/outside/ss-xx-jacobi/${f##*/}" ||
+    fail "${f##*/} of the waveform run differs between the relayed plane and the lock step"
+done
 "$bin/master" compare "$work/builtin" "$work/outside" --tolerance 1e-9 >"$work/compare.log" ||
   fail "the outside soil does not match the built-in one" "$work/compare.log"
-grep -q '^agree: 5 run(s), 15 file(s), 0 over the tolerance 1e-09' "$work/compare.log" ||
+grep -q '^agree: 7 run(s), 21 file(s), 0 over the tolerance 1e-09' "$work/compare.log" ||
   fail "unexpected verdict" "$work/compare.log"
 cat "$work/compare.log"
 
@@ -140,4 +155,4 @@ rc=0
 "$bin/master" compare "$work/builtin" "$work/changed" >"$work/changed.log" 2>&1 || rc=$?
 [[ $rc == 2 ]] || fail "compare exits $rc on a value that is not a number" "$work/changed.log"
 grep -q "deflection.csv:3: column .*'x' is not a number" "$work/changed.log" || fail "no position" "$work/changed.log"
-echo "cpp_soil: 5 cases agree with the built-in soil, conform passes, refusals and compare as expected"
+echo "cpp_soil: 7 cases agree with the built-in soil, conform passes, refusals and compare as expected"

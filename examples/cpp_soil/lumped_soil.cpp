@@ -106,6 +106,7 @@ void LumpedSoil::set_inputs(long n, const CouplingData& inputs) {
   if (n != next_)
     throw CallOrderError("soil: inputs for step " + std::to_string(n) + ", at step " +
                          std::to_string(next_));
+  waves_.clear();
   load_ = load_of(inputs);
   rate_.setZero();
   if (!carry_) restart();
@@ -118,6 +119,27 @@ void LumpedSoil::set_inputs(long n, const CouplingData& start, const CouplingDat
   if (!carry_) restart();
 }
 
+void LumpedSoil::set_input_waveforms(long n, const railcosim::InputWaveforms& inputs) {
+  const auto count = static_cast<std::size_t>(n_);
+  if (inputs.size() != 1 || inputs[0].width() != (receives_force_ ? count : 2 * count))
+    throw BadInputError("soil: the input waveforms do not fit " + std::to_string(n_) + " points");
+  // The ends of the window as a ramp (what save() keeps), then the waveform.
+  InterfaceData shape;
+  (receives_force_ ? shape.force : shape.displacement).resize(count);
+  if (!receives_force_) shape.velocity.resize(count);
+  const double t0 = static_cast<double>(n) * H_;
+  set_inputs(n, {railcosim::unpack_values(inputs[0].at(t0), shape)},
+             {railcosim::unpack_values(inputs[0].at(t0 + H_), shape)});
+  waves_ = inputs;
+}
+
+VectorXd LumpedSoil::load_at(double t) const {
+  const std::vector<double> v = waves_[0].at(t);
+  const Eigen::Map<const VectorXd> all(v.data(), static_cast<Eigen::Index>(v.size()));
+  if (receives_force_) return all;
+  return kb_ * all.head(n_) + cb_ * all.tail(n_);
+}
+
 CouplingData LumpedSoil::outputs() {
   return {InterfaceData{to_std(u_), to_std(v_), {}}};
 }
@@ -127,15 +149,21 @@ void LumpedSoil::start_step(long n) {
     throw CallOrderError("soil: step " + std::to_string(n) + " asked, at step " +
                          std::to_string(next_));
   const double c0 = 1.0 / (0.25 * h_ * h_), c1 = 0.5 / (0.25 * h_);
+  const double t0 = static_cast<double>(n) * H_;
+  samples_.clear();
+  if (record_) samples_.push_back({.t = t0, .outputs = outputs()});
   for (int k = 0; k < m_; ++k) {
     const VectorXd pu = u_ + h_ * v_ + (h_ * h_ * 0.25) * a_;
     const VectorXd pv = v_ + (h_ * 0.5) * a_;
-    const VectorXd load = load_ + rate_ * ((k + 1) * h_);  // at the end of the micro step
+    // The micro step's end, where the load is taken.
+    const double t = k + 1 == m_ ? static_cast<double>(n + 1) * H_ : t0 + (k + 1) * h_;
+    const VectorXd load = waves_.empty() ? VectorXd(load_ + rate_ * ((k + 1) * h_)) : load_at(t);
     const VectorXd u = Keff_.solve(load + M_ * (c0 * pu) + C_ * (c1 * pu - pv));
     a_ = c0 * (u - pu);
     v_ = pv + (0.5 * h_) * a_;
     u_ = u;
     ++micro_steps_;
+    if (record_) samples_.push_back({.t = t, .outputs = outputs()});
   }
   ++next_;
 }
@@ -168,6 +196,7 @@ void LumpedSoil::restore(const railcosim::ParticipantState& s) {
   if (s.values.size() != static_cast<std::size_t>(2 + 5 * n_) || !(s.values[0] >= 0) ||
       !(s.values[1] >= 0) || s.values[0] > 1e15 || s.values[1] > 1e15)
     throw BadInputError("soil: the state does not fit this participant");
+  waves_.clear();  // the state holds the ramp between the window's ends
   next_ = static_cast<long>(s.values[0]);
   micro_steps_ = static_cast<long>(s.values[1]);
   const double* p = s.values.data() + 2;

@@ -30,6 +30,11 @@ class LumpedSoil final : public railcosim::Participant {
   void set_inputs(long n, const railcosim::CouplingData& inputs) override;
   void set_inputs(long n, const railcosim::CouplingData& start,
                   const railcosim::CouplingData& end) override;
+  // Substep waveforms (--inputs waveform0..3): the load at each micro
+  // step's end from the waveforms, and the outputs recorded after each.
+  void set_input_waveforms(long n, const railcosim::InputWaveforms& inputs) override;
+  void record_samples(bool on) override { record_ = on; }
+  railcosim::OutputSamples step_samples() const override { return samples_; }
   railcosim::CouplingData outputs() override;
   void start_step(long n) override;
   railcosim::StepResult finish_step() override;
@@ -39,6 +44,7 @@ class LumpedSoil final : public railcosim::Participant {
 
  private:
   Eigen::VectorXd load_of(const railcosim::CouplingData& in) const;
+  Eigen::VectorXd load_at(double t) const;  // from the waveforms
   void restart();
   railcosim::StepResult report() const;
 
@@ -53,4 +59,7 @@ class LumpedSoil final : public railcosim::Participant {
   bool carry_ = false;  // keep the integrator's acceleration at communication points
   long next_ = -1;      // the next macro step (-1 before initialize)
   long micro_steps_ = 0;
+  railcosim::InputWaveforms waves_;  // this step's, when it has them
+  bool record_ = false;
+  railcosim::OutputSamples samples_;  // of the last step, while recording
 };

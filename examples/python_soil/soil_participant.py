@@ -29,6 +29,7 @@ class LumpedSoil(rc.Participant):
     name = "soil"
     history = ("soil_peak_m",)
     results_fields = ("soil_m",)
+    takes_waveforms = True  # advance() evaluates at(t) at each micro step and records
 
     def configure(self, config, interfaces):
         missing = [k for k in KEYS if k not in config]
@@ -71,9 +72,14 @@ class LumpedSoil(rc.Participant):
         self.u = self.v = self.a = np.zeros(n)
         self.micro_steps = 0
 
-    def load(self, inputs, end=False):
-        """The load on the soil masses from the interface's inputs."""
+    def load(self, inputs, end=False, t=None):
+        """The load on the soil masses from the interface's inputs (at t:
+        substep waveforms, evaluated there)."""
         i = inputs[0]
+        if t is not None:
+            if self.receives_force:
+                return i.force.at(t)
+            return self.kb * i.displacement.at(t) + self.cb * i.velocity.at(t)
         if self.receives_force:
             return (i.force.end if end else i.force.start).copy()
         if end:
@@ -101,7 +107,8 @@ class LumpedSoil(rc.Participant):
         load = self.load(inputs)
         rate = np.zeros(self.n)
         w = inputs[0].force if self.receives_force else inputs[0].displacement
-        if not w.held:
+        sampled = isinstance(w, rc.Sampled)
+        if not w.held and not sampled:
             rate = (self.load(inputs, end=True) - load) / H
         if not self.run.carry_acceleration:  # restart consistent with the new inputs
             self.a = self.M_inv @ (load - self.K @ self.u - self.C @ self.v)
@@ -109,14 +116,19 @@ class LumpedSoil(rc.Participant):
         for k in range(1, self.m + 1):
             pu = (self.u - self.origin) + h * self.v + (h * h * 0.25) * self.a
             pv = self.v + (h * 0.5) * self.a
-            dt = (t1 if k == self.m else t + (t1 - t) * k / self.m) - t  # micro step's end
-            rhs = (load + dt * rate) + self.origin_load
+            tk = t1 if k == self.m else t + (t1 - t) * k / self.m  # the micro step's end
+            if sampled:
+                rhs = self.load(inputs, t=tk) + self.origin_load
+            else:
+                rhs = (load + (tk - t) * rate) + self.origin_load
             rhs += self.M @ (self.c0 * pu) + self.C @ (self.c1 * pu - pv)
             x = self.Keff_inv @ rhs
             self.a = self.c0 * (x - pu)
             self.v = pv + (0.5 * h) * self.a
             self.u = x + self.origin
             self.micro_steps += 1
+            if self.recording:
+                self.record(tk, [{"displacement": self.u, "velocity": self.v}])
         return self.outputs()
 
     def save(self):

@@ -30,6 +30,7 @@ Needs Debian's python3-protobuf, python3-numpy and protobuf-compiler.
 from .participant import (BadInterface, BadRequest, Footprint, Inputs, Interface, Participant,
                           Run, StepFailed, Waveform)
 from .server import serve
+from .waveforms import Sampled
 
-__all__ = ["Participant", "Interface", "Footprint", "Inputs", "Waveform", "Run", "StepFailed",
-           "BadInterface", "BadRequest", "serve"]
+__all__ = ["Participant", "Interface", "Footprint", "Inputs", "Waveform", "Sampled", "Run",
+           "StepFailed", "BadInterface", "BadRequest", "serve"]

@@ -17,6 +17,11 @@ from .wire import E, PROTOCOL_VERSION, Channel, LinkClosed, ProtocolError, SendT
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
+class Unchecked(list):
+    """A peer's decoded data whose values check() did not test for being
+    finite (its last data, which a diverging peer may send)."""
+
+
 class Link:
     def __init__(self, wire):
         self.peer = wire.peer
@@ -270,14 +275,15 @@ class Plane:
             raise self.refused(l, "%d interfaces on a link of %d" % (
                 len(d.data.interfaces), len(l.interfaces)))
         arrays = [packed.decode(i) for i in d.data.interfaces]
-        if not d.last:
-            total = 0.0  # not finite when a value is not (or on overflow): look closer
-            for got in arrays:
-                for a in got.values():
-                    total += float(_sum(a))
-            if total - total != 0.0 and not all(
-                    np.isfinite(a).all() for got in arrays for a in got.values()):
-                raise self.refused(l, "a non-finite value for point %d" % p)
+        if d.last:  # a diverging peer's last data: hold() checks it before any use
+            return Unchecked(arrays)
+        total = 0.0  # not finite when a value is not (or on overflow): look closer
+        for got in arrays:
+            for a in got.values():
+                total += float(_sum(a))
+        if total - total != 0.0 and not all(
+                np.isfinite(a).all() for got in arrays for a in got.values()):
+            raise self.refused(l, "a non-finite value for point %d" % p)
         return arrays
 
     def hold(self, fresh):
@@ -285,21 +291,26 @@ class Plane:
         (Session.set_inputs with the arrays check() decoded)."""
         s = self.s
         data, arrays = [None] * len(s.interfaces), [None] * len(s.interfaces)
+        finite = [True] * len(s.interfaces)  # check() found every value finite
         for l in self.links:
             again = fresh and l.refreshes
             src, got = (l.fresh, l.fresh_arrays) if again else (l.data, l.arrays)
             for k, i in enumerate(l.interfaces):
                 data[i], arrays[i] = src[k], got[k]
+                finite[i] = not isinstance(got, Unchecked)
         t0 = s.step * s.H
         held = []
-        for got, i in zip(arrays, s.interfaces):
+        for got, i, ok in zip(arrays, s.interfaces, finite):
             extra = [q for q in got if q not in i.receives]
             if extra:
                 raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
                                     "does not receive it" % (i.cut, extra[0]))
             w = api.Inputs()
             for q in i.receives:
-                setattr(w, q, api.Waveform(s._check(got.get(q), i, q), None, t0, s.H))
+                a = got.get(q)
+                if not ok or a is None or a.shape[0] != i.n:
+                    a = s._check(a, i, q)  # the count (and finiteness) refused, naming it
+                setattr(w, q, api.Waveform(a, None, t0, s.H))
             held.append(w)
         s.held, s.held_wire = held, (data, None)
 

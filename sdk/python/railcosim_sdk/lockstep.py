@@ -143,5 +143,5 @@ class LockstepSession(Session):
             if s.keep_checkpoint:
                 self.keep()
             if s.restore_checkpoint:
-                self.restore_kept(held=not s.HasField("inputs"))
+                self.restore_kept(held=not (s.HasField("inputs") or s.HasField("waveforms")))
         return super().on_step(req, out)

@@ -12,7 +12,9 @@ The SDK calls, in this order, once per session:
     results()                              -> list of arrays (after the last step)
 
 `inputs` is a list with one `Inputs` per interface, in the configured order;
-each quantity the interface receives is a `Waveform` over the macro step.
+each quantity the interface receives is a `Waveform` over the macro step
+(held or ramped), or with substep waveforms a `Sampled` one (waveforms.py);
+both have start, end, at(t) and rate().
 `outputs` is a list with one dict per interface, {"displacement": array,
 "velocity": array} or {"force": array}: the quantities the interface sends,
 one value per coupling point, at the end of the call (t + H for advance).
@@ -160,6 +162,10 @@ class Participant:
                for it, and its configuration table defaults to [name].
       history: the names of the values history() returns after every step.
       results_fields: the names of the arrays results() returns.
+      takes_waveforms: True when advance() evaluates its inputs with at(t)
+               at its own micro steps and calls record() after each of
+               them: the participant then takes substep waveforms
+               (--inputs waveform0..3), whose quantities are `Sampled`.
 
     Attributes the SDK sets before configure(): self.run (a `Run`).
     Attribute the author keeps up to date: self.micro_steps (int, the micro
@@ -169,8 +175,10 @@ class Participant:
     name = "participant"
     history = ()
     results_fields = ()
+    takes_waveforms = False
     micro_steps = 0
     run = None
+    _recorder = None  # the SDK's, while the master asks for samples
 
     def configure(self, config, interfaces):
         """config: this participant's own table (a dict, from --config);
@@ -214,6 +222,19 @@ class Participant:
     def restore(self, state):
         """Return bit for bit to a state save() returned (a numpy array)."""
         raise NotImplementedError
+
+    @property
+    def recording(self):
+        """True while the master asks for the outputs at every micro step."""
+        return self._recorder is not None
+
+    def record(self, t, outputs):
+        """With takes_waveforms: the outputs (as advance() returns them) at
+        time t inside the step, called after each micro step; the SDK adds
+        the step's start and, when no sample is at its end, the outputs
+        advance() returns. Does nothing unless `recording`."""
+        if self._recorder is not None:
+            self._recorder.add(t, outputs)
 
     def history_values(self):
         """One float per declared history channel, for the last state."""

@@ -23,7 +23,7 @@ class Ticker:
         self.session = session
         self.step = step
         self.thread = None
-        self.stop = threading.Event()
+        self.stop = None  # a threading.Event, made only when frames are due
 
     def __enter__(self):
         s = self.session
@@ -31,6 +31,7 @@ class Ticker:
         if ms > 0 and s.master is not None and s.request_id:
             self.interval = max(ms, MIN_INTERVAL_MS) / 1000.0
             self.last = s.p.micro_steps
+            self.stop = threading.Event()
             self.thread = threading.Thread(target=self.run, daemon=True)
             self.thread.start()
         return self

@@ -10,6 +10,7 @@ import numpy as np
 
 from . import packed
 from . import participant as api
+from . import waveforms
 from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's name)
 from .progress import Ticker
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
@@ -17,7 +18,7 @@ from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
-class Session:
+class Session(waveforms.Handlers):
     """The participant's side of one session. `handle(envelope)` returns the
     reply (or raises ProtocolError); `closing` is set after Shutdown."""
 
@@ -133,13 +134,19 @@ class Session:
 
     def advance(self, n, r=None):
         """Macro step n with the held inputs; fills its StepReport (new or r)."""
+        rec = self.p._recorder
+        if rec is not None:  # substep waveforms: the outputs at the step's start first
+            rec.begin(n * self.H, self.current_outputs())
         try:
             with Ticker(self, n):
                 outputs = self.p.advance(n * self.H, self.H, self.held)
         except api.StepFailed as e:
             raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
         self.step = n + 1
-        return self.report(outputs, self.step, r)
+        r = self.report(outputs, self.step, r)
+        if rec is not None:
+            rec.write(r, self.step * self.H, outputs)
+        return r
 
     def current_outputs(self):
         o = self.p.outputs(self.held)
@@ -241,6 +248,7 @@ class Session:
         self.H = c.macro_step
         self.progress_ms = c.progress_ms  # > 0: progress frames while a step works
         self.p.run = api.Run(c)
+        self.p._recorder = None  # recording is asked for anew in each session
         config = self.config
         if config is None:  # no --config: the scene's own table for this participant
             try:
@@ -281,25 +289,14 @@ class Session:
             raise ProtocolError(E.OUT_OF_ORDER, "%s for macro step %d; the participant is at "
                                 "macro step %d" % (what, n, self.step))
 
-    def no_waveforms(self):
-        return ProtocolError(E.BAD_REQUEST, "participant %s takes no substep waveforms (a "
-                             "participant of the Python SDK takes held or ramped inputs): run "
-                             "it with --inputs hold or linear, not waveform0 to waveform3"
-                             % self.p.name)
-
-    def on_record_samples(self, req, out):
-        if req.record_samples.on:
-            raise self.no_waveforms()
-        out.ack.SetInParent()
-        return out
-
     def on_set_inputs(self, req, out):
         s = req.set_inputs
         self.check_step(s.step, "inputs")
         if s.HasField("waveforms"):
-            raise self.no_waveforms()
-        self.set_inputs(s.inputs.interfaces,
-                        s.inputs_end.interfaces if s.HasField("inputs_end") else None)
+            self.take_waveforms(s, s.HasField("inputs") or s.HasField("inputs_end"))
+        else:
+            self.set_inputs(s.inputs.interfaces,
+                            s.inputs_end.interfaces if s.HasField("inputs_end") else None)
         out.ack.SetInParent()
         return out
 
@@ -310,8 +307,8 @@ class Session:
             raise ProtocolError(E.BAD_REQUEST, "step with h = %r; the configured macro step is "
                                 "%r" % (s.h, self.H))
         if s.HasField("waveforms"):
-            raise self.no_waveforms()
-        if s.HasField("inputs"):
+            self.take_waveforms(s, s.HasField("inputs") or s.HasField("inputs_end"))
+        elif s.HasField("inputs"):
             self.set_inputs(s.inputs.interfaces,
                             s.inputs_end.interfaces if s.HasField("inputs_end") else None)
         elif s.HasField("inputs_end"):

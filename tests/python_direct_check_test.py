@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""The Python SDK's direct plane checks a peer's values for being finite
+once, when its frame arrives, except in a peer's last data (which a
+diverging peer may send): such data must still be checked before the
+participant steps on it. A unit test of the plane with its channels
+replaced by lists of frames: a last frame with a NaN is refused at the step
+that would use it (BAD_REQUEST naming the interface), and the participant
+never steps on it; the same frame without the NaN is stepped on.
+Usage: python_direct_check_test.py SOURCE_DIR"""
+
+import os
+import runpy
+import sys
+import time
+
+src = sys.argv[1]
+sys.path.insert(0, os.path.join(src, "sdk", "python"))
+from railcosim_sdk.direct import Link, Plane  # noqa: E402
+from railcosim_sdk.session import Session  # noqa: E402
+from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
+
+SOIL = runpy.run_path(os.path.join(src, "examples", "python_soil", "soil_participant.py"))
+CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
+          "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
+N, H = 4, 1e-4
+
+
+class Frames:
+    """A channel whose frames are given; what it is sent is dropped."""
+
+    what = "track at test"
+
+    def __init__(self, envelopes=()):
+        self.envelopes = list(envelopes)
+
+    def receive(self, timeout=None):
+        return self.envelopes.pop(0)
+
+    def send(self, env):
+        pass
+
+    def send_bytes(self, b, timeout=None):
+        pass
+
+
+def data(value):
+    d = pb.CouplingData()
+    d.interfaces.add(displacement=[value] * N, velocity=[0.0] * N)
+    return d
+
+
+def steps_on(value):
+    """Runs a window of two steps whose peer's second frame is its last, the
+    displacement `value`; returns (the participant's macro step after it,
+    the error or None)."""
+    s = Session(SOIL["LumpedSoil"](), None, "test", CONFIG)
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION,
+                                              participant="soil")))
+    c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
+    i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
+    i.x.extend([0.3 + 0.6 * k for k in range(N)])
+    i.receives.extend([1, 2])
+    i.sends.extend([1, 2])
+    s.handle(pb.Envelope(id=2, configure=c))
+    s.handle(pb.Envelope(id=3, initialize=pb.Initialize(inputs=data(1e-4))))
+    # A link whose peer is a step ahead: step n takes the peer's point n + 1,
+    # so the last data (point 1) is what step 0 steps on.
+    link = Link(pb.PeerLink(peer="track", interfaces=[0], ahead=True))
+    link.chan = Frames([pb.Envelope(peer_data=pb.PeerData(point=0, data=data(1e-4))),
+                        pb.Envelope(peer_data=pb.PeerData(point=1, data=data(value),
+                                                          last=True))])
+    plane = Plane(s, Frames(), None)
+    plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
+    plane.timeout, plane.id, plane.end, plane.why = 1.0, 1, 2, ""
+    plane.envelope = pb.Envelope(id=1)
+    plane.pending, plane.last_flush = plane.envelope.reports, time.monotonic()
+    try:
+        plane.run(0.0, 64)
+    except ProtocolError as e:
+        return s.step, e
+    return s.step, None
+
+
+failures = []
+step, error = steps_on(float("nan"))
+if step != 0 or error is None or error.code != E.BAD_REQUEST or \
+        "interface ss: a displacement value is not finite" not in str(error):
+    failures.append("a NaN in a peer's last data: stepped to %d, error %r" % (step, error))
+step, error = steps_on(2e-4)
+if step != 1 or error is not None:
+    failures.append("a peer's finite last data: stepped to %d, error %r" % (step, error))
+if failures:
+    print("\n".join(failures))
+    sys.exit(1)
+print("python_direct_check_test: ok")
