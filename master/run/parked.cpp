@@ -3,6 +3,7 @@
 #include <string>
 
 #include "engine/coupled_statics.hpp"
+#include "engine/window_schedule.hpp"
 #include "subsystem.hpp"
 
 namespace railcosim::run {
