@@ -42,16 +42,16 @@ namespace {
 // missing or failed, 3 only stage 2 of the plan left to run.
 int report_collected(const study::CollectedStudy& c, const std::filesystem::path& out,
                      const std::string& what, double wall) {
-  std::printf("%s: %zu runs in %.1f s (%d failed, %d missing)\n", what.c_str(), c.runs.size(), wall,
-              c.failed, c.missing);
+  std::printf("%s: %zu runs in %.1f s (%d failed, %d missing, %d not run (budget))\n", what.c_str(),
+              c.runs.size(), wall, c.failed, c.missing, c.not_run);
   for (const study::Finding& f : study::check_findings(c.runs))
     std::printf("  %-18s %s\n", f.verdict.c_str(), f.claim.c_str());
   std::printf("report: %s\n", (out / "REPORT.md").string().c_str());
   for (const auto& r : c.runs)
-    if (r.record.status == "failed" || r.record.status == "missing")
+    if (r.record.status == "failed" || r.record.status == "missing" || r.record.status == "not_run")
       std::fprintf(stderr, "master: %s %s: %s\n", r.folder.c_str(), r.record.status.c_str(),
                    r.record.message.c_str());
-  if (c.failed + c.missing > 0) return 1;
+  if (c.failed + c.missing + c.not_run > 0) return 1;
   if (c.stage2_pending) {
     std::fprintf(stderr,
                  "master: stage 2 (the cheapest methods over the other transport) is planned in "
@@ -85,6 +85,9 @@ int do_study(const StudyArgs& a) {
   o.transport = a.transport;
   o.tolerances = a.tolerances;
   o.macro_steps = a.macro_steps;
+  o.nodes = a.nodes;
+  o.budget_s = a.budget;
+  o.cases = a.cases;
   for (const std::string& s : a.sweeps) o.sweeps.push_back(study::parse_sweep(s));
   o.stop = stop_flag();
   if (!a.plan.empty() || a.check) {
@@ -135,6 +138,21 @@ void add_study_command(CLI::App& app, StudyArgs& a) {
   study->add_option("--sweep", a.sweeps,
                     "KEY=V1,V2,...: a scene value (dotted TOML key, e.g. vehicle.speed_kmh) and "
                     "its values, each a scene variant of its own; repeatable (cartesian product)");
+  study->add_option("--node", a.nodes,
+                    "ROLE=HOST:PORT: a participant served by a node already running (e.g. an "
+                    "outside soil); repeatable. The study keeps the methods that have every "
+                    "given role, runs them over tcp one at a time and judges each against its "
+                    "co-simulation reference");
+  study
+      ->add_option("--budget", a.budget,
+                   "The most the study may take, in seconds: a run not started within it is "
+                   "written \"not run (budget)\" and listed in the report (default: no limit)")
+      ->check(CLI::PositiveNumber);
+  study
+      ->add_option("--cases", a.cases,
+                   "NAME,...: study only these co-simulation cases (each with its feedthrough "
+                   "and coupling variants; default: every case of the scene)")
+      ->delimiter(',');
   auto* plan_opt = study->add_option(
       "--plan", a.plan,
       "Write the study's runs to FILE, one `master run` command per line, without running them");

@@ -24,13 +24,17 @@ struct StudyArgs {
   std::string plan;                 // --plan FILE: write the plan only
   std::string collect;              // --collect DIR: read the runs, write the report
   std::string master;               // the program a plan's command lines call
-  bool check = false;               // master --check: make the plan, run nothing
+  std::vector<std::string> nodes;   // --node ROLE=HOST:PORT: participants already running
+  double budget = 0;
+  std::vector<std::string> cases;  // --cases: study only these                // --budget SECONDS:
+                                   // runs not started by then are not run
+  bool check = false;              // master --check: make the plan, run nothing
 };
 
 // Adds `study` to the master's command line, filling `a`.
 void add_study_command(CLI::App& app, StudyArgs& a);
 // Runs, plans or collects the study; the exit status (0 complete, 1 runs
-// missing or failed, 3 only stage 2 of the plan left to run).
+// missing, failed or not run within the budget, 3 only stage 2 of the plan left to run).
 int do_study(const StudyArgs& a);
 
 }  // namespace railcosim::cli

@@ -35,7 +35,9 @@ RunOptions reference_options(const RunOptions& run, double H, engine::InputMode 
   RunOptions o;
   o.macro_step = H;
   o.tolerance = run.tolerance;
-  o.feedthrough = run.feedthrough;
+  // Converged implicit coupling has no lag to resolve (and takes only the
+  // lagged feedthrough): a resolved run is judged against the same reference.
+  o.feedthrough = Feedthrough::kLagged;
   o.coupling.method = engine::CouplingMethod::kImplicit;
   o.coupling.inputs = inputs;
   o.coupling.max_iterations = kReferenceMaxIterations;

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -79,6 +80,17 @@ std::string scene_line(const Scene& s) {
 
 // The stability map as a table too (it is read without the figure): each
 // run's status and its map's spectral radius.
+// A run's cell of the stability map: its status and rho, the dense map's
+// or, where that could not be built, the one measured through the
+// participants ("matrix-free").
+std::string map_cell(const run::RunRecord& r) {
+  std::string cell = r.status;
+  const bool free = r.stability_basis == "matrix-free" || !r.spectral_radius;
+  const std::optional<double> rho = r.spectral_radius ? r.spectral_radius : r.matrix_free_rho;
+  if (rho) cell += ", ρ " + run::rho_words(*rho) + (free ? " (matrix-free)" : "");
+  return cell;
+}
+
 void write_stability_map(std::ostringstream& md, const std::vector<StudyRun>& runs,
                          const std::string& h) {
   std::set<double> hs;
@@ -91,15 +103,15 @@ void write_stability_map(std::ostringstream& md, const std::vector<StudyRun>& ru
       continue;
     hs.insert(r.record.macro_step);
     if (!map.count(r.method)) order.push_back(r.method);
-    std::string cell = r.record.status;
-    if (r.record.spectral_radius) cell += ", ρ " + run::rho_words(*r.record.spectral_radius);
-    map[r.method][r.record.macro_step] = cell;
+    map[r.method][r.record.macro_step] = map_cell(r.record);
   }
   md << "\n"
      << h << " Stability map\n\n"
      << "Each run's status and, where it was computed, the spectral radius ρ of its macro-step "
         "map at rest (a perturbation grows by ρ per macro step; unstable when it e-folds "
-        "within 20 times the run's duration).\n\n| method |";
+        "within 20 times the run's duration): from the map itself, or, marked matrix-free, "
+        "measured through the participants' save and restore where the map cannot be built "
+        "(a participant on a node given by address).\n\n| method |";
   for (double H : hs) md << " H = " << H << " s |";
   md << "\n|---|";
   for (std::size_t i = 0; i < hs.size(); ++i) md << "---|";
@@ -176,18 +188,20 @@ void scene_sections(std::ostringstream& md, const std::string& h, const Scene& s
 // Runs that are missing or failed, and a stage still to run.
 void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
                         const std::vector<StudyRun>& runs) {
-  int missing = 0, failed = 0;
+  int missing = 0, failed = 0, not_run = 0;
   for (const auto& r : runs) {
     missing += r.record.status == "missing";
     failed += r.record.status == "failed";
+    not_run += r.record.status == "not_run";
   }
-  if (missing + failed > 0) {
+  if (missing + failed + not_run > 0) {
     md << "## Incomplete study\n\n"
-       << missing << " of " << runs.size() << " runs are missing and " << failed
-       << " failed; the tables below are drawn from the runs there are.\n\n"
+       << missing << " of " << runs.size() << " runs are missing, " << failed << " failed and "
+       << not_run << " not run (budget); the tables below are drawn from the runs there are.\n\n"
        << "| folder | status | why |\n|---|---|---|\n";
     for (const auto& r : runs)
-      if (r.record.status == "missing" || r.record.status == "failed")
+      if (r.record.status == "missing" || r.record.status == "failed" ||
+          r.record.status == "not_run")
         md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
     md << "\n";
   }
@@ -199,6 +213,20 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
   else if (!info.stage1_complete)
     md << "Stage 2 of the plan (the cheapest methods rerun over `" << other
        << "`) is planned once every run of stage 1 is there.\n\n";
+}
+
+// Where runs were judged against a co-simulation reference: what that is.
+void cosim_reference_note(std::ostringstream& md, const std::vector<StudyRun>& runs) {
+  const bool cosim_judged = std::any_of(runs.begin(), runs.end(), [](const StudyRun& r) {
+    return r.record.reference_kind == "co-simulation";
+  });
+  if (cosim_judged)
+    md << "Runs with a participant served by a node given by address (`--node`) are judged, and "
+          "charted, against the co-simulation reference of the same participants (implicit "
+          "coupling converged tightly at the sweep's smallest macro step; its own error a "
+          "Richardson estimate, in each run's `summary.json`), not the monolithic model, which "
+          "cannot stand for a participant's own physics; their ρ is measured through the "
+          "participants' save and restore (matrix-free) where the map cannot be built.\n\n";
 }
 
 }  // namespace
@@ -225,6 +253,7 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
     md << " each combination is a scene variant with its own folder, `scene.toml`, "
           "`summary.csv`, figures and section below.\n\n";
   }
+  cosim_reference_note(md, runs);
   if (swept) incomplete_section(md, info, runs);
 
   for (const auto& [label, vdir] : info.variants) {
@@ -264,13 +293,13 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
     const run::RunRecord& x = r.record;
     long micro = 0;
     for (const auto& [k, v] : x.micro_steps) micro += v;
-    const bool has = run::ran_to_end(x);
+    const bool has = charted(x);
     md << "| " << r.folder << " | " << (swept ? r.variant + " | " : "") << x.case_name << " | "
        << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
        << run::sci(x.wall_s) << " | " << micro << " | "
        << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
        << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | " << x.status
-       << (x.status == "failed" || x.status == "missing" ? " (" + x.message + ")" : "") << " |\n";
+       << (x.status == "ok" || x.message.empty() ? "" : " (" + x.message + ")") << " |\n";
   }
   run::write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }

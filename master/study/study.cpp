@@ -4,17 +4,22 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 #include <tuple>
 
+#include "connection.hpp"
 #include "log.hpp"
+#include "model.hpp"
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
@@ -124,6 +129,39 @@ std::vector<Method> methods_for(const Scene& scene) {
   return m;
 }
 
+std::vector<Method> methods_with_nodes(const Scene& scene, const std::vector<Method>& methods,
+                                       const std::vector<std::string>& nodes) {
+  std::vector<std::string> roles;
+  for (const std::string& n : nodes) {
+    const auto eq = n.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--node " + n +
+                                  ": expected ROLE=HOST:PORT, e.g. soil=127.0.0.1:7003");
+    parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
+    roles.push_back(n.substr(0, eq));
+  }
+  std::vector<Method> kept;
+  std::set<std::string> seen;
+  for (const Method& m : methods) {
+    std::set<std::string> has;
+    for (const auto& p : partition(scene, m.spec)) has.insert(p.role);
+    seen.insert(has.begin(), has.end());
+    const bool all = std::all_of(roles.begin(), roles.end(),
+                                 [&has](const std::string& r) { return has.count(r) != 0; });
+    if (all && engine::waveform_degree(m.coupling.inputs) < 0) kept.push_back(m);
+  }
+  for (const std::string& r : roles)
+    if (seen.count(r) == 0) {
+      std::string there;
+      for (const std::string& x : seen) there += (there.empty() ? "" : ", ") + x;
+      throw std::invalid_argument("--node " + r + "=...: no case of the scene has a " + r +
+                                  " participant (its participants: " + there + ")");
+    }
+  if (kept.empty())
+    throw std::invalid_argument("--node: no case of the scene has every participant given");
+  return kept;
+}
+
 std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport) {
   return engine::waveform_degree(coupling.inputs) >= 0 ? remote::kInprocTransport : transport;
 }
@@ -139,6 +177,10 @@ std::vector<double> default_macro_steps(const Scene& scene) {
     std::sort(out.begin(), out.end());
   }
   return out;
+}
+
+bool charted(const RunRecord& r) {
+  return ran_to_end(r) && (r.reference_kind != "co-simulation" || r.rel_l2_error.has_value());
 }
 
 void write_summary_csv(const std::filesystem::path& file, const std::vector<StudyRun>& runs) {
@@ -168,7 +210,7 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << steps(r, "monolithic") << "," << steps(r, "s1") << "," << steps(r, "s2") << "," << r.status
       << "," << optd(r.max_abs_error_m) << "," << optd(r.rel_l2_error) << ","
       << optd(r.history_error) << ","
-      << (ran_to_end(r) ? format_double(s.rel_l2_error_converged) : std::string()) << ","
+      << (charted(r) ? format_double(s.rel_l2_error_converged) : std::string()) << ","
       << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
       << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
       << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
@@ -178,6 +220,34 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
 }
 
 namespace {
+
+// The plan's "ROLE=HOST:PORT" entries (checked by make_plan()) by role.
+std::map<std::string, Address> given_nodes(const std::vector<std::string>& nodes) {
+  std::map<std::string, Address> given;
+  for (const std::string& n : nodes) {
+    const auto eq = n.find('=');
+    given[n.substr(0, eq)] = parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
+  }
+  return given;
+}
+
+// Writes the folder of a run the study's budget left no time for: status
+// "not_run", and why, so that the report lists it.
+void write_not_run(const StudyPlan& plan, const PlannedRun& run, const Scene& scene,
+                   double budget_s) {
+  RunOptions o;
+  o.macro_step = run.macro_step;
+  o.tolerance = run.tolerance;
+  o.feedthrough = run.feedthrough;
+  o.coupling = run.coupling;
+  RunRecord r =
+      run::failed_record(scene, parse_case(run.case_name), o, run.transport,
+                         "not run (budget): the study's budget of " + format_double(budget_s) +
+                             " s (--budget) was spent before this run could start");
+  r.status = "not_run";
+  run::RunWriter w(plan.out / std::filesystem::path(run.folder).parent_path(), run.case_name);
+  w.finish(r);
+}
 
 // A monolithic reference, computed once by whichever worker needs it first.
 struct Reference {
@@ -208,7 +278,8 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
   job.options.coupling = run.coupling;
   job.options.stop = opt.stop;
   job.transport = run.transport;
-  job.nodes = {{}, &pool, {}};
+  job.nodes = {given_nodes(plan.nodes), &pool, {}, {}};
+  job.reference_step = run.reference_step;
   job.out = plan.out / std::filesystem::path(run.folder).parent_path();
   job.folder = run.case_name;
   job.on_progress = std::move(on_progress);
@@ -230,7 +301,8 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
 // writes what `master run` with the plan's command line writes: the same
 // options, the same reference (the monolithic run of its scene at its H and
 // tolerance), the same folder.
-void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
+void execute_plan(const StudyPlan& plan, const StudyOptions& opt,
+                  std::chrono::steady_clock::time_point deadline) {
   PlanScenes shared;
   for (const PlannedRun& r : plan.runs)
     if (!shared.scenes.count(r.scene))
@@ -249,6 +321,16 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt) {
   auto work = [&](int w) {
     for (std::size_t j; (j = next++) < total;) {
       const std::string& folder = plan.runs[j].folder;
+      if (opt.budget_s > 0 && std::chrono::steady_clock::now() >= deadline) {
+        try {
+          write_not_run(plan, plan.runs[j], shared.scenes.at(plan.runs[j].scene), opt.budget_s);
+        } catch (const std::exception& e) {
+          logger("master")->error("{}: not run (budget), and no summary written: {}", folder,
+                                  e.what());
+        }
+        progress.run_done(w);
+        continue;
+      }
       execute_run(plan, opt, plan.runs[j], pools[static_cast<std::size_t>(w)], shared,
                   [&progress, w, &folder](long done, long steps) {
                     progress.step(w, folder, done, steps);
@@ -285,11 +367,23 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
         ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
         "nodes and cannot reach that program; run each case with master run --node "
         "soil=HOST:PORT");
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(opt.budget_s));
   std::error_code ec;
   std::filesystem::remove(plan_file(opt.out, 2), ec);  // stage 2 follows from this stage 1
-  const StudyPlan plan = make_plan(scene_path, opt);
+  StudyOptions o = opt;
+  if (!o.nodes.empty()) {
+    if (!remote::is_remote_transport(o.transport))
+      throw std::invalid_argument(
+          "--node needs --transport tcp (the given nodes are reached "
+          "over TCP), not --transport " +
+          o.transport);
+    o.jobs = 1;  // a node serves one session at a time
+  }
+  const StudyPlan plan = make_plan(scene_path, o);
   write_plan(plan);
-  execute_plan(plan, opt);
+  execute_plan(plan, o, deadline);
   // Collecting stage 1 writes stage 2 (it needs stage 1's wall times).
   const CollectedStudy first = collect_study(opt.out, opt.figure_script, false);
   if (first.stage2_pending && !(opt.stop && opt.stop->load() != 0)) {
@@ -297,7 +391,7 @@ CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt)
     second.out = opt.out;
     StudyOptions one = opt;
     one.jobs = 1;  // one at a time, so that their wall times compare with stage 1's
-    execute_plan(second, one);
+    execute_plan(second, one, deadline);
   }
   return collect_study(opt.out, opt.figure_script);
 }

@@ -48,6 +48,14 @@ std::vector<Method> methods_for(const Scene& scene);
 // macro steps (integer multiples over one only).
 std::map<std::string, long> scene_cut_windows(const Scene& scene);
 
+// The methods of a study with nodes given ("ROLE=HOST:PORT" each): those
+// whose participants include every given role (the others never reach the
+// given node) and whose inputs are not substep waveforms (which the study runs
+// in process, away from any node). Throws std::invalid_argument naming a
+// malformed entry, or a role no method has (with the roles there are).
+std::vector<Method> methods_with_nodes(const Scene& scene, const std::vector<Method>& methods,
+                                       const std::vector<std::string>& nodes);
+
 // The transport a study runs a coupling over: the study's, except for
 // substep waveforms, which the study runs in process ("inproc").
 std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport);
@@ -79,6 +87,16 @@ struct StudyOptions {
   std::string master_program;     // what the plan's command lines call; empty: this program
   std::string figure_script;      // empty: scripts/figures.py next to the sources
   const std::atomic<int>* stop = nullptr;  // a signal: the remaining runs fail at once
+  // Participants served by nodes already running, "ROLE=HOST:PORT" each
+  // (--node): the study keeps the methods whose every participant role is
+  // given or built in, runs them over TCP one at a time, and judges each
+  // against its co-simulation reference at the sweep's smallest macro step.
+  std::vector<std::string> nodes;
+  // The most the study may take, in seconds (0: no limit): a run not started
+  // within it is written "not_run" with the reason, never left out.
+  double budget_s = 0;
+  // Case names (--cases): only the methods of these cases; empty: every case.
+  std::vector<std::string> cases;
 };
 
 // One run of the study and where it stands.
@@ -101,10 +119,11 @@ std::vector<double> default_macro_steps(const Scene& scene);
 struct CollectedStudy {
   std::vector<StudyRun> runs;  // in the plans' order
   int failed = 0, missing = 0;
+  int not_run = 0;  // written "not_run": the study's budget was spent before they started
   // Stage 2 (the other-transport reruns) is planned in OUT/plan-2.txt but
   // none of its runs has been done yet.
   bool stage2_pending = false;
-  bool complete() const { return failed == 0 && missing == 0 && !stage2_pending; }
+  bool complete() const { return failed == 0 && missing == 0 && not_run == 0 && !stage2_pending; }
 };
 
 // `master study --collect DIR`: reads DIR/plan.txt, DIR/plan-2.txt (written
@@ -120,6 +139,10 @@ CollectedStudy collect_study(const std::filesystem::path& dir, const std::string
 // collect_study(). Throws only for what stops the whole study (an unwritable
 // folder, nodes that cannot start); a run that fails is recorded as failed.
 CollectedStudy run_study(const std::string& scene_path, const StudyOptions& options);
+
+// Whether a run has an error on the speed/accuracy chart: it ran to its end
+// and, judged against a co-simulation reference, was measured against it.
+bool charted(const run::RunRecord& r);
 
 // Writes FILE: one row per run. Throws std::runtime_error naming the file
 // and the reason when it cannot be written whole.

@@ -149,6 +149,11 @@ run::RunRecord record_of(const fs::path& json) {
   r.stability_basis = str("stability.basis").value_or("");
   r.spectral_radius = num("stability.rho");
   r.spectral_rate = num("stability.rho_rate_per_s");
+  r.matrix_free_rho = num("stability.rho_matrix_free");
+  if (const auto v = num("stability.matrix_free_steps"))
+    r.matrix_free_steps = static_cast<long>(*v);
+  r.reference_kind = str("reference.kind").value_or("");
+  r.reference_note = str("reference.note").value_or("");
   r.defect_growth = num("stability.defect_growth");
   r.defect_rate = num("stability.defect_rate_per_s");
   r.defect_grows = str("stability.defect_grows").value_or("") == "true";
@@ -262,9 +267,14 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
   for (StudyRun& s : c.runs) {
     c.failed += s.record.status == "failed";
     c.missing += s.record.status == "missing";
+    c.not_run += s.record.status == "not_run";
+    // A run judged against its co-simulation reference (a participant the
+    // monolithic model cannot stand for) is charted by its error against it.
     const auto it = converged.find(s.variant);
-    if (it != converged.end() && has_deflection(s.record) &&
-        s.record.deflection.size() == it->second->deflection.size())
+    if (s.record.reference_kind == "co-simulation") {
+      s.rel_l2_error_converged = s.record.rel_l2_error.value_or(0);
+    } else if (it != converged.end() && has_deflection(s.record) &&
+               s.record.deflection.size() == it->second->deflection.size())
       s.rel_l2_error_converged =
           run::deflection_error(s.record.deflection, it->second->deflection).rel_l2;
   }

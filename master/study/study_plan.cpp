@@ -155,6 +155,21 @@ std::string method_folder(const Method& m) {
 }
 
 // The words of a command line as a POSIX shell splits them (single quotes
+// The methods of the cases named (--cases); throws std::invalid_argument
+// for a name that is none of them.
+std::vector<Method> methods_of_cases(const std::vector<Method>& methods,
+                                     const std::vector<std::string>& cases) {
+  std::vector<Method> kept;
+  for (const std::string& c : cases) {
+    const std::size_t before = kept.size();
+    for (const Method& m : methods)
+      if (m.spec.name() == c) kept.push_back(m);
+    if (kept.size() == before)
+      throw std::invalid_argument("--cases: " + c + " is not a co-simulation case of the scene");
+  }
+  return kept;
+}
+
 // Adds the runs of one scene variant to a plan.
 struct VariantRuns {
   StudyPlan& plan;
@@ -256,17 +271,27 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
       throw std::invalid_argument(
           "--macro-steps: " + short_number(H) + " s does not divide the end time " +
           short_number(scene.end_time) + " s of " + (v.dir.empty() ? scene_path : v.label));
-  const std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
+  std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
+  if (!o.cases.empty()) methods = methods_of_cases(methods, o.cases);
+  if (!o.nodes.empty()) methods = methods_with_nodes(scene, methods, o.nodes);
   to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
   for (const Method& m : methods)
     to.add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
+
   for (double H : sweep) {
     if (H == scene.macro_step) continue;  // the cases are that column of the sweep
     for (const Method& m : methods)
       if (m.coupling.method != engine::CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
         to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
   }
-  add_restart_runs(to, scene, base, scene_path);
+  if (!o.nodes.empty()) {  // every run against one co-simulation reference step
+    const double smallest =
+        std::min(*std::min_element(sweep.begin(), sweep.end()), scene.macro_step);
+    for (PlannedRun& r : plan.runs)
+      if (r.case_name != "monolithic" && r.variant == v.label) r.reference_step = smallest;
+  } else {  // the restart check's cases need not hold the given roles
+    add_restart_runs(to, scene, base, scene_path);
+  }
   for (double tol : o.tolerances)
     to.add("tolerance", "sweep/tol_" + short_number(tol) + "/", nullptr, scene.macro_step, tol,
            scene_rel);
@@ -302,6 +327,7 @@ StudyPlan make_plan(const std::string& scene_path, const StudyOptions& o) {
   plan.tolerances = o.tolerances;
   plan.converged_tolerance = o.converged_tolerance;
   plan.sweeps = o.sweeps;
+  plan.nodes = o.nodes;
 
   const std::string base = read_text(scene_path);
   // The user's scene must be sound before anything else.
@@ -326,6 +352,8 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   p.stage = 2;
   p.runs.clear();
   p.scene_files.clear();
+  // The other transport cannot reach a node given by address.
+  if (!stage1.nodes.empty()) return p;
   const std::string other = remote::other_transport(stage1.transport);
   std::map<std::string, std::vector<StudyRun>> by_variant;
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs

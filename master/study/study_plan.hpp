@@ -47,6 +47,9 @@ struct PlannedRun {
   // in macro steps (1: at H): `--macro-step CUT=k*H`, so that the run's
   // rates are the method's whatever the scene's defaults.
   std::map<std::string, long> cut_windows;
+  // With nodes given: the macro step of the co-simulation reference (the
+  // sweep's smallest); 0: none asked.
+  double reference_step = 0;
 };
 
 struct StudyPlan {
@@ -59,6 +62,9 @@ struct StudyPlan {
   std::vector<double> macro_steps, tolerances;  // as asked (empty macro_steps: the default)
   double converged_tolerance = 1e-10;
   std::vector<SweepAxis> sweeps;
+  // Nodes already running, "ROLE=HOST:PORT" each (--node of every
+  // co-simulation run; a plan with nodes has no stage 2).
+  std::vector<std::string> nodes;
   std::vector<PlannedRun> runs;
   // Scene files the runs read, relative to `out`, and their text.
   std::vector<std::pair<std::string, std::string>> scene_files;

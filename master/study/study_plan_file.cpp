@@ -126,6 +126,10 @@ PlannedRun parse_command(const std::vector<std::string>& w, const fs::path& out,
       r.coupling.convergence = number(v, what);
     } else if (k == "--reused-windows") {
       r.coupling.accelerator.windows_reused = static_cast<int>(number(v, what));
+    } else if (k == "--reference-step") {
+      r.reference_step = number(v, what);
+    } else if (k == "--node") {
+      // the plan's "#% node" settings name the nodes
     } else if (k == "--out") {
       out_dir = v;
     } else {
@@ -154,6 +158,8 @@ std::string command_line(const StudyPlan& plan, const PlannedRun& r) {
     c += " --macro-step " + cut + "=" + run::format_double(r.macro_step * static_cast<double>(k));
   if (r.case_name != "monolithic") {
     c += " --transport " + r.transport;
+    for (const std::string& n : plan.nodes) c += " --node " + shell_word(n);
+    if (r.reference_step > 0) c += " --reference-step " + run::format_double(r.reference_step);
     if (r.feedthrough == Feedthrough::kResolved) c += " --feedthrough resolved";
     const engine::CouplingOptions& k = r.coupling;
     if (!k.is_plain()) {
@@ -191,6 +197,7 @@ std::string plan_text(const StudyPlan& p) {
     for (std::size_t i = 0; i < a.values.size(); ++i) s << (i ? "," : "") << a.values[i];
     s << "\n";
   }
+  for (const std::string& n : p.nodes) s << "#% node = " << n << "\n";
   s << "#% runs = " << p.runs.size() << "\n";
   for (const PlannedRun& r : p.runs)
     s << command_line(p, r) << " #% folder=" << r.folder << " group=" << r.group
@@ -253,6 +260,8 @@ StudyPlan read_plan(const fs::path& file) {
         p.converged_tolerance = number(value, where);
       } else if (key == "sweep") {
         p.sweeps.push_back(parse_sweep(value));
+      } else if (key == "node") {
+        p.nodes.push_back(value);
       }  // "runs" is for people; later formats may add keys
       continue;
     }
