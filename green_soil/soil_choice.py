@@ -113,7 +113,10 @@ def chart(path, summary):
     ax.set_title("Which soil a scene needs: cost against difference", fontsize=10)
     top = max(s["max_abs_difference_dB"] or 0.0 for s in summary["soils"])
     ax.set_xlim(-0.05 * max(top, 0.1), 1.3 * max(top, 0.1))
+    walls = [s["wall_s"] for s in summary["soils"]]
+    ax.set_ylim(min(walls) / 3.0, max(walls) * 3.0)  # at least a decade: readable ticks
     ax.yaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
