@@ -82,6 +82,34 @@ class Radial(unittest.TestCase):
             exact = np.trapz(f * special.j1(k * ri), k) / (2 * math.pi) + top / (2 * math.pi * ri)
             self.assertLess(abs(g / exact - 1), 2e-3, ri)
 
+    def test_far_field_is_the_rayleigh_waves_ratio(self):
+        # Far from the load the Rayleigh wave dominates both components:
+        # u_r / u_z -> -i (H/V) H1(k_R r) / H0(k_R r) (Hankel functions of
+        # the second kind), H/V = (1 + s^2 - 2 q s) / (q (1 - s^2)), q and s
+        # = sqrt(1 - c_R^2 / c^2) with c the P and the S speed (0.6813 at
+        # nu = 1/4). Nearer, the P wave along the surface beats with it.
+        from green_soil import greens, spectral
+        from fe_soil.params import rayleigh_speed
+
+        layer = Layer(1.0, 1800.0, 200.0, 0.25, 0.002)
+        w = 2 * math.pi * 20.0
+        cr = rayleigh_speed(layer.shear_speed, layer.poisson)
+        q = math.sqrt(1 - (cr / layer.p_speed) ** 2)
+        s = math.sqrt(1 - (cr / layer.shear_speed) ** 2)
+        hv = (1 + s * s - 2 * q * s) / (q * (1 - s * s))
+        r = np.arange(1024.0, 1044.0, 2.0)  # a beat length of the P and Rayleigh waves
+        ur = radial.point([layer], [w], r)[:, 0]
+        mu = spectral.moduli(layer, w)[0]
+        uz = (greens.smooth_part([layer], [w], r, greens.Discretisation())[:, 0]
+              + (1 - layer.poisson) / (2 * math.pi * mu * r))
+        x = w / cr * r
+        ratio = ur / uz / (special.hankel2(1, x) / special.hankel2(0, x))
+        self.assertAlmostEqual(hv, 0.6813, delta=1e-4)
+        # In phase with H1/H0 and of the opposite sign: u_r points back to
+        # the load when u_z is down (as Boussinesq's static radial value).
+        err = np.abs(ratio / -hv - 1).max()
+        self.assertLess(err, 0.01, ratio)  # measured 0.0058
+
     def test_j1_tail(self):
         for r, K in ((0.5, 5.0), (2.0, 5.0), (8.0, 1.0)):
             x = np.linspace(K, 4000.0, 2_000_001)
