@@ -8,6 +8,9 @@ from . import soil_choice
 # Relative to the peak: the same convolution, read back from receivers.csv,
 # which holds 9 significant digits (5e-10 of a value).
 ONE_WAY_BOUND = 1e-8
+DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
+                    "ground-vibration-validation.md")
+TESTS_HEADING = "### The soil from Green's functions"
 
 
 def levels(soils, summary):
@@ -26,12 +29,29 @@ def levels(soils, summary):
 
 def check(fit):
     err = fit["one_way_error"]
-    return ["## Check", "",
+    return ["## Validation", "", "### Checks run by this study", "",
             "| check | bound | measured | result |", "|---|---|---|---|",
             "| the one-way pass under the Green's-function run's own ballast forces (held "
             "over each step) against that run's receivers, largest difference / peak | "
             "<= %.0e | %.1e | %s |" % (ONE_WAY_BOUND, err,
                                        "pass" if err <= ONE_WAY_BOUND else "**FAIL**")]
+
+
+def tests_table():
+    """The Green's-function soil's rows of docs/ground-vibration-validation.md."""
+    try:
+        with open(DOCS) as f:
+            text = f.read()
+        start = text.index(TESTS_HEADING)
+        end = text.find("\n#", start + 1)
+        rows = [x for x in text[start:end if end > 0 else None].splitlines()
+                if x.startswith("|")]
+    except (OSError, ValueError):
+        return ["docs/ground-vibration-validation.md is not beside this package: run "
+                "`ctest -L green_soil`."]
+    return ["Not run by this study: the validation table of "
+            "docs/ground-vibration-validation.md, whose measured values the tests in "
+            "tests/green_soil (`ctest -L green_soil`) check against the bounds.", ""] + rows
 
 
 def write(out, a, scene, soils, rows, summary, fit):
@@ -49,7 +69,7 @@ def write(out, a, scene, soils, rows, summary, fit):
     L += ["## Figures", "",
           "- `figures/soil_choice.png`: each soil's cost (wall s) against its largest "
           "|difference| from the reference over the receivers and bands", ""]
-    L += check(fit)
+    L += check(fit) + ["", "### The Green's-function soil's tests", ""] + tests_table()
     L += ["", "## Files", "",
           "- `soil_choice.csv`, `soil_choice.json`: the comparison's data "
           "(docs/ground-vibration.md, \"Which soil a scene needs\")",

@@ -114,7 +114,8 @@ class SoilChoice(unittest.TestCase):
     def test_section_and_soils(self):
         for s in ["## Which soil a scene needs", "### Cost and largest difference",
                   "### 2 m: level minus", "### 4 m: level minus", "### 8 m: level minus",
-                  "## Check", "## Figures"]:
+                  "## Validation", "### Checks run by this study",
+                  "### The Green's-function soil's tests", "## Figures"]:
             self.assertIn("\n" + s, self.report)
         self.assertEqual([s["key"] for s in self.summary["soils"]], ["lumped", "green"])
         self.assertEqual(self.summary["reference"], "green")  # no FE run without --fe
@@ -163,9 +164,13 @@ class SoilChoice(unittest.TestCase):
         w, h = struct.unpack(">II", head[16:24])
         self.assertGreater(w * h, 100000)
         self.assertGreater(os.path.getsize(path), 10000)
-        check = report_rows(self.report, "## Check")
+        check = report_rows(self.report, "### Checks run by this study")
         self.assertEqual(len(check), 1)
         self.assertEqual(check[0][-1], "pass", check)
+        tests = [r[0] for r in report_rows(self.report, "### The Green's-function soil's tests")]
+        for name in ("lamb", "static", "causality", "convergence", "participant", "cosim",
+                     "radial", "soil_choice"):
+            self.assertIn("`green_soil_%s`" % name, tests)
 
     def test_the_fe_scene_has_the_same_ground(self):
         from fe_soil import config as fe_config
