@@ -1,5 +1,6 @@
 """The surface's radial displacement under a vertical point load on a
-layered half-space: the horizontal component the receivers lack so far,
+layered half-space, and its x and y components beside a loaded footprint
+(point_means): the horizontal component the receivers lack so far,
 from the same direct-stiffness flexibility (spectral.py) at little extra
 cost (the off-diagonal term of the same 2 x 2 surface flexibility, and a
 J1 instead of a J0 Hankel transform on the same wavenumber grid).
@@ -59,10 +60,13 @@ def tail_integral_j1(r, k_max):
     return out
 
 
-def smooth_part(layers, omegas, r, d: Discretisation = Discretisation(), block=256):
+def smooth_part(layers, omegas, r, d: Discretisation = Discretisation(), block=256,
+                f_grid=None):
     """u_r - u_r,s (n_r, n_w): the radial displacement minus the top layer's
-    Boussinesq value, on greens.smooth_part's wavenumber grid."""
+    Boussinesq value, on greens.smooth_part's wavenumber grid (that of the
+    highest frequency f_grid, Hz; default the highest of omegas)."""
     f_max = max(abs(np.real(w)) for w in omegas) / (2.0 * math.pi)
+    f_max = f_max if f_grid is None else f_grid
     dk_max, k_max = d.grid_limits(layers, max(f_max, 1.0), float(np.max(r)))
     k, wk = k_grid(d, dk_max, k_max)
     spec = np.empty((len(k), len(omegas)), complex)
@@ -92,3 +96,56 @@ def point(layers, omegas, r, d: Discretisation = Discretisation()):
     r = np.asarray(r, dtype=float)
     bous = np.array([top_radial_static(layers, w) for w in omegas]) / (2.0 * math.pi)
     return smooth_part(layers, omegas, r, d) + np.outer(1.0 / r, bous)
+
+
+def _means(args):
+    """The horizontal displacement (x, y) at points offset (dx, dy) from the
+    centre of a loaded a x b footprint (unit force spread uniformly), for
+    one block of frequencies: the radial displacement of each Gauss point's
+    share, along the line from it to the point. Top-level, for workers."""
+    from scipy import interpolate
+
+    from .greens import box_rule
+
+    layers, fp, offsets, omegas, d, f_grid = args
+    a, b = fp.along, fp.across
+    reach = max([math.hypot(abs(x) + a, abs(y) + b) for x, y in offsets] + [1.0])
+    r = np.arange(0.0, reach + 4.0 * d.dr, d.dr)
+    spline = interpolate.CubicSpline(r, smooth_part(layers, omegas, r, d, f_grid=f_grid), axis=0)
+    bous = np.array([top_radial_static(layers, w) for w in omegas]) / (2.0 * math.pi)
+    px, wx = box_rule(a, d.quad_along)
+    py, wy = box_rule(b, d.quad_across)
+    wq = np.outer(wx, wy).ravel()
+    out = np.empty((2, len(offsets), len(omegas)), complex)
+    gx, gy = (g.ravel() for g in np.meshgrid(px, py, indexing="ij"))
+    for i, (dx, dy) in enumerate(offsets):
+        ex, ey = dx - gx, dy - gy  # from each Gauss point to the point
+        rho = np.maximum(np.hypot(ex, ey), 1e-9)
+        u = spline(rho) + np.outer(1.0 / rho, bous)  # (points, n_w)
+        out[0, i] = (wq * ex / rho) @ u
+        out[1, i] = (wq * ey / rho) @ u
+    return out
+
+
+def point_means(layers, fp, offsets, omegas, d: Discretisation = Discretisation(), workers=1):
+    """(2, n_points, n_w): the x and y displacement at points offset (dx, dy)
+    from a loaded footprint's centre, at complex circular frequencies;
+    `workers` processes take blocks of frequencies (greens' radial grid
+    and wavenumber grid of the highest frequency for every block)."""
+    import multiprocessing
+
+    from .responses import usable_cores
+
+    omegas = np.asarray(omegas, dtype=complex)
+    if not len(offsets) or not len(omegas):
+        return np.zeros((2, len(offsets), len(omegas)), complex)
+    f_grid = float(np.max(np.abs(omegas.real))) / (2.0 * math.pi)
+    workers = usable_cores() if workers == 0 else workers
+    blocks = [blk for blk in np.array_split(np.arange(len(omegas)), max(1, workers)) if len(blk)]
+    jobs = [(layers, fp, list(offsets), omegas[blk], d, f_grid) for blk in blocks]
+    if len(jobs) > 1:
+        with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
+            parts = pool.map(_means, jobs, chunksize=1)
+    else:
+        parts = [_means(job) for job in jobs]
+    return np.concatenate(parts, axis=2)

@@ -110,6 +110,27 @@ class Radial(unittest.TestCase):
         err = np.abs(ratio / -hv - 1).max()
         self.assertLess(err, 0.01, ratio)  # measured 0.0058
 
+    def test_footprint_means_at_low_frequency(self):
+        # A unit force spread over a 1 m square: the x and y displacement at
+        # points beside it, at 0.05 Hz (elastic), against Boussinesq's
+        # radial displacement averaged over the square (midpoint rule).
+        from green_soil.responses import Footprint
+
+        n = 300
+        s = (np.arange(n) + 0.5) / n - 0.5
+        gx, gy = (g.ravel() for g in np.meshgrid(s, s, indexing="ij"))
+        offsets = [(3.0, 4.0), (-6.0, 8.0), (0.0, 10.0)]
+        got = radial.point_means(support.HALF_SPACE, Footprint(1.0, 1.0), offsets,
+                                 [2 * math.pi * 0.05])[:, :, 0]
+        for i, (dx, dy) in enumerate(offsets):
+            ex, ey = dx - gx, dy - gy
+            rho = np.hypot(ex, ey)
+            ur = boussinesq(rho) / (n * n)
+            exact = np.array([np.sum(ur * ex / rho), np.sum(ur * ey / rho)])
+            scale = np.hypot(*exact)
+            self.assertLess(np.abs(got[:, i] - exact).max(), 2e-3 * scale, (offsets[i], got[:, i],
+                                                                           exact))
+
     def test_j1_tail(self):
         for r, K in ((0.5, 5.0), (2.0, 5.0), (8.0, 1.0)):
             x = np.linspace(K, 4000.0, 2_000_001)
