@@ -28,17 +28,14 @@ from __future__ import annotations
 import math
 import os
 
-from .params import (Footprint, Layer, SoilParams, graded_nodes, rayleigh_speed,
+from . import soil_table
+from .params import (Footprint, SoilParams, graded_nodes, rayleigh_speed,
                      uniform_nodes)
-
-
-class ConfigError(ValueError):
-    """A key of the [soil] table that cannot be used; the message names it."""
+from .soil_table import ConfigError
 
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to"}
-LAYER_KEYS = {"thickness", "density", "shear_wave_speed", "poisson", "damping"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0]}
 MAX_RANKS = 256
@@ -49,32 +46,8 @@ MAX_RANKS = 256
 # 100 MiB; the bound counts 4 KiB a DOF over 128 MiB.
 MAX_DOFS = 2_000_000
 MAX_AXIS_ELEMENTS = 4096     # along one axis: a list of node planes, not yet a mesh
-MAX_RECEIVERS = 64           # each a point search at configure and a channel per step
 BYTES_PER_DOF = 4096
 BASE_BYTES = 128 << 20
-
-
-def _number(table, key, where, lo=None, hi=None, lo_open=True, default=None):
-    value = table.get(key, default)
-    name = "[soil] %s%s" % (where, key)
-    if value is None:
-        raise ConfigError("%s is missing" % name)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ConfigError("%s must be a finite number (got %r)" % (name, value))
-    value = float(value)
-    if lo is not None and (value <= lo if lo_open else value < lo):
-        raise ConfigError("%s must be %s %g (got %g)" % (name, ">" if lo_open else ">=", lo, value))
-    if hi is not None and value >= hi:
-        raise ConfigError("%s must be < %g (got %g)" % (name, hi, value))
-    return value
-
-
-def _numbers(table, key, count=None):
-    value = table.get(key, DEFAULTS.get(key))
-    if not isinstance(value, list) or not value or (count is not None and len(value) != count):
-        raise ConfigError("[soil] %s must be a list of %s numbers (got %r)"
-                          % (key, count if count else "one or more", value))
-    return [_number({key: v}, key, "", lo=0.0, lo_open=False) for v in value]
 
 
 def ranks_of(table):
@@ -103,45 +76,21 @@ def parse(table):
                           % table.get("model"))
     out = {"ranks": ranks_of(table)}
     for key in ("f_max", "elements_per_wavelength", "depth", "margin"):
-        out[key] = _number(table, key, "", lo=0.0, default=DEFAULTS[key])
-    out["mesh_size"] = _number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
-    out["growth"] = _number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
+        out[key] = soil_table.number(table, key, "", lo=0.0, default=DEFAULTS[key])
+    out["mesh_size"] = soil_table.number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
+    out["growth"] = soil_table.number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
     if out["growth"] > 1.0 and out["mesh_size"] is not None:
         raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
                           "with mesh_size (remove one of them)" % out["growth"])
-    receivers = table.get("receivers", DEFAULTS["receivers"])
-    if isinstance(receivers, list) and len(receivers) > MAX_RECEIVERS:
-        raise ConfigError("[soil] receivers lists %d distances; at most %d (each costs a point "
-                          "search when the soil is built and a history channel at every step)"
-                          % (len(receivers), MAX_RECEIVERS))
-    out["receivers"] = _numbers(table, "receivers")
-    out["receiver_x"] = _number(table, "receiver_x", "") if "receiver_x" in table else None
-    band = _numbers(table, "damping_band", 2)
+    out["receivers"] = soil_table.receivers(table, DEFAULTS["receivers"])
+    out["receiver_x"] = soil_table.optional_number(table, "receiver_x")
+    band = soil_table.numbers(table, "damping_band", DEFAULTS["damping_band"], 2)
     if not 0.0 < band[0] < band[1]:
         raise ConfigError("[soil] damping_band must be two frequencies 0 < f1 < f2 (got %r)" % band)
     out["damping_band"] = tuple(band)
-    out["resolve_to"] = (_number(table, "resolve_to", "", lo=0.0) if "resolve_to" in table
+    out["resolve_to"] = (soil_table.number(table, "resolve_to", "", lo=0.0) if "resolve_to" in table
                          else max(out["receivers"]))
-    layers = table.get("layers")
-    if not isinstance(layers, list) or not layers or not all(isinstance(l, dict) for l in layers):
-        raise ConfigError("[soil] layers is missing: give one [[soil.layers]] table or more, top "
-                          "down, each with thickness, density, shear_wave_speed, poisson, damping")
-    out["layers"] = []
-    for k, layer in enumerate(layers):
-        where = "layers[%d]." % (k + 1)
-        unknown = sorted(set(layer) - LAYER_KEYS)
-        if unknown:
-            raise ConfigError("[soil] %s%s is not a key of a layer (its keys: %s)"
-                              % (where, unknown[0], ", ".join(sorted(LAYER_KEYS))))
-        last = k == len(layers) - 1
-        thickness = 1.0 if last and "thickness" not in layer else _number(layer, "thickness",
-                                                                          where, lo=0.0)
-        out["layers"].append(Layer(
-            thickness=thickness,
-            density=_number(layer, "density", where, lo=0.0),
-            shear_speed=_number(layer, "shear_wave_speed", where, lo=0.0),
-            poisson=_number(layer, "poisson", where, lo=0.0, hi=0.5, lo_open=False),
-            damping=_number(layer, "damping", where, lo=0.0, hi=1.0, lo_open=False, default=0.0)))
+    out["layers"] = soil_table.layers(table, damping_hi=1.0)
     above = sum(l.thickness for l in out["layers"][:-1])
     if above >= out["depth"]:
         raise ConfigError("[soil] depth %g m must exceed the layers above the last one (%g m)"

@@ -7,14 +7,19 @@
 # ground-vibration study instead (python3 -m fe_soil.study): the
 # co-simulations with the FE soil, the two-step method, figures and
 # OUT/REPORT.md. A scene on the soil from Green's functions ([soil] model =
-# "green") gets its co-simulation (master run --case ss-xt-jacobi), whose
-# OUT/ss-xt-jacobi/vibration.csv has the levels at every receiver.
-# Arguments: [OUT_DIR] [SCENE]
+# "green") gets the study of which soil it needs (python3 -m
+# green_soil.study): its co-simulation, whose
+# OUT/runs/green/ss-xt-jacobi/vibration.csv has the levels at every
+# receiver, a lumped soil's two-step run beside it, with --fe KEYS the FE
+# soil too, the differences and costs in OUT/REPORT.md and
+# OUT/soil_choice.csv/.json.
+# Arguments: [OUT_DIR] [SCENE] [options of the study after the scene]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh -DRAILCOSIM_BUILD_TESTS=OFF -DRAILCOSIM_BUILD_BENCH=ON
 out="${1:-results}"
 scene="${2:-scenes/paper.toml}"
+shift $(( $# < 2 ? $# : 2 ))
 soil_model=$(/usr/bin/python3 -c '
 import sys, tomllib
 try:
@@ -27,7 +32,7 @@ if [ "$soil_model" = "fe" ]; then
     --scene "$scene" --out "$out" --master build/bin/master
 fi
 if [ "$soil_model" = "green" ]; then
-  OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec build/bin/master run --scene "$scene" \
-    --case ss-xt-jacobi --out "$out"
+  OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec /usr/bin/python3 -m green_soil.study \
+    --scene "$scene" --out "$out" --master build/bin/master "$@"
 fi
 build/bin/master study --scene "$scene" --out "$out"

@@ -1,0 +1,81 @@
+"""REPORT.md of green_soil.study, from the runs' files: the levels at every
+receiver (the reference run's vibration.csv), which soil the scene needs
+(green_soil/soil_choice.py), the check of the one-way machinery, the files."""
+import os
+
+from . import soil_choice
+
+# Relative to the peak: the same convolution, read back from receivers.csv,
+# which holds 9 significant digits (5e-10 of a value).
+ONE_WAY_BOUND = 1e-8
+DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
+                    "ground-vibration-validation.md")
+TESTS_HEADING = "### The soil from Green's functions"
+
+
+def levels(soils, summary):
+    ref = next(s for s in soils if s["key"] == summary["reference"])
+    d = summary["receivers_m"]
+    L = ["## Levels at the receivers (%s)" % ref["label"], "",
+         "Vertical velocity on the surface beside the middle of the track. PPV_z (m/s), "
+         "KB_Fmax,z (DIN 4150-2) and the one-third-octave levels (dB re 1e-9 m/s) of "
+         "`%s/vibration.csv`." % ref["folder"], "",
+         "| distance | PPV_z (m/s) | KB_Fmax,z |", "|---:|---:|---:|"]
+    for x in d:
+        r = ref["vibration"][x]
+        L.append("| %g m | %.4e | %.4g |" % (x, r["ppv_z_mps"], r["kb_fmax_z"]))
+    return L
+
+
+def check(fit):
+    err = fit["one_way_error"]
+    return ["## Validation", "", "### Checks run by this study", "",
+            "| check | bound | measured | result |", "|---|---|---|---|",
+            "| the one-way pass under the Green's-function run's own ballast forces (held "
+            "over each step) against that run's receivers, largest difference / peak | "
+            "<= %.0e | %.1e | %s |" % (ONE_WAY_BOUND, err,
+                                       "pass" if err <= ONE_WAY_BOUND else "**FAIL**")]
+
+
+def tests_table():
+    """The Green's-function soil's rows of docs/ground-vibration-validation.md."""
+    try:
+        with open(DOCS) as f:
+            text = f.read()
+        start = text.index(TESTS_HEADING)
+        end = text.find("\n#", start + 1)
+        rows = [x for x in text[start:end if end > 0 else None].splitlines()
+                if x.startswith("|")]
+    except (OSError, ValueError):
+        return ["docs/ground-vibration-validation.md is not beside this package: run "
+                "`ctest -L green_soil`."]
+    return ["Not run by this study: the validation table of "
+            "docs/ground-vibration-validation.md, whose measured values the tests in "
+            "tests/green_soil (`ctest -L green_soil`) check against the bounds.", ""] + rows
+
+
+def write(out, a, scene, soils, rows, summary, fit):
+    name = scene.get("scene", {}).get("name", a.scene)
+    L = ["# Which soil a scene needs: %s" % name, "",
+         "Scene `%s`. Written by `python3 -m green_soil.study`. Record %.4g s, sampled every "
+         "macro step (%.3g s). Soils run: %s. The lumped soil is fitted to the layered "
+         "ground's static flexibility under the footprints (k_f = %.4g N/m, k_c = %.4g N/m); "
+         "its ballast forces reach the receivers one way through the Green's functions.%s" % (
+             os.path.basename(a.scene), scene["simulation"]["end_time"],
+             scene["simulation"]["macro_step"], ", ".join(s["label"] for s in soils),
+             fit["kf"], fit["kc"],
+             "" if a.fe else " The FE soil was not run (`--fe` not given)."), ""]
+    L += levels(soils, summary) + [""] + soil_choice.section(rows, summary) + [""]
+    L += ["## Figures", "",
+          "- `figures/soil_choice.png`: each soil's cost (wall s) against its largest "
+          "|difference| from the reference over the receivers and bands", ""]
+    L += check(fit) + ["", "### The Green's-function soil's tests", ""] + tests_table()
+    L += ["", "## Files", "",
+          "- `soil_choice.csv`, `soil_choice.json`: the comparison's data "
+          "(docs/ground-vibration.md, \"Which soil a scene needs\")",
+          "- %s: the two-way runs' files" % ", ".join(
+              "`%s/`" % s["folder"] for s in soils if s["key"] != "lumped"),
+          "- `runs/lumped/monolithic/`: the lumped soil's run and its `soil_forces.csv`; "
+          "`lumped.toml` its scene; `runs/two-step/`: its receivers one way", ""]
+    with open(os.path.join(out, "REPORT.md"), "w") as f:
+        f.write("\n".join(L))
