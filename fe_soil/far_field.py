@@ -27,6 +27,10 @@ from . import footprints, forms
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 
 STATIC_GROWTH = 2.0  # each extension element this many times the one before
+# Up to this many DOFs the extended operator is factorised once (MUMPS
+# Cholesky) and every static solve is two triangular solves; above, CG +
+# GAMG (whose iterations the extension's long thin elements multiply).
+DIRECT_DOFS = 60_000
 
 
 def _grow(nodes, reach):
@@ -118,7 +122,14 @@ class StaticExtension:
         coords = np.repeat(V.tabulate_dof_coordinates()[: n_owned // 3], 3, axis=0)
         K.setNearNullSpace(forms.rigid_body_modes(K.createVecs()[0], coords, mask, comm))
         self.K, self.mask = K, mask
-        self.ksp = cg_gamg(K, comm)
+        if V.dofmap.index_map.size_global * 3 <= DIRECT_DOFS:
+            self.ksp = PETSc.KSP().create(comm)
+            self.ksp.setOperators(K)
+            self.ksp.setType("preonly")
+            self.ksp.getPC().setType("cholesky")
+            self.ksp.getPC().setFactorSolverType("mumps")
+        else:
+            self.ksp = cg_gamg(K, comm)
         index = footprints.surface_node_index(V, self.nodes)
         self.loads = [footprints.footprint_vector(fp, self.nodes, index) for fp in p.footprints]
         self._to_block = self._block_map(coords, block_nodes, block_coords)
