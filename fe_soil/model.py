@@ -51,8 +51,7 @@ class FESoil:
         self._setup_receivers()
         self.dt = self._stable_step()
         self._inv = None  # (dt, the update's diagonal) of the last run
-        self.ksp = None  # the static solver, set up at the first statics
-        self._extension = None  # or its static extension (far_field.py)
+        self.ksp, self._extension = None, None  # the static solver, or the extension's
         self._static_basis = []  # (forces, solution) of the last static solves
         self.reset()
 
@@ -196,14 +195,8 @@ class FESoil:
         self.history = []  # (t, vertical velocity per receiver)
 
     def save(self):
-        return {
-            "t": self.t,
-            "u": self.u.copy(),
-            "v": self.v.copy(),
-            "a": self.a.copy(),
-            "f_static": self.f_static,
-            "n_history": len(self.history),
-        }
+        return {"t": self.t, "u": self.u.copy(), "v": self.v.copy(), "a": self.a.copy(),
+                "f_static": self.f_static, "n_history": len(self.history)}
 
     def restore(self, state):
         self.t = state["t"]
@@ -282,7 +275,7 @@ class FESoil:
         return self.footprint_average(self.u)
 
     def _extended_statics(self, forces, rtol):
-        if self._extension is None:
+        if self._extension is None:  # built at the first statics
             self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates(), self.comm)
         return self._extension.solve(forces, self.fp_share, self.fp_area, rtol) * self.mask
 
@@ -291,9 +284,8 @@ class FESoil:
         b.array[:] = self.load_vector(forces) * self.mask
         if self.ksp is None:
             # The rigid-body modes as GAMG's near null space: on the graded
-            # ground-vibration block (219k DOFs, elements up to 7:1, a
-            # half-space with nu = 0.478) 145 CG iterations to 1e-12 against
-            # 253 without; on a 40k-DOF homogeneous cube they had cost time.
+            # ground-vibration block (219k DOFs, elements up to 7:1, nu = 0.478)
+            # 145 CG iterations to 1e-12 against 253 without.
             self.K_static.setNearNullSpace(forms.rigid_body_modes(
                 self.U, self.dof_coordinates(), self.mask, self.comm))
             self.ksp = far_field.cg_gamg(self.K_static, self.comm)
