@@ -6,7 +6,7 @@
 # Usage: conform_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 source "$(dirname "$0")/node_start.bash" "$@"
-sed -e 's/^end_time = .*/end_time = 0.02/' "$src/scenes/soil.toml" >"$work/soil.toml"
+sed -e 's/^end_time = .*/end_time = 0.02/' -e '/^ss_macro_step/d' "$src/scenes/soil.toml" >"$work/soil.toml"
 # The Python soil integrates with fixed micro steps.
 sed -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$work/soil.toml" >"$work/soil10.toml"
 export RAILCOSIM_SDK_CACHE=$work/cache

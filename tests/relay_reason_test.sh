@@ -16,7 +16,7 @@ cleanup() {
 }
 trap cleanup EXIT
 export RAILCOSIM_SDK_CACHE=$work/cache
-sed -e 's/^end_time = .*/end_time = 0.002/' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
+sed -e 's/^end_time = .*/end_time = 0.002/' -e '/^ss_macro_step/d' -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' \
   "$src/scenes/soil.toml" >"$work/soil.toml"
 grep -q '^micro_steps = 10' "$work/soil.toml"
 

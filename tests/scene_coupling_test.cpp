@@ -205,7 +205,8 @@ TEST(SceneCoupling, ErrorsSayWhatTheTableSetAndAStudyRefusesIt) {
   const test::Outcome s =
       test::run_master("study --scene " + scene.string() + " --out " + (out / "study").string());
   EXPECT_EQ(s.status, 2) << s.output;
-  EXPECT_NE(s.output.find(scene.string() + ": the scene has a [coupling] table"), std::string::npos)
+  EXPECT_NE(s.output.find(scene.string() + ": the scene's [coupling] table sets how master run"),
+            std::string::npos)
       << s.output;
   fs::remove_all(out);
 }
