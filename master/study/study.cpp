@@ -113,9 +113,10 @@ std::vector<Method> methods_for(const Scene& scene) {
     m.push_back(extrapolated);
     m.push_back(waveform);
   }
-  // Multirate: the explicit methods of the cases with the cut and another.
-  for (const auto& [cut, k] : scene_cut_windows(scene))
+  // Multirate: the lagged methods of the cases with the cut, at its window.
+  for (const auto& window : scene_cut_windows(scene))
     for (std::size_t i = 0; i < plain; ++i) {
+      const std::string& cut = window.first;  // named: a lambda below captures it
       const Method& base = m[i];
       const bool has =
           std::any_of(base.spec.cuts.begin(), base.spec.cuts.end(), [&cut](const CutChoice& c) {
@@ -123,7 +124,7 @@ std::vector<Method> methods_for(const Scene& scene) {
           });
       if (!has || base.feedthrough != Feedthrough::kLagged) continue;
       Method multi = base;
-      multi.cut_windows[cut] = k;
+      multi.cut_windows[cut] = window.second;
       m.push_back(multi);
     }
   return m;
