@@ -98,7 +98,7 @@ FastGroup::FastGroup(const RatePlan& rates, const std::vector<Participant*>& all
       const auto a = static_cast<std::size_t>(to.participant);
       start.push_back(static_inputs.at(rates.fast[a]).at(static_cast<std::size_t>(to.interface)));
     }
-    const std::string role = roles.at(rates.viewed[v]);
+    const std::string& role = roles.at(rates.viewed[v]);
     views_.push_back(
         std::make_unique<SlowView>(role + " (over its window)", start, fine_step, kViewIntervals));
     inner.push_back(views_.back().get());
