@@ -105,7 +105,12 @@ FastGroup::FastGroup(const RatePlan& rates, const std::vector<Participant*>& all
     inner_roles.push_back(role);
     inner_start_.emplace_back();
   }
+  // The one member on the slow side whose own substep samples the group
+  // sends (members_.size() when several members face the slow side).
+  boundary_ =
+      rates.group_interfaces.empty() ? members_.size() : rates.group_interfaces.front().first;
   for (const auto& [a, j] : rates.group_interfaces) {
+    if (a != boundary_) boundary_ = members_.size();
     const Route& to = rates.inner[a][j];
     view_of_.emplace_back(static_cast<std::size_t>(to.participant) - F,
                           static_cast<std::size_t>(to.interface));
@@ -197,8 +202,7 @@ StepResult FastGroup::finish_step() {
 void FastGroup::record_window(long n, const CouplingData& end) {
   // One member on the slow side: its own substep samples (the slow side's
   // waveform keeps its order in h); several: the fine window's end.
-  std::size_t b = rates_.group_interfaces.front().first;
-  for (const auto& [a, j] : rates_.group_interfaces) b = a == b ? b : members_.size();
+  const std::size_t b = boundary_;
   if (b == members_.size()) {
     samples_.push_back(OutputSample{.t = static_cast<double>(n + 1) * h_, .outputs = end});
     return;

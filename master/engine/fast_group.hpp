@@ -111,6 +111,7 @@ class FastGroup final : public Participant {
   std::vector<Participant*> members_;
   std::vector<std::unique_ptr<SlowView>> views_;
   std::vector<std::pair<std::size_t, std::size_t>> view_of_;
+  std::size_t boundary_ = 0;  // see the constructor
   std::unique_ptr<StepExecutor> inner_;
   std::vector<CouplingData> inner_start_;  // the inner participants' static inputs
   double h_;
