@@ -15,6 +15,7 @@
 #include "cli/scene_coupling.hpp"
 #include "cosim_case.hpp"
 #include "process_support.hpp"
+#include "run_args_support.hpp"
 #include "scene.hpp"
 #include "scene_error.hpp"
 #include "test_support.hpp"
@@ -33,16 +34,7 @@ std::string refusal(F f) {
   return "";
 }
 
-struct Parsed {
-  CLI::App app;
-  cli::RunArgs args;
-  explicit Parsed(const std::string& flags) {
-    cli::add_run_command(app, args);
-    app.parse("run --scene " + test::source_path("scenes/paper.toml") +
-                  " --case wr-xx-gauss-seidel " + flags,
-              false);
-  }
-};
+using Parsed = test::ParsedRun;
 
 Scene paper_with(const std::string& coupling) {
   std::string text = test::read_file(test::source_path("scenes/paper.toml"));

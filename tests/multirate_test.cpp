@@ -143,12 +143,7 @@ StepResult Mass::finish_step() {
   samples_.assign(1, OutputSample{.t = t0, .outputs = out()});
   for (int s = 0; s < kSubsteps; ++s) {
     const double t = t0 + s * h;
-    const double k1x = v_, k1v = acc(t, x_);
-    const double k2x = v_ + 0.5 * h * k1v, k2v = acc(t + 0.5 * h, x_ + 0.5 * h * k1x);
-    const double k3x = v_ + 0.5 * h * k2v, k3v = acc(t + 0.5 * h, x_ + 0.5 * h * k2x);
-    const double k4x = v_ + h * k3v, k4v = acc(t + h, x_ + h * k3x);
-    x_ += h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v_ += h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    test::rk4_step(x_, v_, t, h, [this](double ta, double xa) { return acc(ta, xa); });
     samples_.push_back(
         OutputSample{.t = s + 1 == kSubsteps ? t0 + H_ : t0 + (s + 1) * h, .outputs = out()});
   }

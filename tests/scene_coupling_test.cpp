@@ -12,6 +12,7 @@
 
 #include "cli/cli_run.hpp"
 #include "process_support.hpp"
+#include "run_args_support.hpp"
 #include "scene.hpp"
 #include "scene_keys.hpp"
 #include "test_support.hpp"
@@ -21,17 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The arguments of `master run ARGS` as the command line parses them.
-struct Parsed {
-  CLI::App app;
-  cli::RunArgs args;
-  explicit Parsed(const std::string& flags) {
-    cli::add_run_command(app, args);
-    app.parse("run --scene " + test::source_path("scenes/paper.toml") +
-                  " --case wr-xx-gauss-seidel " + flags,
-              false);
-  }
-};
+using Parsed = test::ParsedRun;
 
 double fallback(const char* key) {
   return default_number(scene_key("coupling", key));

@@ -46,4 +46,15 @@ inline double fitted_order(const std::vector<double>& h, const std::vector<doubl
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// One classical Runge-Kutta step of x'' = acc(t, x) from (x, v) at t over h.
+template <class Acc>
+void rk4_step(double& x, double& v, double t, double h, Acc acc) {
+  const double k1x = v, k1v = acc(t, x);
+  const double k2x = v + 0.5 * h * k1v, k2v = acc(t + 0.5 * h, x + 0.5 * h * k1x);
+  const double k3x = v + 0.5 * h * k2v, k3v = acc(t + 0.5 * h, x + 0.5 * h * k2x);
+  const double k4x = v + h * k3v, k4v = acc(t + h, x + h * k3x);
+  x += h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
+  v += h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+}
+
 }  // namespace railcosim::test

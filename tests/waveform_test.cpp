@@ -120,12 +120,7 @@ struct Side {
     };
     for (int s = 0; s < n; ++s) {
       const double t = t0 + s * h;
-      const double k1x = v, k1v = acc(t, x);
-      const double k2x = v + 0.5 * h * k1v, k2v = acc(t + 0.5 * h, x + 0.5 * h * k1x);
-      const double k3x = v + 0.5 * h * k2v, k3v = acc(t + 0.5 * h, x + 0.5 * h * k2x);
-      const double k4x = v + h * k3v, k4v = acc(t + h, x + h * k3x);
-      x += h / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
-      v += h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      test::rk4_step(x, v, t, h, acc);
       out.add(t0 + (s + 1 == n ? H : (s + 1) * h), {x});
     }
     return out;
