@@ -90,7 +90,6 @@ class TrackSoil:
                                                           disc, cache_dir, workers)
         static, _ = R.spectra(layers, self.fp, pairs, [], [0.0], disc)
         _, w = rec.frequencies()
-        hat = R.hat_spectrum(rec)
         # The footprint's own response has a dashpot's tail at high
         # frequency, 1/(i w C): taken out as a spring and dashpot, whose ramp
         # response is exact, before the spectrum is cut at f_max.
@@ -100,10 +99,8 @@ class TrackSoil:
         spring = 1.0 / static[self.own, 0].real
         spec_p = spec_p.copy()
         spec_p[self.own] -= 1.0 / (spring[:, None] + 1j * w[None, :] * self.dashpot)
-        u = R.to_time(spec_p, rec, hat)[1][:, 1:self.M + 1]  # hat centred at H: g_j = u_(j+1)
-        v = R.to_time(spec_p * (1j * w)[None, :], rec, hat)[1][:, 1:self.M + 1]
-        vr = R.to_time(spec_q * (1j * w)[None, :], rec, hat)[1][:, 1:self.M + 1]
-        s_u, s_v, s_r = (np.cumsum(a, axis=1) for a in (u, v, vr))
+        s_u, s_v, s_r = (R.ramp_responses(s, rec, self.M)
+                         for s in (spec_p, spec_p * (1j * w)[None, :], spec_q * (1j * w)[None, :]))
         t = H * np.arange(1, self.M + 1)
         for i, k in zip(self.own, spring):
             du, dv = kelvin_ramp(k, self.dashpot, H, t)
