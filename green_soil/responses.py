@@ -213,8 +213,9 @@ def hat_spectrum(rec: Record, derivative=False):
     return out * (1j * w) if derivative else out
 
 
-def cache_key(layers, fp, pair_offsets, point_offsets, rec, d):
-    text = json.dumps({
+def cache_key(layers, fp, pair_offsets, point_offsets, rec, d, kind=None):
+    extra = {} if kind is None else {"kind": kind}
+    text = json.dumps({**extra,
         "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping] for l in layers],
         "fp": [fp.along, fp.across], "pairs": [[float(v) for v in p] for p in pair_offsets],
         "points": [[float(v) for v in p] for p in point_offsets],
@@ -246,3 +247,26 @@ def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discre
     np.savez(tmp, pairs=pairs, points=points)
     os.replace(tmp, path)
     return pairs, points, False
+
+
+def cached_horizontal(layers, fp, point_offsets, rec, d=greens.Discretisation(), cache_dir=None,
+                      workers=1):
+    """radial.point_means at rec's bins, (2, n_points, n_w): the x and y
+    displacement at points offset (dx, dy) from a loaded footprint's
+    centre; kept as cached_spectra keeps the vertical ones. Returns
+    (spectra, hit)."""
+    from . import radial
+
+    cache_dir = cache_dir or default_cache_dir()
+    name = cache_key(layers, fp, [], point_offsets, rec, d, kind="horizontal")
+    path = os.path.join(cache_dir, name + ".npz")
+    if os.path.exists(path):
+        with np.load(path) as z:
+            return z["horizontal"], True
+    _, w = rec.frequencies()
+    out = radial.point_means(layers, fp, point_offsets, w, d, workers)
+    os.makedirs(cache_dir, exist_ok=True)
+    tmp = path + ".%d.tmp.npz" % os.getpid()
+    np.savez(tmp, horizontal=out)
+    os.replace(tmp, path)
+    return out, False

@@ -66,10 +66,13 @@ class TrackSoil:
     rectangles); receivers: (x, y) surface points; H the step; memory the
     responses' length (s; at most the run's); workers the processes that
     compute the Green's functions (0: the usable cores); block the
-    partition's length L (None: about 2 sqrt(M); 1: the direct sum)."""
+    partition's length L (None: about 2 sqrt(M); 1: the direct sum);
+    horizontal: the receivers' x and y velocities too (step() then returns
+    3 R receiver values: the vertical ones, then x, then y)."""
 
     def __init__(self, layers, footprints, receivers, H, memory, f_max=150.0,
-                 disc=greens.Discretisation(), cache_dir=None, workers=0, block=None):
+                 disc=greens.Discretisation(), cache_dir=None, workers=0, block=None,
+                 horizontal=False):
         sizes = {(round(f[2], 9), round(f[3], 9)) for f in footprints}
         if len(sizes) != 1:
             raise ValueError("the footprints differ in size (%s); this soil needs equal ones"
@@ -99,24 +102,20 @@ class TrackSoil:
         spring = 1.0 / static[self.own, 0].real
         spec_p = spec_p.copy()
         spec_p[self.own] -= 1.0 / (spring[:, None] + 1j * w[None, :] * self.dashpot)
-        s_u, s_v, s_r = (R.ramp_responses(s, rec, self.M)
-                         for s in (spec_p, spec_p * (1j * w)[None, :], spec_q * (1j * w)[None, :]))
+        s_u, s_v = (R.ramp_responses(s, rec, self.M) for s in (spec_p, spec_p * (1j * w)[None, :]))
         t = H * np.arange(1, self.M + 1)
         for i, k in zip(self.own, spring):
             du, dv = kelvin_ramp(k, self.dashpot, H, t)
             s_u[i] += du
             s_v[i] += dv
         half = n * n
-        def gather(s, idx, rows):
-            if rows == 0:
-                return np.zeros((s.shape[1], 0, n))
-            return (s[idx[:len(idx) // 2]] + s[idx[len(idx) // 2:]]).T.reshape(-1, rows, n)
-
         # Stored oldest first (index M - 1 - m), so that a window of the
         # force history in time order multiplies them directly.
-        self.S = np.ascontiguousarray(gather(s_u, pidx, n)[::-1])
-        self.V = np.ascontiguousarray(gather(s_v, pidx, n)[::-1])
-        self.R = np.ascontiguousarray(gather(s_r, qidx, len(receivers))[::-1])
+        self.S = np.ascontiguousarray(_gather(s_u, pidx, n, n)[::-1])
+        self.V = np.ascontiguousarray(_gather(s_v, pidx, n, n)[::-1])
+        self.horizontal = bool(horizontal and receivers)
+        self.R = self._receiver_kernels(layers, rec, (disc, cache_dir, workers), rx, points,
+                                        (qidx, spec_q, len(receivers), n))
         # The elastic static flexibility, and how far the responses are from
         # it at the memory's end (the hysteretic loss creeps, see spectral.py).
         self.elastic_static = (static[pidx[:half], 0] + static[pidx[half:], 0]).real.reshape(n, n)
@@ -128,6 +127,26 @@ class TrackSoil:
         if self.block > 1:
             self.spectra_ = [_tail_spectra(K, self.block) for K in (self.S, self.V, self.R)]
         self.reset(np.zeros(n))
+
+    def _receiver_kernels(self, layers, rec, how, offsets, points, gather):
+        """The receivers' velocity kernels (M, rows, n), oldest first: the
+        vertical rows, then the x and the y rows when horizontal (the
+        radial displacement's x and y parts, radial.point_means; odd in dx
+        and dy respectively, so computed at |dx|, |dy| and signed)."""
+        disc, cache_dir, workers = how
+        qidx, spec_q, n_rec, n = gather
+        iw = 1j * rec.frequencies()[1]
+        blocks = [(R.ramp_responses(spec_q * iw[None, :], rec, self.M), None)] if n_rec else []
+        if self.horizontal:
+            spec_h, _ = R.cached_horizontal(layers, self.fp, points, rec, disc, cache_dir, workers)
+            signed = np.array(offsets, dtype=float)
+            for c in (0, 1):
+                blocks.append((R.ramp_responses(spec_h[c] * iw[None, :], rec, self.M),
+                               np.sign(signed[:, c])))
+        if not blocks:
+            return np.zeros((self.M, 0, n))
+        out = [_gather(s, qidx, n_rec, n, sign) for s, sign in blocks]
+        return np.ascontiguousarray(np.concatenate(out, axis=1)[::-1])
 
     def reset(self, forces):
         """The state at rest under `forces` (the static state)."""
@@ -195,6 +214,15 @@ class TrackSoil:
 # about L N^2 + (M / L) N^2 complex multiply-adds plus N FFTs of length
 # about 2 M per block, against M N^2 for the direct sum; the kernels'
 # spectra hold M to 2 M times N^2 complex numbers each.
+
+
+def _gather(s, idx, rows, n, sign=None):
+    """(M, rows, n) from responses s (offsets, M) by the index of each
+    (row, footprint) offset, the first half to the footprints, the second
+    to their mirrors, each times its sign when given."""
+    v = s[idx] if sign is None else s[idx] * sign[:, None]
+    h = len(idx) // 2
+    return (v[:h] + v[h:]).T.reshape(-1, rows, n)
 
 
 def _block_length(M):
