@@ -212,6 +212,25 @@ def fe_two_way(a, scene, out):
     return folder, clock
 
 
+def fe_resolved(scene, fe_keys, cfg):
+    """{receiver distance: Hz}: the highest frequency the FE mesh of --fe
+    holds with 10 elements per Rayleigh wavelength of the softest layer
+    (its mesh-size rule, docs/ground-vibration.md) at each receiver; 0
+    beyond resolve_to on a graded mesh, whose elements grow there."""
+    from fe_soil import config as fe_config
+    from fe_soil.params import rayleigh_speed
+
+    fe = fe_config.parse(tomllib.loads(fe_table(scene, tomllib.loads(
+        "fe = {%s}" % fe_keys)["fe"]))["soil"])
+    c = min(rayleigh_speed(l.shear_speed, l.poisson) for l in fe["layers"])
+    h = fe["mesh_size"] or c / fe["f_max"] / fe["elements_per_wavelength"]
+    out = {}
+    for d in cfg["receivers"]:
+        graded_beyond = fe["growth"] > 1.0 and d > fe["resolve_to"]
+        out[d] = 0.0 if graded_beyond else c / (10.0 * h)
+    return out
+
+
 def entry(key, label, folder, clock, out):
     return {"key": key, "label": label, "folder": os.path.relpath(folder, out),
             "wall_s": clock.wall, "cpu_s": clock.cpu, "parts": clock.parts,
@@ -266,8 +285,10 @@ def main(argv=None):
         folder, clock = fe_two_way(a, scene, out)
         soils.append(entry("fe", "FE", folder, clock, out))
     reference = soils[-1]["key"]
+    resolved = fe_resolved(scene, a.fe, cfg) if a.fe else None
     try:
-        rows, summary = soil_choice.compare(soils, reference)
+        rows, summary = soil_choice.compare(soils, reference, "green" if a.fe else None,
+                                            resolved)
     except ValueError as e:
         sys.exit("%s: %s" % (a.scene, e))
     soil_choice.write_data(out, rows, summary)
