@@ -78,10 +78,12 @@ class GreenSoilParticipant(rc.Participant):
         cfg, fps, rx = self.settings(config, interfaces)
         H = self.run.macro_step
         memory = min(cfg["memory"], self.run.end_time + H)
+        r_memory = min(cfg["receiver_memory"], self.run.end_time + H)
         start = time.perf_counter()
         try:
             self.soil = TrackSoil(cfg["layers"], fps, [(rx, d) for d in cfg["receivers"]], H,
-                                  memory, cfg["f_max"], workers=cfg["workers"], horizontal=True)
+                                  memory, cfg["f_max"], workers=cfg["workers"], horizontal=True,
+                                  receiver_memory=r_memory)
         except ValueError as e:
             raise rc.BadInterface(str(e))
         self.clock = {"build": time.perf_counter() - start, "advance": 0.0, "n": 0}
@@ -143,9 +145,10 @@ class GreenSoilParticipant(rc.Participant):
 
     def results(self):
         c = self.clock
-        print("green_soil: %d footprints, %d receivers, memory %d steps: built in %.1f s (cache "
-              "%s); %d steps %.1f s (%.3f ms each); settled to %.2g of the elastic static"
-              % (self.n, len(self.distances), self.soil.M, c["build"],
+        print("green_soil: %d footprints, %d receivers, memory %d steps (receivers %d): built in "
+              "%.1f s (cache %s); %d steps %.1f s (%.3f ms each); settled to %.2g of the elastic "
+              "static"
+              % (self.n, len(self.distances), self.soil.M, self.soil.M_receivers, c["build"],
                  "hit" if self.soil.cache_hit else "miss", c["n"], c["advance"],
                  1e3 * c["advance"] / max(1, c["n"]), self.soil.settled),
               file=sys.stderr, flush=True)

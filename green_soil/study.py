@@ -104,8 +104,10 @@ def track_soil(scene, cfg, xs):
     H = scene["simulation"]["macro_step"]
     rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
     memory = min(cfg["memory"], scene["simulation"]["end_time"] + H)
+    r_memory = min(cfg["receiver_memory"], scene["simulation"]["end_time"] + H)
     soil = TrackSoil(cfg["layers"], fps, [(rx, d) for d in cfg["receivers"]], H, memory,
-                     cfg["f_max"], workers=cfg["workers"], horizontal=True)
+                     cfg["f_max"], workers=cfg["workers"], horizontal=True,
+                     receiver_memory=r_memory)
     return soil, rx
 
 
