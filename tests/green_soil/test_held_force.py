@@ -10,7 +10,10 @@ Papkovich-Neuber basis at w = 0). Before the fix the velocity kernels
 lacked the sum of the responses' precursor (what the cut at f_max puts
 before t = 0): their integral grew without end, 1.19 times the static
 value 50 ms after the Rayleigh wave at 5 m, 2.6 times at 0.5 s."""
+import atexit
 import math
+import shutil
+import tempfile
 import unittest
 
 import numpy as np
@@ -18,6 +21,8 @@ import numpy as np
 import support
 from green_soil import greens, responses as R, track
 
+CACHE = tempfile.mkdtemp(prefix="green_held_")  # this test's own cache of Green's functions
+atexit.register(shutil.rmtree, CACHE, True)
 H = 1e-4  # s, the CI scene's macro step
 MEMORY = 0.6  # s
 FOOTPRINT = (0.0, 0.75, 0.6, 1.3)  # x, y, along, across (one rail's share of a sleeper)
@@ -28,7 +33,7 @@ def integrated_velocity(layers):
     """(times, integral of each receiver's velocity kernel by the trapezoid
     rule from rest, static displacement per receiver, the soil)."""
     soil = track.TrackSoil(layers, [FOOTPRINT], [(0.0, d) for d in DISTANCES], H, MEMORY,
-                           f_max=150.0, workers=1)
+                           f_max=150.0, workers=1, cache_dir=CACHE)
     v = soil.R[::-1, :, 0]  # by lag: the velocity at the end of step m + 1
     t = H * np.arange(1, soil.M + 1)
     integral = H * (np.cumsum(v, axis=0) - 0.5 * v)

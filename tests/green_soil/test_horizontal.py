@@ -7,7 +7,10 @@ footprint and its mirror, with the right sign in x and y; straight
 across from the footprint the velocity along the rail is zero. The
 vertical rows are those of a soil without the horizontal ones, bit for
 bit."""
+import atexit
 import math
+import shutil
+import tempfile
 import unittest
 
 import numpy as np
@@ -15,6 +18,8 @@ import numpy as np
 import support
 from green_soil import track
 
+CACHE = tempfile.mkdtemp(prefix="green_horizontal_")  # this test's own cache of Green's functions
+atexit.register(shutil.rmtree, CACHE, True)
 H = 1e-4
 MEMORY = 0.6
 FOOTPRINT = (0.0, 0.75, 0.6, 1.3)
@@ -43,7 +48,7 @@ class Horizontal(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.soil = track.TrackSoil(support.HALF_SPACE, [FOOTPRINT], RECEIVERS, H, MEMORY,
-                                   f_max=150.0, workers=1, horizontal=True)
+                                   f_max=150.0, workers=1, horizontal=True, cache_dir=CACHE)
         v = cls.soil.R[::-1, :, 0]
         cls.t = H * np.arange(1, cls.soil.M + 1)
         cls.integral = H * (np.cumsum(v, axis=0) - 0.5 * v)
@@ -51,7 +56,7 @@ class Horizontal(unittest.TestCase):
     def test_rows(self):
         self.assertEqual(self.soil.R.shape, (self.soil.M, 3 * len(RECEIVERS), 1))
         vertical = track.TrackSoil(support.HALF_SPACE, [FOOTPRINT], RECEIVERS, H, MEMORY,
-                                   f_max=150.0, workers=1)
+                                   f_max=150.0, workers=1, cache_dir=CACHE)
         self.assertTrue(np.array_equal(vertical.R, self.soil.R[:, :len(RECEIVERS)]))
 
     def test_static_limit_against_boussinesq(self):
