@@ -9,6 +9,13 @@ each the fastest of --repeats. Ratios are against the smallest N measured in the
 
     /usr/bin/python3 bench/green_soil_bench.py [--greens] [--reach 200] [--f-max 100]
         [--steps 1000] [--counts 20 50 100] [--repeats 3] [--workers 1 2]
+    /usr/bin/python3 bench/green_soil_bench.py --scene SCENE --forces SOIL_FORCES_CSV
+
+With --scene (a scene with [soil] model = "green") and --forces (a run's
+soil_forces.csv, whose header gives the footprints' positions): the soil
+the participant builds for that scene, timed with an empty cache of
+Green's functions and again from it, the vertical and horizontal tables
+timed apart (ratio: the cached build against the first, same run).
 
 The Green's functions are timed once per worker count (--workers, default
 1 and the usable cores), ratios against the first count in the same run.
@@ -58,8 +65,51 @@ def per_step(n, steps, repeats, cache, block):
     return best
 
 
+def scene_build(scene_path, forces_path):
+    """The scene's soil built twice (Green's functions computed, then
+    cached): per build its wall time and the two tables' times."""
+    import tomllib
+
+    from fe_soil import two_step
+    from green_soil import config, study
+
+    with open(scene_path, "rb") as f:
+        scene = tomllib.load(f)
+    cfg = config.parse(scene["soil"])
+    head, _ = two_step.read_csv(forces_path)
+    xs = [float(x) for x in head[1:]]
+    clock = {}
+
+    def timed(name, fn):
+        def run(*args, **kwargs):
+            start = time.perf_counter()
+            out = fn(*args, **kwargs)
+            clock[name] = clock.get(name, 0.0) + time.perf_counter() - start
+            return out
+        return run
+
+    R.cached_spectra = timed("vertical", R.cached_spectra)
+    R.cached_horizontal = timed("horizontal", R.cached_horizontal)
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["XDG_CACHE_HOME"] = cache
+        first = None
+        for label in ("computed", "cached"):
+            clock.clear()
+            start = time.perf_counter()
+            soil, _ = study.track_soil(scene, cfg, xs)
+            wall = time.perf_counter() - start
+            first = first or wall
+            print("%s: %d footprints, memory %d steps (receivers %d): built in %.1f s (%.2f x the "
+                  "first); vertical Green's functions %.1f s, horizontal %.1f s"
+                  % (label, soil.n, soil.M, soil.M_receivers, wall, wall / first,
+                     clock["vertical"], clock["horizontal"]), flush=True)
+            del soil
+
+
 def main():
     p = argparse.ArgumentParser()
+    p.add_argument("--scene", help="time the soil of this scene (needs --forces)")
+    p.add_argument("--forces", help="a run's soil_forces.csv on that scene (the footprints)")
     p.add_argument("--greens", action="store_true")
     p.add_argument("--reach", type=float, default=200.0)
     p.add_argument("--f-max", type=float, default=100.0)
@@ -70,6 +120,12 @@ def main():
                    help="worker processes for the Green's functions, each count timed once")
     a = p.parse_args()
     print("load average at start: %.1f" % os.getloadavg()[0])
+    if a.scene or a.forces:
+        if not (a.scene and a.forces):
+            p.error("--scene and --forces go together")
+        scene_build(a.scene, a.forces)
+        print("load average at the end: %.1f" % os.getloadavg()[0])
+        return
     if a.greens:
         serial = None
         for workers in a.workers:

@@ -4,7 +4,8 @@ model = "green", checked key by key (numpy and the standard library only).
     [soil]
     model = "green"
     f_max = 150.0                # Hz, the highest frequency of the Green's functions
-    memory = 1.0                 # s, the responses' length (at most the run's)
+    memory = 1.0                 # s, the footprints' responses' length (at most the run's)
+    receiver_memory = 1.0        # optional, s: the receivers' (default: memory)
     receivers = [8.0, 16.0]      # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: the middle)
     workers = 0                  # processes computing the Green's functions (0: the usable cores)
@@ -20,7 +21,8 @@ from __future__ import annotations
 from fe_soil import soil_table
 from fe_soil.soil_table import ConfigError
 
-TOP_KEYS = {"model", "f_max", "memory", "receivers", "receiver_x", "layers", "workers"}
+TOP_KEYS = {"model", "f_max", "memory", "receiver_memory", "receivers", "receiver_x", "layers",
+            "workers"}
 DEFAULTS = {"f_max": 150.0, "memory": 1.0, "receivers": [8.0, 16.0, 32.0]}
 MAX_LAYERS = 64
 
@@ -35,6 +37,8 @@ def parse(table):
                           "(model = \"green\")" % table.get("model"))
     out = {"f_max": soil_table.number(table, "f_max", "", lo=1.0, hi=1000.0, default=DEFAULTS["f_max"]),
            "memory": soil_table.number(table, "memory", "", lo=0.0, hi=60.0, default=DEFAULTS["memory"])}
+    out["receiver_memory"] = (soil_table.number(table, "receiver_memory", "", lo=0.0, hi=60.0)
+                              if "receiver_memory" in table else out["memory"])
     out["receivers"] = soil_table.receivers(table, DEFAULTS["receivers"], at_least_one=False)
     out["receiver_x"] = soil_table.optional_number(table, "receiver_x")
     workers = table.get("workers", 0)

@@ -12,8 +12,9 @@ mirror image carries the same force) and sends each footprint's mean
 displacement and velocity, by causal convolution with the footprint
 responses (green_soil/track.py). History channels: each receiver's
 vertical velocity (r8m_vz_mps, ...); results and output files as the FE
-soil's (vibration.csv, receivers.csv; the horizontal components are not
-computed and written as zeros).
+soil's (vibration.csv, receivers.csv), with the horizontal velocities (x
+along the rail, y away from the track axis) and, in vibration.csv, their
+one-third-octave levels after the vertical ones (Lv_x_..., Lv_y_...).
 """
 import argparse
 import os
@@ -30,6 +31,7 @@ from fe_soil import measures  # noqa: E402
 from fe_soil.config import channel_names  # noqa: E402
 
 from . import config as green_config  # noqa: E402
+from .outputs import components, vibration_csv  # noqa: E402
 from .track import TrackSoil  # noqa: E402
 
 KEEP_SAVES = 8  # states held for restore (implicit coupling restores the latest)
@@ -76,10 +78,12 @@ class GreenSoilParticipant(rc.Participant):
         cfg, fps, rx = self.settings(config, interfaces)
         H = self.run.macro_step
         memory = min(cfg["memory"], self.run.end_time + H)
+        r_memory = min(cfg["receiver_memory"], self.run.end_time + H)
         start = time.perf_counter()
         try:
             self.soil = TrackSoil(cfg["layers"], fps, [(rx, d) for d in cfg["receivers"]], H,
-                                  memory, cfg["f_max"], workers=cfg["workers"])
+                                  memory, cfg["f_max"], workers=cfg["workers"], horizontal=True,
+                                  receiver_memory=r_memory)
         except ValueError as e:
             raise rc.BadInterface(str(e))
         self.clock = {"build": time.perf_counter() - start, "advance": 0.0, "n": 0}
@@ -92,7 +96,7 @@ class GreenSoilParticipant(rc.Participant):
         self.saves = {}
         self.save_count = 0
         self.last = np.zeros(self.n)
-        self.series = []  # receivers' vertical velocity after every step
+        self.series = []  # receivers' velocity after every step (z, then x, then y)
         for name in ("vibration.csv", "receivers.csv"):
             if self.output_dir and os.path.exists(os.path.join(self.output_dir, name)):
                 os.remove(os.path.join(self.output_dir, name))
@@ -133,16 +137,18 @@ class GreenSoilParticipant(rc.Participant):
         self.last = last.copy()
 
     def history_values(self):
-        return [float(x) for x in self.series[-1]] if self.series else [0.0] * len(self.history)
+        n = len(self.history)
+        return [float(x) for x in self.series[-1][:n]] if self.series else [0.0] * n
 
     def max_abs_displacement(self):
         return float(np.abs(self.last).max()) if len(self.last) else 0.0
 
     def results(self):
         c = self.clock
-        print("green_soil: %d footprints, %d receivers, memory %d steps: built in %.1f s (cache "
-              "%s); %d steps %.1f s (%.3f ms each); settled to %.2g of the elastic static"
-              % (self.n, len(self.distances), self.soil.M, c["build"],
+        print("green_soil: %d footprints, %d receivers, memory %d steps (receivers %d): built in "
+              "%.1f s (cache %s); %d steps %.1f s (%.3f ms each); settled to %.2g of the elastic "
+              "static"
+              % (self.n, len(self.distances), self.soil.M, self.soil.M_receivers, c["build"],
                  "hit" if self.soil.cache_hit else "miss", c["n"], c["advance"],
                  1e3 * c["advance"] / max(1, c["n"]), self.soil.settled),
               file=sys.stderr, flush=True)
@@ -150,15 +156,13 @@ class GreenSoilParticipant(rc.Participant):
             zeros = np.zeros(len(self.distances))
             return (self.last, np.array(self.distances), zeros, zeros)
         dt = self.run.macro_step
-        vz = np.array(self.series)
-        v = np.zeros((len(vz), len(self.distances), 3))
-        v[:, :, 2] = vz
+        v = components(np.array(self.series), len(self.distances))
         s = [measures.receiver_summary(v[:, k, :], dt) for k in range(v.shape[1])]
         if self.output_dir:
-            t = dt * np.arange(1, len(vz) + 1)
+            t = dt * np.arange(1, len(v) + 1)
             os.makedirs(self.output_dir, exist_ok=True)
             write(os.path.join(self.output_dir, "vibration.csv"),
-                  measures.vibration_csv(self.history, self.receiver_x, self.distances, s))
+                  vibration_csv(self.history, self.receiver_x, self.distances, s))
             write(os.path.join(self.output_dir, "receivers.csv"),
                   measures.receivers_csv(self.history, t, v))
         return (self.last, np.array(self.distances), np.array([r["ppv"] for r in s]),

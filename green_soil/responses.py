@@ -157,6 +157,39 @@ def to_time(spec, rec: Record, force_spectrum):
     return t, x * np.exp(rec.eta * t)[None, :]
 
 
+def ramp_responses(spec, rec: Record, n_steps):
+    """(n, n_steps): the responses at t = dt, 2 dt, ..., n_steps dt to a
+    unit force ramped from 0 to 1 over [0, dt] and held, from spec (n,
+    n_w), tapered; n_steps at most rec.duration / dt.
+
+    The ramp is a sum of unit hats (hat_spectrum), so its response is the
+    running sum of the hat's response; the sum runs from the start of the
+    FFT period, not from t = 0. Cut at f_max, a response is not causal:
+    each hat's response rings before the hat begins (the taper's kernel is
+    two-sided). That precursor sits at the end of the periodic inverse
+    FFT, where exp(eta t) must be taken with t negative, and its sum is
+    part of the ramp's response from t = 0 on: a velocity spectrum, which
+    is not small at f_max, leaves a constant offset behind if it is
+    dropped, and the running sum of the velocity then drifts away from the
+    displacement without end (5 m from a 1 m square on a half-space: the
+    integrated velocity at 1.4 and 3.0 times the static value 0.1 and
+    0.5 s after the force was applied, the displacement on it)."""
+    f, _ = rec.frequencies()
+    n = rec.n_fft
+    if not 0 < n_steps < n // 2 + 1:
+        raise ValueError("ramp_responses: %d steps for an FFT period of %d samples"
+                         % (n_steps, n))
+    full = np.zeros((spec.shape[0], n // 2 + 1), complex)
+    full[:, :len(f)] = spec * (hat_spectrum(rec) * rec.window(f))[None, :]
+    x = np.fft.irfft(full, n, axis=1) / rec.dt
+    # Samples 0..n_steps are t >= 0; the rest of the period is t < 0.
+    idx = np.arange(n)
+    t = np.where(idx <= n_steps, idx, idx - n) * rec.dt
+    x *= np.exp(rec.eta * t)[None, :]
+    ordered = np.concatenate([x[:, n_steps + 1:], x[:, :n_steps + 1]], axis=1)
+    return np.cumsum(ordered, axis=1)[:, -n_steps:]
+
+
 def damped_spectrum(samples, rec: Record):
     """The spectrum at the bins up to f_max of a force sampled every dt from
     t = 0 (samples beyond the FFT period ignored), damped by exp(-eta t)."""
@@ -180,8 +213,9 @@ def hat_spectrum(rec: Record, derivative=False):
     return out * (1j * w) if derivative else out
 
 
-def cache_key(layers, fp, pair_offsets, point_offsets, rec, d):
-    text = json.dumps({
+def cache_key(layers, fp, pair_offsets, point_offsets, rec, d, kind=None):
+    extra = {} if kind is None else {"kind": kind}
+    text = json.dumps({**extra,
         "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping] for l in layers],
         "fp": [fp.along, fp.across], "pairs": [[float(v) for v in p] for p in pair_offsets],
         "points": [[float(v) for v in p] for p in point_offsets],
@@ -213,3 +247,26 @@ def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discre
     np.savez(tmp, pairs=pairs, points=points)
     os.replace(tmp, path)
     return pairs, points, False
+
+
+def cached_horizontal(layers, fp, point_offsets, rec, d=greens.Discretisation(), cache_dir=None,
+                      workers=1):
+    """radial.point_means at rec's bins, (2, n_points, n_w): the x and y
+    displacement at points offset (dx, dy) from a loaded footprint's
+    centre; kept as cached_spectra keeps the vertical ones. Returns
+    (spectra, hit)."""
+    from . import radial
+
+    cache_dir = cache_dir or default_cache_dir()
+    name = cache_key(layers, fp, [], point_offsets, rec, d, kind="horizontal")
+    path = os.path.join(cache_dir, name + ".npz")
+    if os.path.exists(path):
+        with np.load(path) as z:
+            return z["horizontal"], True
+    _, w = rec.frequencies()
+    out = radial.point_means(layers, fp, point_offsets, w, d, workers)
+    os.makedirs(cache_dir, exist_ok=True)
+    tmp = path + ".%d.tmp.npz" % os.getpid()
+    np.savez(tmp, horizontal=out)
+    os.replace(tmp, path)
+    return out, False

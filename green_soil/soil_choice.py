@@ -54,20 +54,28 @@ def common_grid(soils):
     return dists, bands
 
 
-def compare(soils, reference):
+def compare(soils, reference, fallback=None, resolved=None):
     """soils: [{"key", "label", "folder", "wall_s", "cpu_s", "parts", "vibration"}];
-    reference: the key of the most complete run. Returns (rows, summary):
-    rows (soil, receiver_m, band_Hz, level, reference level, difference)
-    and the summary soil_choice.json holds."""
-    ref = next(s for s in soils if s["key"] == reference)
+    reference: the key of the most complete run; resolved: {distance: Hz}, the
+    highest band centre it is trusted at per receiver (None: every band),
+    above which the `fallback` soil is the reference. Returns (rows,
+    summary): rows (soil, receiver_m, band_Hz, level, reference level,
+    difference, reference key) and the summary soil_choice.json holds."""
     dists, bands = common_grid(soils)
+    by_key = {s["key"]: s for s in soils}
+
+    def ref_at(d, f):
+        trusted = resolved is None or f <= resolved.get(d, math.inf)
+        return reference if trusted or fallback is None else fallback
+
     rows, out = [], []
     for s in soils:
         diffs = []
         for d in dists:
             for c, f in bands:
-                lv, lr = s["vibration"][d][c], ref["vibration"][d][c]
-                rows.append((s["key"], d, f, lv, lr, lv - lr))
+                key = ref_at(d, f)
+                lv, lr = s["vibration"][d][c], by_key[key]["vibration"][d][c]
+                rows.append((s["key"], d, f, lv, lr, lv - lr, key))
                 diffs.append(lv - lr)
         diffs = np.array(diffs)
         out.append({k: s[k] for k in ("key", "label", "folder", "wall_s", "cpu_s", "parts")}
@@ -76,14 +84,17 @@ def compare(soils, reference):
                                             if diffs.size else None)})
     summary = {"reference": reference, "receivers_m": dists, "bands_Hz": [f for _, f in bands],
                "soils": out}
+    if resolved is not None and fallback is not None:
+        summary["reference_resolved_Hz"] = [resolved.get(d) for d in dists]
+        summary["reference_above"] = fallback
     return rows, summary
 
 
 def write_data(out, rows, summary):
     with open(os.path.join(out, "soil_choice.csv"), "w") as f:
-        f.write("soil,receiver_m,band_Hz,level_dB,reference_dB,difference_dB\n")
-        for key, d, band, lv, lr, diff in rows:
-            f.write("%s,%.9g,%.9g,%.9g,%.9g,%.9g\n" % (key, d, band, lv, lr, diff))
+        f.write("soil,receiver_m,band_Hz,level_dB,reference_dB,difference_dB,reference\n")
+        for key, d, band, lv, lr, diff, ref in rows:
+            f.write("%s,%.9g,%.9g,%.9g,%.9g,%.9g,%s\n" % (key, d, band, lv, lr, diff, ref))
     with open(os.path.join(out, "soil_choice.json"), "w") as f:
         json.dump(summary, f, indent=1)
         f.write("\n")
@@ -127,13 +138,15 @@ def chart(path, summary):
 def section(rows, summary):
     """The report's section "## Which soil a scene needs" (markdown lines)."""
     soils = summary["soils"]
-    ref = next(s for s in soils if s["key"] == summary["reference"])
+    label = {s["key"]: s["label"] for s in soils}
+    ref = label[summary["reference"]]
     L = ["## Which soil a scene needs", "",
-         "Each soil model's vertical one-third-octave levels minus those of the most complete "
-         "model run (%s), per receiver and band (dB), and the cost of each run: wall and CPU "
-         "seconds of its processes on this machine. Bands: those with a finite level at every "
-         "receiver in every run. Data: `soil_choice.csv`, `soil_choice.json`; chart: "
-         "`figures/soil_choice.png`." % ref["label"], "",
+         "Each soil model's vertical one-third-octave levels minus those of the reference, per "
+         "receiver and band (dB), and the cost of each run: wall and CPU seconds of its "
+         "processes on this machine. The reference is the most complete model run (%s)%s. "
+         "Bands: those with a finite level at every receiver in every run. Data: "
+         "`soil_choice.csv`, `soil_choice.json`; chart: `figures/soil_choice.png`."
+         % (ref, resolution_note(summary, label)), "",
          "### Cost and largest difference", "",
          "| soil | what runs | wall (s) | CPU (s) | max abs difference (dB) | RMS difference (dB) |",
          "|---|---|---:|---:|---:|---:|"]
@@ -142,17 +155,28 @@ def section(rows, summary):
         L.append("| %s | %s | %.2f | %.2f | %s | %s |" % (
             s["label"], what, s["wall_s"], s["cpu_s"], fmt(s["max_abs_difference_dB"]),
             fmt(s["rms_difference_dB"])))
-    others = [s for s in soils if s["key"] != summary["reference"]]
     for d in summary["receivers_m"]:
-        L += ["", "### %g m: level minus %s (dB)" % (d, ref["label"]), "",
-              "| band (Hz) | %s (dB) | %s |" % (ref["label"], " | ".join(
-                  "%s - %s" % (s["label"], ref["label"]) for s in others)),
-              "|---:|---:|" + "---:|" * len(others)]
-        at = {(k, f): (lr, diff) for k, dd, f, _, lr, diff in rows if dd == d}
+        L += ["", "### %g m: level minus the reference (dB)" % d, "",
+              "| band (Hz) | reference | reference (dB) | %s |" % " | ".join(
+                  "%s - reference" % s["label"] for s in soils),
+              "|---:|---|---:|" + "---:|" * len(soils)]
+        at = {(k, f): (lr, diff, rk) for k, dd, f, _, lr, diff, rk in rows if dd == d}
         for f in summary["bands_Hz"]:
-            L.append("| %.3g | %.2f | %s |" % (f, at[(ref["key"], f)][0], " | ".join(
-                "%+.2f" % at[(s["key"], f)][1] for s in others)))
+            lr, _, rk = at[(soils[0]["key"], f)]
+            L.append("| %.3g | %s | %.2f | %s |" % (f, label[rk], lr, " | ".join(
+                "%+.2f" % at[(s["key"], f)][1] for s in soils)))
     return L
+
+
+def resolution_note(summary, label):
+    if "reference_resolved_Hz" not in summary:
+        return ""
+    fs = summary["reference_resolved_Hz"]
+    where = ", ".join("%.3g Hz at %g m" % (f, d) for f, d in zip(fs, summary["receivers_m"]))
+    return (" up to the band its mesh resolves (10 elements per Rayleigh wavelength of the "
+            "softest layer: %s); above it the reference is the %s soil, and the %s rows "
+            "show the mesh's difference from it" % (where, label[summary["reference_above"]],
+                                                   label[summary["reference"]]))
 
 
 def fmt(x):

@@ -38,6 +38,7 @@ from fe_soil import study as fe_study
 from fe_soil.config import channel_names
 
 from . import config as green_config
+from . import outputs
 from . import soil_choice
 from .track import TrackSoil
 
@@ -103,8 +104,10 @@ def track_soil(scene, cfg, xs):
     H = scene["simulation"]["macro_step"]
     rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
     memory = min(cfg["memory"], scene["simulation"]["end_time"] + H)
+    r_memory = min(cfg["receiver_memory"], scene["simulation"]["end_time"] + H)
     soil = TrackSoil(cfg["layers"], fps, [(rx, d) for d in cfg["receivers"]], H, memory,
-                     cfg["f_max"], workers=cfg["workers"])
+                     cfg["f_max"], workers=cfg["workers"], horizontal=True,
+                     receiver_memory=r_memory)
     return soil, rx
 
 
@@ -127,7 +130,7 @@ def fit_lumped(soil):
 
 
 def one_way(soil, forces, hold=False):
-    """The receivers' vertical velocity [step, receiver] under recorded
+    """The receivers' velocity rows [step, row] (vertical, then x, then y) under recorded
     forces[row, footprint] (linear between rows; hold: each row held over
     its step)."""
     soil.reset(forces[0])
@@ -138,17 +141,16 @@ def one_way(soil, forces, hold=False):
     return np.array(out)
 
 
-def write_receivers(folder, cfg, rx, vz, H):
+def write_receivers(folder, cfg, rx, rows, H):
     """vibration.csv and receivers.csv of a one-way run, as a co-simulation's."""
     names = channel_names(cfg["receivers"])
-    v = np.zeros((len(vz), len(cfg["receivers"]), 3))
-    v[:, :, 2] = vz
+    v = outputs.components(rows, len(cfg["receivers"]))
     s = [measures.receiver_summary(v[:, k, :], H) for k in range(v.shape[1])]
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "vibration.csv"), "w") as f:
-        f.write(measures.vibration_csv(names, [rx] * len(names), cfg["receivers"], s))
+        f.write(outputs.vibration_csv(names, [rx] * len(names), cfg["receivers"], s))
     with open(os.path.join(folder, "receivers.csv"), "w") as f:
-        f.write(measures.receivers_csv(names, H * np.arange(1, len(vz) + 1), v))
+        f.write(measures.receivers_csv(names, H * np.arange(1, len(v) + 1), v))
 
 
 def run(label, clock, master, scene, out, case):
@@ -192,8 +194,9 @@ def lumped_two_step(a, scene, cfg, out):
     write_receivers(folder, cfg, rx, vz, H)
     # The check: the two-way run's own forces, held, give its receivers back.
     _, rec = two_step.read_csv(os.path.join(out, "runs", "green", CASE, "receivers.csv"))
-    again = one_way(soil, green_forces[:, 1:], hold=True)
-    ref = rec[:, 3::3]
+    again = outputs.components(one_way(soil, green_forces[:, 1:], hold=True),
+                                   len(cfg["receivers"])).reshape(len(rec), -1)
+    ref = rec[:, 1:]
     err = float(np.abs(again - ref).max() / np.abs(ref).max())
     return folder, clock, {"kf": kf, "kc": kc, "one_way_error": err}
 
@@ -209,6 +212,25 @@ def fe_two_way(a, scene, out):
     folder = run("master run --case %s" % CASE, clock, a.master, path,
                  os.path.join(out, "runs", "fe"), CASE)
     return folder, clock
+
+
+def fe_resolved(scene, fe_keys, cfg):
+    """{receiver distance: Hz}: the highest frequency the FE mesh of --fe
+    holds with 10 elements per Rayleigh wavelength of the softest layer
+    (its mesh-size rule, docs/ground-vibration.md) at each receiver; 0
+    beyond resolve_to on a graded mesh, whose elements grow there."""
+    from fe_soil import config as fe_config
+    from fe_soil.params import rayleigh_speed
+
+    fe = fe_config.parse(tomllib.loads(fe_table(scene, tomllib.loads(
+        "fe = {%s}" % fe_keys)["fe"]))["soil"])
+    c = min(rayleigh_speed(l.shear_speed, l.poisson) for l in fe["layers"])
+    h = fe["mesh_size"] or c / fe["f_max"] / fe["elements_per_wavelength"]
+    out = {}
+    for d in cfg["receivers"]:
+        graded_beyond = fe["growth"] > 1.0 and d > fe["resolve_to"]
+        out[d] = 0.0 if graded_beyond else c / (10.0 * h)
+    return out
 
 
 def entry(key, label, folder, clock, out):
@@ -265,8 +287,10 @@ def main(argv=None):
         folder, clock = fe_two_way(a, scene, out)
         soils.append(entry("fe", "FE", folder, clock, out))
     reference = soils[-1]["key"]
+    resolved = fe_resolved(scene, a.fe, cfg) if a.fe else None
     try:
-        rows, summary = soil_choice.compare(soils, reference)
+        rows, summary = soil_choice.compare(soils, reference, "green" if a.fe else None,
+                                            resolved)
     except ValueError as e:
         sys.exit("%s: %s" % (a.scene, e))
     soil_choice.write_data(out, rows, summary)

@@ -14,12 +14,16 @@ TESTS_HEADING = "### The soil from Green's functions"
 
 
 def levels(soils, summary):
-    ref = next(s for s in soils if s["key"] == summary["reference"])
+    key = summary.get("reference_above", summary["reference"])
+    ref = next(s for s in soils if s["key"] == key)
     d = summary["receivers_m"]
+    why = ("" if key == summary["reference"] else
+           " PPV and KB_Fmax take every band, and the FE mesh resolves only the lowest "
+           "(below): these are the %s soil's." % ref["label"])
     L = ["## Levels at the receivers (%s)" % ref["label"], "",
          "Vertical velocity on the surface beside the middle of the track. PPV_z (m/s), "
          "KB_Fmax,z (DIN 4150-2) and the one-third-octave levels (dB re 1e-9 m/s) of "
-         "`%s/vibration.csv`." % ref["folder"], "",
+         "`%s/vibration.csv`.%s" % (ref["folder"], why), "",
          "| distance | PPV_z (m/s) | KB_Fmax,z |", "|---:|---:|---:|"]
     for x in d:
         r = ref["vibration"][x]

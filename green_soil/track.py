@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from . import greens, responses as R
+from .convolution import Convolution
 
 MIN_RECORD = 0.5  # s: the Green's functions' record at least (their frequency step 1/(2 T))
 
@@ -66,10 +67,14 @@ class TrackSoil:
     rectangles); receivers: (x, y) surface points; H the step; memory the
     responses' length (s; at most the run's); workers the processes that
     compute the Green's functions (0: the usable cores); block the
-    partition's length L (None: about 2 sqrt(M); 1: the direct sum)."""
+    partition's length L (None: about 2 sqrt(M); 1: the direct sum);
+    horizontal: the receivers' x and y velocities too (step() then returns
+    3 R receiver values: the vertical ones, then x, then y);
+    receiver_memory the receivers' responses' length (s; None: memory)."""
 
     def __init__(self, layers, footprints, receivers, H, memory, f_max=150.0,
-                 disc=greens.Discretisation(), cache_dir=None, workers=0, block=None):
+                 disc=greens.Discretisation(), cache_dir=None, workers=0, block=None,
+                 horizontal=False, receiver_memory=None):
         sizes = {(round(f[2], 9), round(f[3], 9)) for f in footprints}
         if len(sizes) != 1:
             raise ValueError("the footprints differ in size (%s); this soil needs equal ones"
@@ -85,12 +90,14 @@ class TrackSoil:
         rx += [(rx_ - x[j], ry + y[j]) for rx_, ry in receivers for j in range(n)]
         points, qidx = _unique(rx) if rx else ([], np.zeros(0, np.int64))
         self.M = max(1, int(math.ceil(memory / H - 1e-9)))
-        rec = R.Record(dt=H, duration=max(self.M * H, MIN_RECORD), f_max=f_max)
+        r_memory = memory if receiver_memory is None else receiver_memory
+        self.M_receivers = max(1, int(math.ceil(r_memory / H - 1e-9)))
+        longest = max(self.M, self.M_receivers)
+        rec = R.Record(dt=H, duration=max(longest * H, MIN_RECORD), f_max=f_max)
         spec_p, spec_q, self.cache_hit = R.cached_spectra(layers, self.fp, pairs, points, rec,
                                                           disc, cache_dir, workers)
         static, _ = R.spectra(layers, self.fp, pairs, [], [0.0], disc)
         _, w = rec.frequencies()
-        hat = R.hat_spectrum(rec)
         # The footprint's own response has a dashpot's tail at high
         # frequency, 1/(i w C): taken out as a spring and dashpot, whose ramp
         # response is exact, before the spectrum is cut at f_max.
@@ -100,26 +107,20 @@ class TrackSoil:
         spring = 1.0 / static[self.own, 0].real
         spec_p = spec_p.copy()
         spec_p[self.own] -= 1.0 / (spring[:, None] + 1j * w[None, :] * self.dashpot)
-        u = R.to_time(spec_p, rec, hat)[1][:, 1:self.M + 1]  # hat centred at H: g_j = u_(j+1)
-        v = R.to_time(spec_p * (1j * w)[None, :], rec, hat)[1][:, 1:self.M + 1]
-        vr = R.to_time(spec_q * (1j * w)[None, :], rec, hat)[1][:, 1:self.M + 1]
-        s_u, s_v, s_r = (np.cumsum(a, axis=1) for a in (u, v, vr))
+        s_u, s_v = (R.ramp_responses(s, rec, self.M) for s in (spec_p, spec_p * (1j * w)[None, :]))
         t = H * np.arange(1, self.M + 1)
         for i, k in zip(self.own, spring):
             du, dv = kelvin_ramp(k, self.dashpot, H, t)
             s_u[i] += du
             s_v[i] += dv
         half = n * n
-        def gather(s, idx, rows):
-            if rows == 0:
-                return np.zeros((s.shape[1], 0, n))
-            return (s[idx[:len(idx) // 2]] + s[idx[len(idx) // 2:]]).T.reshape(-1, rows, n)
-
         # Stored oldest first (index M - 1 - m), so that a window of the
         # force history in time order multiplies them directly.
-        self.S = np.ascontiguousarray(gather(s_u, pidx, n)[::-1])
-        self.V = np.ascontiguousarray(gather(s_v, pidx, n)[::-1])
-        self.R = np.ascontiguousarray(gather(s_r, qidx, len(receivers))[::-1])
+        self.S = np.ascontiguousarray(_gather(s_u, pidx, n, n)[::-1])
+        self.V = np.ascontiguousarray(_gather(s_v, pidx, n, n)[::-1])
+        self.horizontal = bool(horizontal and receivers)
+        self.R = self._receiver_kernels(layers, rec, (disc, cache_dir, workers), rx, points,
+                                        (qidx, spec_q, len(receivers), n))
         # The elastic static flexibility, and how far the responses are from
         # it at the memory's end (the hysteretic loss creeps, see spectral.py).
         self.elastic_static = (static[pidx[:half], 0] + static[pidx[half:], 0]).real.reshape(n, n)
@@ -127,23 +128,38 @@ class TrackSoil:
         self.settled = float(np.max(np.abs(self.S_static - self.elastic_static))
                              / np.abs(self.elastic_static).max())
         self.n, self.n_receivers = n, len(receivers)
-        self.block = _block_length(self.M) if block is None else block
-        if self.block > 1:
-            self.spectra_ = [_tail_spectra(K, self.block) for K in (self.S, self.V, self.R)]
+        self.coupling = Convolution([self.S, self.V], block)
+        self.receivers = Convolution([self.R], block) if self.R.shape[1] else None
         self.reset(np.zeros(n))
+
+    def _receiver_kernels(self, layers, rec, how, offsets, points, gather):
+        """The receivers' velocity kernels (M, rows, n), oldest first: the
+        vertical rows, then the x and the y rows when horizontal (the
+        radial displacement's x and y parts, radial.point_means; odd in dx
+        and dy respectively, so computed at |dx|, |dy| and signed)."""
+        disc, cache_dir, workers = how
+        qidx, spec_q, n_rec, n = gather
+        iw = 1j * rec.frequencies()[1]
+        M = self.M_receivers
+        blocks = [(R.ramp_responses(spec_q * iw[None, :], rec, M), None)] if n_rec else []
+        if self.horizontal:
+            spec_h, _ = R.cached_horizontal(layers, self.fp, points, rec, disc, cache_dir, workers)
+            signed = np.array(offsets, dtype=float)
+            for c in (0, 1):
+                blocks.append((R.ramp_responses(spec_h[c] * iw[None, :], rec, M),
+                               np.sign(signed[:, c])))
+        if not blocks:
+            return np.zeros((M, 0, n))
+        out = [_gather(s, qidx, n_rec, n, sign) for s, sign in blocks]
+        return np.ascontiguousarray(np.concatenate(out, axis=1)[::-1])
 
     def reset(self, forces):
         """The state at rest under `forces` (the static state)."""
-        self.buf = np.zeros((2 * self.M, self.n))  # increments, each written twice
-        self.pos = 0  # the next increment goes to buf[pos] and buf[pos + M]
-        self.f_old = np.array(forces, dtype=float)  # F_(n-M)
-        self.f_last = np.array(forces, dtype=float)  # F_n
-        self.steps = 0
-        self.tails = None
-        return self.S_static @ self.f_old
-
-    def _window(self):
-        return self.buf[self.pos:self.pos + self.M]  # the last M increments, oldest first
+        forces = np.array(forces, dtype=float)
+        self.coupling.reset(forces)
+        if self.receivers is not None:
+            self.receivers.reset(forces)
+        return self.S_static @ self.coupling.f_old
 
     def step(self, f_start, f_end):
         """Advance one step with the force linear from f_start to f_end;
@@ -152,72 +168,25 @@ class TrackSoil:
         instant is f_start)."""
         f_start = np.asarray(f_start, dtype=float)
         f_end = np.asarray(f_end, dtype=float)
-        if self.steps > 0:
-            last = (self.pos - 1) % self.M
-            jump = f_start - self.f_last
-            self.buf[last] += jump
-            self.buf[last + self.M] += jump
-        else:
-            self.f_old = f_start.copy()
-        oldest = self.buf[self.pos].copy()
-        inc = f_end - f_start
-        self.buf[self.pos] = inc
-        self.buf[self.pos + self.M] = inc
-        self.pos = (self.pos + 1) % self.M
-        if self.steps >= self.M:
-            self.f_old += oldest
-        self.f_last = f_end.copy()
-        self.steps += 1
-        win = self._window()
-        if self.block <= 1:
-            u, v, r = (np.einsum("mij,mj->i", K, win) for K in (self.S, self.V, self.R))
-            return u + self.S_static @ self.f_old, v, r
-        L, j = self.block, (self.steps - 1) % self.block
-        if j == 0:  # lags >= L of the block's L outputs, from increments now final
-            self.tails = [_tails(sp, win[:-1], self.M, L) for sp in self.spectra_]
-        near = win[self.M - L:]
-        u, v, r = (np.einsum("mij,mj->i", K[self.M - L:], near) + t[j]
-                   for K, t in zip((self.S, self.V, self.R), self.tails))
-        return u + self.S_static @ self.f_old, v, r
+        u, v = self.coupling.push(f_start, f_end)
+        r = (self.receivers.push(f_start, f_end)[0] if self.receivers is not None
+             else np.zeros(0))
+        return u + self.S_static @ self.coupling.f_old, v, r
 
     def save(self):
-        tails = None if self.tails is None else [t.copy() for t in self.tails]
-        return (self.buf.copy(), self.pos, self.f_old.copy(), self.f_last.copy(), self.steps,
-                tails)
+        return (self.coupling.save(),
+                None if self.receivers is None else self.receivers.save())
 
     def restore(self, state):
-        buf, self.pos, f_old, f_last, self.steps, tails = state
-        self.buf, self.f_old, self.f_last = buf.copy(), f_old.copy(), f_last.copy()
-        self.tails = None if tails is None else [t.copy() for t in tails]
+        self.coupling.restore(state[0])
+        if self.receivers is not None:
+            self.receivers.restore(state[1])
 
 
-# Partitioned convolution: the lags below L are summed directly at every
-# step (the newest increment may still move, see step()); the lags L to
-# M - 1 of L outputs at once, at the first step of each block of L, by FFT
-# from the increments before it, which no later step changes. Cost per step
-# about L N^2 + (M / L) N^2 complex multiply-adds plus N FFTs of length
-# about 2 M per block, against M N^2 for the direct sum; the kernels'
-# spectra hold M to 2 M times N^2 complex numbers each.
-
-
-def _block_length(M):
-    """L about 2 sqrt(M) (the two parts' costs balanced); 1 (direct) for a
-    short memory."""
-    return 1 if M < 64 else int(2.0 * math.sqrt(M))
-
-
-def _tail_spectra(K, L):
-    """The spectra of the kernel's lags L..M-1 (K oldest first, (M, rows, n))."""
-    M = K.shape[0]
-    nfft = 1 << int(math.ceil(math.log2(2 * M)))
-    lagged = np.zeros((nfft,) + K.shape[1:])
-    lagged[L:M] = K[::-1][L:M]
-    return np.fft.rfft(lagged, axis=0), nfft
-
-
-def _tails(spec, history, M, L):
-    """(L, rows): sum over lags p in [L, M) of K_p x_(n+j-p), j < L, from the
-    M - 1 increments before step n (history, oldest first)."""
-    kf, nfft = spec
-    hf = np.fft.rfft(history, nfft, axis=0)
-    return np.fft.irfft(np.einsum("fij,fj->fi", kf, hf), nfft, axis=0)[M - 1:M - 1 + L]
+def _gather(s, idx, rows, n, sign=None):
+    """(M, rows, n) from responses s (offsets, M) by the index of each
+    (row, footprint) offset, the first half to the footprints, the second
+    to their mirrors, each times its sign when given."""
+    v = s[idx] if sign is None else s[idx] * sign[:, None]
+    h = len(idx) // 2
+    return (v[:h] + v[h:]).T.reshape(-1, rows, n)

@@ -126,8 +126,16 @@ class Participant(unittest.TestCase):
             ppv = [float(row[3]) for row in rows[1:]]
             self.assertEqual(ppv, [float("%.9g" % v) for v in res.fields[2].values])
             self.assertGreater(ppv[0], ppv[1])
+            # The horizontal levels follow the vertical ones, band by band.
+            bands = [c[len("Lv_z_"):] for c in rows[0] if c.startswith("Lv_z_")]
+            self.assertEqual(rows[0][-3 * len(bands):],
+                             ["Lv_%s_%s" % (c, b) for c in "zxy" for b in bands])
             with open(os.path.join(tmp, "receivers.csv")) as f:
-                self.assertEqual(len(f.read().split("\n")), 1 + 12 + 1)
+                lines = f.read().split("\n")
+            self.assertEqual(len(lines), 1 + 12 + 1)
+            self.assertEqual(lines[0].split(",")[1:4], ["r2m_vx_mps", "r2m_vy_mps", "r2m_vz_mps"])
+            late = np.array([float(x) for x in lines[12].split(",")[1:]]).reshape(2, 3)
+            self.assertTrue((late != 0.0).all(), late)  # x, y and z at both receivers
 
     def test_footprint_flexibility_at_low_frequency(self):
         # A 1 m square on an elastic half-space (nu = 1/4), its mirror 100 m
