@@ -45,8 +45,21 @@ REFERENCE = "implicit"  # the two-way run the tables and the decay take as refer
 ONE_WAY_CHECK_DOFS = 300_000  # above this the check's extra one-way run is left out
 
 
+WINDOW_SUFFIX = "_macro_step"  # [coupling] CUT_macro_step: that cut's window (multirate)
+
+
 class StudyError(Exception):
     pass
+
+
+def cut_windows(table):
+    """{cut: window in s} of the [coupling] table's CUT_macro_step keys."""
+    return {k[: -len(WINDOW_SUFFIX)]: v for k, v in table.items() if k.endswith(WINDOW_SUFFIX)}
+
+
+def window_options(windows):
+    """master run's options that give each cut its window."""
+    return [x for cut, w in sorted(windows.items()) for x in ("--macro-step", "%s=%r" % (cut, w))]
 
 
 def load():
@@ -195,9 +208,12 @@ def checks(runs, ts):
         out.append((what, "<= 1e-7 of the peak", "not run: the scene does not write "
                     "soil_forces.csv ([output] ballast_forces = true)", None))
     else:
+        # At the soil's window (multirate): the force at each window's start.
+        w = runs["jacobi"]["windows"].get("ss")
+        m = round(w / ts["H"]) if w else 1
         _, f = two_step.read_csv(os.path.join(folder, "soil_forces.csv"))
         _, rec = two_step.read_csv(os.path.join(folder, "receivers.csv"))
-        _, v = two_step.one_way(ts["soil"], f[:, 1:], f[:, 0], ts["H"], hold=True)
+        _, v = two_step.one_way(ts["soil"], f[::m, 1:], f[::m, 0], m * ts["H"], hold=True)
         ref = rec[:, 1:].reshape(v.shape)
         err = float(np.abs(v - ref).max() / np.abs(ref).max())
         out.append((what, "<= 1e-7 of the peak", "%.1e" % err, err <= 1e-7))
@@ -250,10 +266,13 @@ def main(argv=None):
         sys.exit("%s: [soil] model must be \"fe\" (got %r); a scene on the lumped soil is "
                  "studied by `master study --scene %s`"
                  % (a.scene, scene.get("soil", {}).get("model"), a.scene))
-    if "coupling" in scene:
+    windows = cut_windows(scene.get("coupling", {}))
+    others = sorted(set(scene.get("coupling", {})) - {cut + WINDOW_SUFFIX for cut in windows})
+    if others:
         sys.exit("%s: the scene has a [coupling] table, which sets how master run couples one "
                  "case; this study runs its own couplings and its runs would take the table's "
-                 "values: study a copy of the scene without it" % a.scene)
+                 "values (%s): study a copy of the scene without it (the only keys it takes "
+                 "are the cuts' windows, CUT%s)" % (a.scene, ", ".join(others), WINDOW_SUFFIX))
     if not os.access(a.master, os.X_OK):
         sys.exit("--master %s: not an executable (build it with scripts/build.sh: "
                  "build/bin/master)" % a.master)
@@ -272,6 +291,7 @@ def main(argv=None):
     progress = fe_progress.Progress("ground-vibration study", len(COSIMS) + 1)
     try:
         for key, label, case, extra in COSIMS:
+            extra = extra + window_options(windows)
             progress.say("study: %s (%s %s)" % (label, case, " ".join(extra)))
             progress.begin(label)
             folder, wall, l0, summary = run_master(a.master, a.scene,
@@ -279,6 +299,7 @@ def main(argv=None):
                                                    progress)
             progress.run_done()
             runs[key] = {"label": label, "case": case, "extra": extra, "folder": folder,
+                         "windows": windows,
                          "wall": wall, "load": l0, "summary": summary,
                          "vibration": read_vibration(os.path.join(folder, "vibration.csv"))}
         names = [r["receiver"] for r in runs["jacobi"]["vibration"]]
@@ -304,7 +325,8 @@ def main(argv=None):
             "distances": cfg["receivers"], "ranks": cfg["ranks"], "names": names, "H": ts["H"],
             "t_end": float(ts["forces"][-1, 0]), "dofs": ts["dofs"], "kf": ts["kf"],
             "kc": ts["kc"],
-            "checks": found, "total": time.perf_counter() - started, "load": load()}
+            "checks": found, "total": time.perf_counter() - started, "load": load(),
+            "windows": windows}
     info["resolution"] = resolution(ts["soil"], cfg)
     info["load_content"] = spectrum.load_verdicts(
         ts["forces"][:, 1:], ts["H"], cfg["receivers"],

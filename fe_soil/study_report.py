@@ -38,13 +38,15 @@ def answer(runs, info):
     d = info["distances"]
     L = ["## Answer", "",
          "Free field at the receivers (on the surface, beside the middle of the track, at the "
-         "given distance from its axis) over %.4g s, sampled every macro step (%.3g s). PPV: "
+         "given distance from its axis) over %.4g s, sampled every macro step of the soil "
+         "(%.3g s). PPV: "
          "the largest component's peak; KB_Fmax: DIN 4150-2's weighted running RMS (largest "
          "component, and vertical); levels: vertical velocity, dB re 1e-9 m/s. Two-way: the "
          "co-simulation with the FE soil at the ss cut (explicit Jacobi, explicit "
          "Gauss-Seidel, implicit); two-step: the forces into the ballast on a lumped soil "
          "fitted to the block's static stiffness (k_f = %.4g N/m, k_c = %.4g N/m), applied "
-         "one way to the same block." % (info["t_end"], info["H"], info["kf"], info["kc"]), "",
+         "one way to the same block." % (info["t_end"], (info.get("windows") or {}).get(
+             "ss", info["H"]), info["kf"], info["kc"]), "",
          "Resolution, per receiver: the largest element on the surface path from the track, "
          "the frequency up to which it has 10 elements per Rayleigh wavelength of the softest "
          "layer (c_R = %.4g m/s: the rule for band levels within about 1 dB, "
@@ -163,13 +165,25 @@ def validation(info):
     return L
 
 
+def windows_line(info):
+    """Which windows the co-simulations ran (the scene's [coupling] CUT_macro_step)."""
+    w = info.get("windows") or {}
+    if not w:
+        return ("Windows: every cut at the macro step H = %.3g s (single rate); the receivers "
+                "are sampled every H." % info["H"])
+    cuts = ", ".join("%s at %.3g s (%d H)" % (c, x, round(x / info["H"])) for c, x in sorted(w.items()))
+    return ("Windows: H = %.3g s; in the co-simulations %s (the scene's [coupling]: multirate, "
+            "docs/coupling.md), the other cuts at H. The FE soil steps at the ss window and its "
+            "receivers are sampled at it; the two-step method runs at H." % (info["H"], cuts))
+
+
 def write(out, runs, info):
     from . import study_figures
 
     figs = study_figures.draw(out, runs, info, [m for m in ORDER])
     L = ["# Ground-vibration study: %s" % info["name"], "",
          "Scene `%s`. Written by `python3 -m fe_soil.study`." % os.path.basename(info["scene"]),
-         ""]
+         "", windows_line(info), ""]
     L += answer(runs, info) + [""] + decay(runs, info) + ["", "## Figures", ""]
     L += ["- `figures/%s`: %s" % (name, what) for name, what in figs]
     L += [""] + validation(info)

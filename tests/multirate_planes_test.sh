@@ -4,7 +4,8 @@
 # soil steps a tenth of the windows (its micro steps, adaptive, fall at
 # least four times), the rail deflection and the wheel stay within 1 % of the
 # single-rate run at the fine window, and the run is bitwise the same in
-# process, relayed and on the direct plane (in lock step). Implicit: the same
+# process, relayed and on the direct plane (in lock step); summary.json
+# states every cut's window. Implicit: the same
 # bitwise in process and relayed, on a shortened scene.
 # Usage: multirate_planes_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
@@ -38,6 +39,10 @@ def summary(run):
     with open(f"{work}/{run}/{case}/summary.json") as f:
         return json.load(f)
 one, multi = summary("single"), summary("inproc")
+# Every cut's window, as the command line gave it (H where none was given).
+assert one["windows"] == {"wr": 1e-4, "ss": 1e-4}, one.get("windows")
+for run in ("inproc", "relay", "direct"):
+    assert summary(run)["windows"] == {"wr": 1e-4, "ss": 1e-3}, (run, summary(run).get("windows"))
 soil_one, soil_multi = one["micro_steps"]["s3"], multi["micro_steps"]["s3"]
 assert soil_multi * 4 <= soil_one, f"soil micro steps {soil_multi} against {soil_one}"
 for name, key in (("deflection.csv", "w_m"), ("history.csv", "wheel_m")):

@@ -47,6 +47,14 @@ std::string json_opt(const std::optional<std::string>& s) {
 std::string json_opt(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? num(*v) : "null";
 }
+// {"key": value, ...} in key order (counts print as integers: below 2^53).
+template <class T>
+std::string json_object(const std::map<std::string, T>& m) {
+  std::string s;
+  for (const auto& [k, v] : m)
+    s += (s.empty() ? "" : ", ") + json_string(k) + ": " + num(static_cast<double>(v));
+  return "{" + s + "}";
+}
 
 // Why the last C library call failed, e.g. "No space left on device".
 std::string reason() {
@@ -105,13 +113,8 @@ std::string summary_json(const RunRecord& r) {
   s << "  \"macro_steps\": " << r.macro_steps << ",\n";
   s << "  \"history_rows\": " << r.history_rows.value_or(static_cast<long>(r.history.size()))
     << ",\n";
-  s << "  \"micro_steps\": {";
-  bool first = true;
-  for (const auto& [k, v] : r.micro_steps) {
-    s << (first ? "" : ", ") << json_string(k) << ": " << v;
-    first = false;
-  }
-  s << "},\n";
+  s << "  \"micro_steps\": " << json_object(r.micro_steps) << ",\n";
+  s << "  \"windows\": " << json_object(r.windows) << ",\n";
   s << "  \"status\": " << json_string(r.status) << ",\n";
   s << "  \"message\": " << json_string(r.message) << ",\n";
   s << "  \"max_abs_error_m\": " << json_opt(r.max_abs_error_m) << ",\n";
@@ -297,12 +300,9 @@ RunWriter::RunWriter(const std::filesystem::path& out_dir, const std::string& fo
     : dir_(make_run_dir(out_dir, folder)) {
   // A summary from an earlier run in this folder must not pass for this one.
   std::error_code ec;
-  std::filesystem::remove(dir_ / "summary.json", ec);
-  std::filesystem::remove(dir_ / "deflection.csv", ec);
-  std::filesystem::remove(dir_ / "soil.csv", ec);
-  std::filesystem::remove(dir_ / "convergence.csv", ec);
-  std::filesystem::remove(dir_ / "soil_forces.csv", ec);
-  std::filesystem::remove(dir_ / "spectra.csv", ec);
+  for (const char* f : {"summary.json", "deflection.csv", "soil.csv", "convergence.csv",
+                        "soil_forces.csv", "spectra.csv"})
+    std::filesystem::remove(dir_ / f, ec);
   // Room for the summary, taken before the history can fill the disk: the
   // summary overwrites this placeholder, so a run that fails on a full disk
   // still says why.

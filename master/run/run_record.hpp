@@ -25,6 +25,9 @@ struct RunRecord {
   std::optional<long> history_rows;
   std::map<std::string, long>
       micro_steps;  // per subsystem ("monolithic", or "s1", "s2", ... in load order)
+  // Every cut of a co-simulation case and its window (s): H, or a multiple
+  // of it (multirate); none for the monolithic run.
+  std::map<std::string, double> windows;
   // ok; inaccurate (stable, error over the scene's bounds); amplified (the
   // coupling makes a perturbation grow: stability.hpp); diverged;
   // not_converged; not_judged (no reference to measure its error against:

@@ -91,6 +91,11 @@ RunRecord failed_record(const Scene& scene, const CaseSpec& spec, const RunOptio
     r.inputs = to_string(o.coupling.inputs);
     if (o.coupling.method == CouplingMethod::kImplicit)
       r.accelerator = to_string(o.coupling.accelerator.kind);
+    for (const CutChoice& c : spec.cuts) {  // each cut's window: H unless given its own
+      const std::string cut = cut_kinds()[static_cast<std::size_t>(c.cut)].name;
+      const auto w = o.cut_windows.find(cut);
+      r.windows[cut] = o.macro_step * static_cast<double>(w == o.cut_windows.end() ? 1 : w->second);
+    }
   }
   r.macro_step = o.macro_step;
   r.t_end = scene.end_time;

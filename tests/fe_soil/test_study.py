@@ -28,6 +28,22 @@ SECTIONS = ["## Answer", "### Free field per distance", "### One-third-octave le
             "### Checks run by this study", "### The FE soil's tests"]
 
 
+# The soil's cut at its own window, 5 H (multirate): the study runs its
+# co-simulations at it.
+WINDOW = 5e-4
+WINDOW_TABLE = "\n[coupling]\nss_macro_step = 5e-4\n"
+
+
+def scene_copy(work, name, extra):
+    """The CI scene with `extra` appended, in work/name."""
+    with open(CI_SCENE) as f:
+        text = f.read()
+    path = os.path.join(work, name)
+    with open(path, "w") as f:
+        f.write(text + extra)
+    return path
+
+
 def section(report, heading):
     """The table rows (cells) under the first line starting with heading, up
     to the next heading; header and separator rows left out."""
@@ -54,8 +70,9 @@ class Study(unittest.TestCase):
     def setUpClass(cls):
         cls.work = tempfile.mkdtemp()
         cls.out = os.path.join(cls.work, "study")
+        cls.scene = scene_copy(cls.work, "windowed.toml", WINDOW_TABLE)
         env = dict(os.environ, OMP_NUM_THREADS="1")
-        p = subprocess.run(["/usr/bin/python3", "-m", "fe_soil.study", "--scene", CI_SCENE,
+        p = subprocess.run(["/usr/bin/python3", "-m", "fe_soil.study", "--scene", cls.scene,
                             "--out", cls.out, "--master", os.path.join(BIN, "master")],
                            cwd=SRC, capture_output=True, text=True, timeout=200, env=env)
         assert p.returncode == 0, p.stdout + p.stderr[-3000:]
@@ -156,6 +173,33 @@ class Study(unittest.TestCase):
             xdmf = f.read()
         self.assertEqual(xdmf.count('<Time Value="'), 6)  # --snapshots default
         self.assertGreater(os.path.getsize(os.path.join(two, "velocity.h5")), 0)
+
+    def test_the_cosimulations_ran_the_soil_at_its_window(self):
+        self.assertIn("\nWindows: H = 0.0001 s; in the co-simulations ss at 0.0005 s (5 H)",
+                      self.report)
+        cost = {r[0]: r for r in section(self.report, "### Cost")}
+        for label, folder in FOLDERS.items():
+            if label == "two-step":
+                continue
+            self.assertIn("--macro-step ss=0.0005`", cost[label][1])
+            with open(os.path.join(self.out, "runs", folder, "receivers.csv"), newline="") as f:
+                t = [float(r["t_s"]) for r in csv.DictReader(f)]
+            # the FE soil's own record: a row per window of the soil
+            self.assertEqual(len(t), round(0.02 / WINDOW), (label, t[:3]))
+            for a, b in zip(t, t[1:]):
+                self.assertAlmostEqual(b - a, WINDOW, delta=1e-12, msg=label)
+
+    def test_refuses_a_coupling_table_with_other_keys(self):
+        scene = scene_copy(self.work, "implicit.toml",
+                           "\n[coupling]\nss_macro_step = 5e-4\nimplicit = true\n")
+        p = subprocess.run(["/usr/bin/python3", "-m", "fe_soil.study", "--scene", scene, "--out",
+                            os.path.join(self.work, "y"), "--master", os.path.join(BIN, "master")],
+                           cwd=SRC, capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn(scene + ": the scene has a [coupling] table, which sets how master run "
+                      "couples one case", p.stderr)
+        self.assertIn("(implicit)", p.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.work, "y", "runs")))
 
     def test_refuses_a_lumped_scene(self):
         p = subprocess.run(["/usr/bin/python3", "-m", "fe_soil.study", "--scene",
