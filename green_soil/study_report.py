@@ -1,6 +1,7 @@
 """REPORT.md of green_soil.study, from the runs' files: the levels at every
 receiver (the reference run's vibration.csv), which soil the scene needs
 (green_soil/soil_choice.py), the check of the one-way machinery, the files."""
+import math
 import os
 
 from . import soil_choice
@@ -28,6 +29,13 @@ def levels(soils, summary):
     for x in d:
         r = ref["vibration"][x]
         L.append("| %g m | %.4e | %.4g |" % (x, r["ppv_z_mps"], r["kb_fmax_z"]))
+    empty = [f for c, f in soil_choice.band_columns(ref["vibration"][d[0]])
+             if any(not math.isfinite(ref["vibration"][x][c]) for x in d)]
+    if empty:
+        L += ["", "Bands with no spectral line in this record, written as -inf in "
+              "`vibration.csv` and left out of the comparison below: %s Hz. A band's "
+              "lines are 1/T apart in a record of T s; a longer `[simulation] end_time` "
+              "fills them." % ", ".join("%.3g" % f for f in empty)]
     return L
 
 
