@@ -274,15 +274,25 @@ class Plane:
         if len(d.data.interfaces) != len(l.interfaces):
             raise self.refused(l, "%d interfaces on a link of %d" % (
                 len(d.data.interfaces), len(l.interfaces)))
-        arrays = [packed.decode(i) for i in d.data.interfaces]
+        # Each interface's data as the one array of its usual layout, else
+        # {quantity: array}, which hold() checks against the interface.
+        takes = self.s.takes
+        arrays = []
+        for k, idata in zip(l.interfaces, d.data.interfaces):
+            values = takes[k].view(idata.SerializeToString())
+            arrays.append(packed.decode(idata) if values is None else values)
         if d.last:  # a diverging peer's last data: hold() checks it before any use
             return Unchecked(arrays)
         total = 0.0  # not finite when a value is not (or on overflow): look closer
         for got in arrays:
-            for a in got.values():
-                total += float(_sum(a))
+            if isinstance(got, dict):
+                for a in got.values():
+                    total += float(_sum(a))
+            else:
+                total += float(_sum(got, None))
         if total - total != 0.0 and not all(
-                np.isfinite(a).all() for got in arrays for a in got.values()):
+                np.isfinite(a).all() for got in arrays
+                for a in (got.values() if isinstance(got, dict) else (got,))):
             raise self.refused(l, "a non-finite value for point %d" % p)
         return arrays
 
@@ -298,19 +308,26 @@ class Plane:
             for k, i in enumerate(l.interfaces):
                 data[i], arrays[i] = src[k], got[k]
                 finite[i] = not isinstance(got, Unchecked)
-        t0 = s.step * s.H
+        t0, H = s.step * s.H, s.H
         held = []
-        for got, i, ok in zip(arrays, s.interfaces, finite):
+        for got, i, ok, layout in zip(arrays, s.interfaces, finite, s.takes):
+            w = api.Inputs()
+            if not isinstance(got, dict):  # the usual layout: counted; finite when ok
+                if ok:
+                    for j, q in enumerate(layout.names):
+                        setattr(w, q, api.Waveform(got[j], None, t0, H))
+                    held.append(w)
+                    continue
+                got = dict(zip(layout.names, got))
             extra = [q for q in got if q not in i.receives]
             if extra:
                 raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
                                     "does not receive it" % (i.cut, extra[0]))
-            w = api.Inputs()
             for q in i.receives:
                 a = got.get(q)
                 if not ok or a is None or a.shape[0] != i.n:
                     a = s._check(a, i, q)  # the count (and finiteness) refused, naming it
-                setattr(w, q, api.Waveform(a, None, t0, s.H))
+                setattr(w, q, api.Waveform(a, None, t0, H))
             held.append(w)
         s.held, s.held_wire = held, (data, None)
 

@@ -27,6 +27,11 @@ def _varint(n):
     return bytes(out)
 
 
+def field(number, payload):
+    """A length-delimited field: its tag, the payload's length, the payload."""
+    return bytes((number << 3 | 2,)) + _varint(len(payload)) + payload
+
+
 def decode(idata):
     """{name: read-only float64 array} of the non-empty fields of an InterfaceData."""
     raw = idata.SerializeToString()
@@ -68,3 +73,43 @@ def peer_data(point, encoded, last=False, refresh=False):
     body = (b"\x08" + _varint(point) + b"\x12" + _varint(len(data)) + data
             + (b"\x18\x01" if last else b"") + (b"\x20\x01" if refresh else b""))
     return b"\x9a\x02" + _varint(len(body)) + body  # Envelope field 35, length-delimited
+
+
+class Layout:
+    """The one serialisation an InterfaceData has when it holds n values of
+    each of `names` (and nothing else): the packed fields in field order,
+    each a tag byte, the same varint length and 8 n bytes. Built once per
+    session for each interface and direction, it reads such data as one
+    (quantities x n) array without parsing, and writes it without a varint:
+    a field order, count or quantity that differs is not that layout
+    (view() returns None, and decode() takes over)."""
+
+    __slots__ = ("names", "n", "size", "first", "stride", "headers")
+
+    def __init__(self, names, n):
+        self.names = tuple(sorted(names, key=TAGS.get))  # field order, as serialised
+        self.n = n
+        nbytes = 8 * n
+        self.headers = [bytes((TAGS[q],)) + _varint(nbytes) for q in self.names]
+        h = len(self.headers[0]) if self.headers else 0
+        self.first, self.stride = h, h + nbytes
+        self.size = self.stride * len(self.names)
+
+    def view(self, raw):
+        """The values of `raw` (an InterfaceData's serialisation) as a
+        read-only (len(names), n) array, a view of raw's bytes; None when
+        raw is not of this layout."""
+        if len(raw) != self.size or not self.size:
+            return None
+        h, at = self.first, 0
+        for head in self.headers:
+            if raw[at:at + h] != head:
+                return None
+            at += self.stride
+        return np.ndarray((len(self.names), self.n), F8, raw, h, (self.stride, 8))
+
+    def encode(self, values):
+        """The serialisation of values[q] for q in names (n values each,
+        which the caller has checked)."""
+        return b"".join([head + np.ascontiguousarray(values[q], dtype=F8).tobytes()
+                         for head, q in zip(self.headers, self.names)])

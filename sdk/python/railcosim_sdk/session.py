@@ -9,6 +9,7 @@ import tomllib
 import numpy as np
 
 from . import packed
+from . import state
 from . import participant as api
 from . import waveforms
 from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's name)
@@ -18,7 +19,7 @@ from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
-class Session(waveforms.Handlers):
+class Session(waveforms.Handlers, state.Handlers):
     """The participant's side of one session. `handle(envelope)` returns the
     reply (or raises ProtocolError); `closing` is set after Shutdown."""
 
@@ -37,6 +38,7 @@ class Session(waveforms.Handlers):
         self.interfaces = []
         self.held = None       # list of api.Inputs for the coming step
         self.held_wire = None  # (start, end) lists of InterfaceData, for Save
+        self.takes = self.gives = []  # packed.Layout per interface, inputs and outputs
         self.last = None       # the outputs last returned, a list of dicts
         self.links_hook = links_hook  # (session, envelope) -> reply; the direct plane
 
@@ -47,22 +49,34 @@ class Session(waveforms.Handlers):
         if len(start) != len(self.interfaces) or (end is not None and len(end) != len(start)):
             raise ProtocolError(E.BAD_REQUEST, "inputs for %d interfaces; this participant "
                                 "has %d" % (len(start), len(self.interfaces)))
-        t0 = max(self.step, 0) * self.H
+        t0, H = max(self.step, 0) * self.H, self.H
         out = []
         for k, i in enumerate(self.interfaces):
-            got = packed.decode(start[k])
-            ends = None if end is None else packed.decode(end[k])
-            extra = [q for q in got if q not in i.receives] + (
-                [] if ends is None else [q for q in ends if q not in i.receives])
-            if extra:
-                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
-                                    "does not receive it" % (i.cut, extra[0]))
+            names = self.takes[k].names
+            got = self.arrays(k, start[k])
+            ends = None if end is None else self.arrays(k, end[k])
             w = api.Inputs()
-            for q in i.receives:
-                e = None if ends is None else self._check(ends.get(q), i, q)
-                setattr(w, q, api.Waveform(self._check(got.get(q), i, q), e, t0, self.H))
+            for j, q in enumerate(names):
+                setattr(w, q, api.Waveform(got[j], None if ends is None else ends[j], t0, H))
             out.append(w)
         return out
+
+    def arrays(self, k, idata):
+        """The values of interface k's InterfaceData, checked: one array per
+        quantity it receives, in the order of self.takes[k].names."""
+        layout = self.takes[k]
+        values = layout.view(idata.SerializeToString())
+        if values is not None:  # the quantities received, n values each: are they finite?
+            total = float(_sum(values, None))
+            if total - total == 0.0:
+                return values
+        i = self.interfaces[k]  # the data differ from the usual layout: look closer
+        got = packed.decode(idata)
+        extra = [q for q in got if q not in i.receives]
+        if extra:
+            raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                "does not receive it" % (i.cut, extra[0]))
+        return [self._check(got.get(q), i, q) for q in layout.names]
 
     @staticmethod
     def _check(a, i, q):
@@ -78,7 +92,7 @@ class Session(waveforms.Handlers):
 
     def set_inputs(self, start, end=None):
         self.held = self.inputs(start, end)
-        self.held_wire = (list(start), None if end is None else list(end))
+        self.held_wire = (start, end)  # the messages' lists: they are not changed after
 
     def coupling(self, outputs, data):
         """Writes the participant's outputs into a CouplingData."""
@@ -92,10 +106,26 @@ class Session(waveforms.Handlers):
                 if len(o[q]) != i.n:
                     raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
                                         "values, expected %d" % (i.cut, len(o[q]), q, i.n))
-        self.encoded = [packed.encode(o, i.sends) for i, o in zip(self.interfaces, outputs)]
-        for b in self.encoded:
-            data.interfaces.add().MergeFromString(b)
+        self.encoded = [g.encode(o) for g, o in zip(self.gives, outputs)]
+        data.MergeFromString(b"".join([packed.field(1, b) for b in self.encoded]))
         return data
+
+    def finite(self, outputs, peak, hist):
+        """True when the peak, the history values and every value sent are
+        finite (one sum over each interface's encoded outputs, a closer look
+        only when a sum is not finite)."""
+        total = peak + sum(hist)
+        for g, b in zip(self.gives, self.encoded):
+            values = g.view(b)
+            if values is not None:
+                total += float(_sum(values, None))
+            elif g.names:  # arrays of another shape than n values: look at each
+                total = math.nan
+        if total - total == 0.0:
+            return True
+        return math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
+            bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
+            for q in i.sends)
 
     def report(self, outputs, step, r=None):
         """Fills a StepReport (a new one, or r) from the participant's outputs."""
@@ -120,16 +150,7 @@ class Session(waveforms.Handlers):
                     if not m <= peak:  # NaN too
                         peak = m
         r.max_abs_displacement = peak
-        total = peak + sum(hist)
-        for i, o in zip(self.interfaces, outputs):
-            for q in i.sends:
-                total += float(_sum(o[q]))
-        finite = True
-        if total - total != 0.0:  # a value is not finite, or the sum overflowed: look closer
-            finite = math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
-                bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
-                for q in i.sends)
-        r.finite = finite
+        r.finite = self.finite(outputs, peak, hist)
         return r
 
     def advance(self, n, r=None):
@@ -138,7 +159,10 @@ class Session(waveforms.Handlers):
         if rec is not None:  # substep waveforms: the outputs at the step's start first
             rec.begin(n * self.H, self.current_outputs())
         try:
-            with Ticker(self, n):
+            if self.progress_ms > 0:  # progress frames may be due while it works
+                with Ticker(self, n):
+                    outputs = self.p.advance(n * self.H, self.H, self.held)
+            else:
                 outputs = self.p.advance(n * self.H, self.H, self.held)
         except api.StepFailed as e:
             raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
@@ -245,6 +269,9 @@ class Session(waveforms.Handlers):
         if not c.macro_step > 0:
             raise ProtocolError(E.BAD_REQUEST, "configure: macro_step must be > 0")
         self.interfaces = [api.Interface(i) for i in c.interfaces]
+        # The layout of each interface's data in each direction (packed.Layout).
+        self.takes = [packed.Layout(i.receives, i.n) for i in self.interfaces]
+        self.gives = [packed.Layout(i.sends, i.n) for i in self.interfaces]
         self.H = c.macro_step
         self.progress_ms = c.progress_ms  # > 0: progress frames while a step works
         self.p.run = api.Run(c)
@@ -333,46 +360,6 @@ class Session(waveforms.Handlers):
         for f in fields:
             r.fields.add().values.extend(np.asarray(f, dtype=float).tolist())
         r.micro_steps = int(self.p.micro_steps)
-        return out
-
-    def on_save(self, req, out):
-        if self.step < 0:
-            raise ProtocolError(E.OUT_OF_ORDER, "save before initialize")
-        mine = [float(x) for x in self.p.save()]
-        start, end = self.held_wire
-        held = pb.CouplingData(interfaces=start).SerializeToString()
-        ramp = b"" if end is None else pb.CouplingData(interfaces=end).SerializeToString()
-        last = self.coupling(self.last, pb.CouplingData()).SerializeToString()
-        blob = b"".join((held, ramp, last))
-        out.state.values.extend([float(self.step), float(self.p.micro_steps), float(len(mine)),
-                                 float(len(held)), float(len(ramp)), float(len(last))] + mine
-                                + list(blob))
-        return out
-
-    def on_restore(self, req, out):
-        v = np.array(req.restore.state.values, dtype=float)
-        bad = ProtocolError(E.BAD_REQUEST, "restore: the state does not fit this participant "
-                            "(it was not saved by it in this session)")
-        if len(v) < 6 or not np.isfinite(v[:6]).all() or (v[:6] < 0).any() \
-                or (v[:6] != np.floor(v[:6])).any():
-            raise bad
-        step, micro, n, a, b, c = (int(x) for x in v[:6])
-        if len(v) != 6 + n + a + b + c or step > 2**53:
-            raise bad
-        blob = bytes(int(x) & 0xFF for x in v[6 + n:])
-        try:
-            held = pb.CouplingData.FromString(blob[:a]).interfaces
-            ramp = pb.CouplingData.FromString(blob[a:a + b]).interfaces if b else None
-            last = pb.CouplingData.FromString(blob[a + b:]).interfaces
-        except Exception:
-            raise bad
-        self.p.restore(v[6:6 + n])
-        self.step = step
-        self.p.micro_steps = micro
-        self.set_inputs(held, ramp)
-        self.last = [{q: np.array(getattr(d, q)) for q in i.sends}
-                     for i, d in zip(self.interfaces, last)]
-        out.ack.SetInParent()
         return out
 
     def out_of_order(self, req, out):
