@@ -4,7 +4,9 @@ layout its serialisation has when it holds exactly the interface's
 quantities, n values each (packed.Layout); anything else takes the generic
 path. Unit tests of that split: the layout's view gives the values bit for
 bit and refuses every other shape (a missing or extra quantity, counts that
-differ though the total size is the same); a session refuses inputs that
+differ though the total size is the same); the StepReports and reports'
+frames the direct plane writes by hand read as protobuf's, and as the
+relayed plane's reports of the same steps; a session refuses inputs that
 are not finite or do not fit with the same messages either way, relayed
 and from a peer on the direct plane; a report's `finite` flag sees a
 non-finite value in any quantity sent. Usage: python_sdk_layout_test.py SOURCE_DIR"""
@@ -116,22 +118,42 @@ for q in ("displacement", "velocity"):
     check("its values as sent", r.outputs.interfaces[0].SerializeToString() == raw(**out))
 
 
+# A StepReport and the reports' frame written by hand read as the messages
+# protobuf writes.
+for step, t, peak, fin, hist in ((7, 7e-4, 1.5e-3, True, [0.25, -1.0]),
+                                (0, -0.0, float("inf"), False, []),
+                                (2**40 + 3, 1e300, 0.0, True, [5e-324])):
+    mine = packed.step_report(step, t, [layout.encode({"displacement": d, "velocity": v})],
+                              peak, fin, hist)
+    theirs = pb.StepReport(step=step, t=t, max_abs_displacement=peak, finite=fin, history=hist)
+    theirs.outputs.interfaces.add(displacement=d, velocity=v)
+    check("step_report %d" % step, pb.StepReport.FromString(mine).SerializeToString() ==
+          theirs.SerializeToString(), repr(pb.StepReport.FromString(mine)))
+    for waiting in ("", "track"):
+        frame = pb.Envelope.FromString(packed.reports(300 + step, [mine, mine], waiting))
+        check("reports %d %r" % (step, waiting), frame.id == 300 + step and
+              frame.reports.waiting_for == waiting and len(frame.reports.reports) == 2 and
+              all(r.SerializeToString() == theirs.SerializeToString()
+                  for r in frame.reports.reports), str(frame))
+
+
 class Frames:
-    """A channel whose frames are given; what it is sent is dropped."""
+    """A channel whose frames are given; what it is sent is kept."""
 
     what = "the track participant"
 
     def __init__(self, envelopes=()):
         self.envelopes = list(envelopes)
+        self.sent = []
 
     def receive(self, timeout=None):
         return self.envelopes.pop(0)
 
     def send(self, env):
-        pass
+        self.sent.append(env)
 
     def send_bytes(self, b, timeout=None):
-        pass
+        self.sent.append(pb.Envelope.FromString(b))
 
 
 def direct(q):
@@ -142,15 +164,26 @@ def direct(q):
     link = Link(pb.PeerLink(peer="track", interfaces=[0]))
     link.chan = Frames([pb.Envelope(peer_data=pb.PeerData(point=0, data=data(**ok))),
                         pb.Envelope(peer_data=pb.PeerData(point=1, data=data(**q)))])
-    plane = Plane(s, Frames(), None)
+    master = Frames()
+    plane = Plane(s, master, None)
     plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
-    plane.timeout, plane.id, plane.end, plane.why = 1.0, 1, 2, ""
-    plane.envelope = pb.Envelope(id=1)
-    plane.pending, plane.last_flush = plane.envelope.reports, time.monotonic()
+    plane.timeout, plane.end, plane.why = 1.0, 2, ""
+    plane.begin(1)
     try:
         plane.run(0.0, 64)
     except ProtocolError as e:
         return s.step, e
+    plane.flush()
+    # The reports the master was sent: those of a relayed session on the same data.
+    relayed = session()
+    relayed.handle(pb.Envelope(id=3, initialize=pb.Initialize(inputs=data(**ok))))
+    for n, q in enumerate((ok, ok)):
+        want = relayed.handle(pb.Envelope(id=4 + n, step=pb.Step(step=n, h=H, inputs=data(
+            **q)))).step_report
+        got = [r for f in master.sent for r in f.reports.reports]
+        check("direct: the report of step %d" % n, len(got) == 2 and all(
+            f.id == 1 for f in master.sent) and got[n].SerializeToString() ==
+            want.SerializeToString(), str(got))
     return s.step, None
 
 

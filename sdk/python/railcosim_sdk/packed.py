@@ -7,11 +7,15 @@ encoding arrays with tobytes() is several times cheaper than iterating the
 repeated fields; anything unexpected falls back to the generic path.
 """
 
+import struct
+
 import numpy as np
 
 NAMES = {1: "displacement", 2: "velocity", 3: "force"}
 TAGS = {"displacement": 0x0A, "velocity": 0x12, "force": 0x1A}
 F8 = np.dtype("<f8")
+_REPORT = struct.Struct("<BdB")   # tag of t (field 2, 64-bit), t, tag of outputs (3, bytes)
+_PEAK = struct.Struct("<BdB?")    # max_abs_displacement (4, 64-bit), finite (5, varint)
 
 
 def _varint(n):
@@ -64,6 +68,26 @@ def encode(values, sends):
         b = np.ascontiguousarray(values[q], dtype=F8).tobytes()
         parts.append(bytes((TAGS[q],)) + _varint(len(b)) + b)
     return b"".join(parts)
+
+
+def step_report(step, t, encoded, peak, finite, history):
+    """The serialisation of a StepReport{step, t, outputs, max_abs_displacement,
+    finite, history} whose outputs hold the given encoded InterfaceData, in
+    order (every field written, its default too)."""
+    outputs = b"".join([field(1, b) for b in encoded])
+    return b"".join((b"\x08", _varint(step & 0xFFFFFFFFFFFFFFFF), _REPORT.pack(0x11, t, 0x1A),
+                     _varint(len(outputs)), outputs, _PEAK.pack(0x21, peak, 0x28, bool(finite)),
+                     b"\x32", _varint(8 * len(history)),
+                     np.asarray(history, dtype=F8).tobytes()))
+
+
+def reports(req_id, chunks, waiting_for=""):
+    """The serialisation of Envelope{id, reports: Reports{reports, waiting_for}}
+    whose reports are the given serialised StepReports, in order."""
+    body = b"".join([field(1, c) for c in chunks])
+    if waiting_for:
+        body += field(2, waiting_for.encode())
+    return b"\x08" + _varint(req_id) + b"\x8a\x02" + _varint(len(body)) + body
 
 
 def peer_data(point, encoded, last=False, refresh=False):

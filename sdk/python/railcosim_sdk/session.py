@@ -94,8 +94,9 @@ class Session(waveforms.Handlers, state.Handlers):
         self.held = self.inputs(start, end)
         self.held_wire = (start, end)  # the messages' lists: they are not changed after
 
-    def coupling(self, outputs, data):
-        """Writes the participant's outputs into a CouplingData."""
+    def encode(self, outputs):
+        """The participant's outputs checked and serialised, one InterfaceData
+        per interface, into self.encoded."""
         if outputs is None or len(outputs) != len(self.interfaces):
             raise ProtocolError(E.INTERNAL, "the participant returned outputs for %s "
                                 "interfaces; it has %d" % (
@@ -107,6 +108,10 @@ class Session(waveforms.Handlers, state.Handlers):
                     raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
                                         "values, expected %d" % (i.cut, len(o[q]), q, i.n))
         self.encoded = [g.encode(o) for g, o in zip(self.gives, outputs)]
+
+    def coupling(self, outputs, data):
+        """Writes the participant's outputs into a CouplingData."""
+        self.encode(outputs)
         data.MergeFromString(b"".join([packed.field(1, b) for b in self.encoded]))
         return data
 
@@ -127,19 +132,15 @@ class Session(waveforms.Handlers, state.Handlers):
             bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
             for q in i.sends)
 
-    def report(self, outputs, step, r=None):
-        """Fills a StepReport (a new one, or r) from the participant's outputs."""
+    def summary(self, outputs):
+        """What a StepReport says of the participant's outputs, checked: they
+        are encoded (self.encoded); returns (history values, peak, finite)."""
         self.last = outputs
-        if r is None:
-            r = pb.StepReport()
-        r.step = step
-        r.t = step * self.H
-        self.coupling(outputs, r.outputs)
+        self.encode(outputs)
         hist = [float(h) for h in self.p.history_values()]
         if len(hist) != len(self.p.history):
             raise ProtocolError(E.INTERNAL, "history_values() gave %d values for %d declared "
                                 "channels" % (len(hist), len(self.p.history)))
-        r.history.extend(hist)
         peak = self.p.max_abs_displacement()
         if peak is None:
             peak = 0.0
@@ -149,15 +150,23 @@ class Session(waveforms.Handlers, state.Handlers):
                     m = float(np.abs(d).max())
                     if not m <= peak:  # NaN too
                         peak = m
+        return hist, peak, self.finite(outputs, peak, hist)
+
+    def report(self, outputs, step, r=None):
+        """Fills a StepReport (a new one, or r) from the participant's outputs."""
+        hist, peak, finite = self.summary(outputs)
+        if r is None:
+            r = pb.StepReport()
+        r.step = step
+        r.t = step * self.H
+        r.outputs.MergeFromString(b"".join([packed.field(1, b) for b in self.encoded]))
+        r.history.extend(hist)
         r.max_abs_displacement = peak
-        r.finite = self.finite(outputs, peak, hist)
+        r.finite = finite
         return r
 
-    def advance(self, n, r=None):
-        """Macro step n with the held inputs; fills its StepReport (new or r)."""
-        rec = self.p._recorder
-        if rec is not None:  # substep waveforms: the outputs at the step's start first
-            rec.begin(n * self.H, self.current_outputs())
+    def stepped(self, n):
+        """Macro step n with the held inputs: the participant's outputs."""
         try:
             if self.progress_ms > 0:  # progress frames may be due while it works
                 with Ticker(self, n):
@@ -167,10 +176,27 @@ class Session(waveforms.Handlers, state.Handlers):
         except api.StepFailed as e:
             raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
         self.step = n + 1
-        r = self.report(outputs, self.step, r)
+        return outputs
+
+    def advance(self, n, r=None):
+        """Macro step n with the held inputs; fills its StepReport (new or r)."""
+        rec = self.p._recorder
+        if rec is not None:  # substep waveforms: the outputs at the step's start first
+            rec.begin(n * self.H, self.current_outputs())
+        r = self.report(self.stepped(n), self.step, r)
         if rec is not None:
-            rec.write(r, self.step * self.H, outputs)
+            rec.write(r, self.step * self.H, self.last)
         return r
+
+    def advance_bytes(self, n):
+        """Macro step n as advance(), its StepReport serialised: returns
+        (the report's bytes, finite, max_abs_displacement)."""
+        if self.p._recorder is not None:  # with samples: as a message
+            r = self.advance(n)
+            return r.SerializeToString(), r.finite, r.max_abs_displacement
+        hist, peak, finite = self.summary(self.stepped(n))
+        return (packed.step_report(self.step, self.step * self.H, self.encoded, peak, finite,
+                                   hist), finite, peak)
 
     def current_outputs(self):
         o = self.p.outputs(self.held)
@@ -349,17 +375,6 @@ class Session(waveforms.Handlers, state.Handlers):
         out.outputs.step = self.step
         out.outputs.t = self.step * self.H
         self.coupling(self.current_outputs(), out.outputs.data)
-        return out
-
-    def on_get_results(self, req, out):
-        r = out.results
-        fields = list(self.p.results())
-        if len(fields) != len(self.p.results_fields):
-            raise ProtocolError(E.INTERNAL, "results() gave %d fields for %d declared"
-                                % (len(fields), len(self.p.results_fields)))
-        for f in fields:
-            r.fields.add().values.extend(np.asarray(f, dtype=float).tolist())
-        r.micro_steps = int(self.p.micro_steps)
         return out
 
     def out_of_order(self, req, out):

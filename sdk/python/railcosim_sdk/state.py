@@ -1,6 +1,7 @@
-"""Save and Restore on the relayed plane: the participant's checkpoint as a
-State of doubles, the session's step and micro-step counters, its held
-inputs and its last outputs with it (docs/protocol.md)."""
+"""The participant's state as the master asks for it: Save and Restore on
+the relayed plane (its checkpoint as a State of doubles, the session's step
+and micro-step counters, its held inputs and its last outputs with it;
+docs/protocol.md), and GetResults after the last step."""
 
 import numpy as np
 
@@ -8,7 +9,18 @@ from .wire import E, ProtocolError, pb
 
 
 class Handlers:
-    """The session's part: Save and Restore."""
+    """The session's part: Save, Restore and GetResults."""
+
+    def on_get_results(self, req, out):
+        r = out.results
+        fields = list(self.p.results())
+        if len(fields) != len(self.p.results_fields):
+            raise ProtocolError(E.INTERNAL, "results() gave %d fields for %d declared"
+                                % (len(fields), len(self.p.results_fields)))
+        for f in fields:
+            r.fields.add().values.extend(np.asarray(f, dtype=float).tolist())
+        r.micro_steps = int(self.p.micro_steps)
+        return out
 
     def on_save(self, req, out):
         if self.step < 0:
