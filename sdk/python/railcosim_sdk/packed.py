@@ -18,17 +18,32 @@ _REPORT = struct.Struct("<BdB")   # tag of t (field 2, 64-bit), t, tag of output
 _PEAK = struct.Struct("<BdB?")    # max_abs_displacement (4, 64-bit), finite (5, varint)
 
 
+_VARINTS = {}  # the varints of the small numbers met so far (lengths, points, steps)
+
+
 def _varint(n):
-    if n < 0x80:
-        return bytes((n,))
-    if n < 0x4000:
-        return bytes(((n & 0x7F) | 0x80, n >> 7))
+    b = _VARINTS.get(n)
+    if b is not None:
+        return b
     out = bytearray()
-    while n >= 0x80:
-        out.append((n & 0x7F) | 0x80)
-        n >>= 7
-    out.append(n)
+    m = n
+    while m >= 0x80:
+        out.append((m & 0x7F) | 0x80)
+        m >>= 7
+    out.append(m)
+    if n < 0x4000:  # at most 16384 entries of one or two bytes
+        _VARINTS[n] = bytes(out)
     return bytes(out)
+
+
+_DOUBLES = {}  # struct.Struct per count of little-endian doubles
+
+
+def _doubles(values):
+    s = _DOUBLES.get(len(values))
+    if s is None:
+        s = _DOUBLES[len(values)] = struct.Struct("<%dd" % len(values))
+    return s.pack(*values)
 
 
 def field(number, payload):
@@ -78,7 +93,7 @@ def step_report(step, t, encoded, peak, finite, history):
     return b"".join((b"\x08", _varint(step & 0xFFFFFFFFFFFFFFFF), _REPORT.pack(0x11, t, 0x1A),
                      _varint(len(outputs)), outputs, _PEAK.pack(0x21, peak, 0x28, bool(finite)),
                      b"\x32", _varint(8 * len(history)),
-                     np.asarray(history, dtype=F8).tobytes()))
+                     _doubles(history)))
 
 
 def reports(req_id, chunks, waiting_for=""):
