@@ -3,7 +3,9 @@
 
 Reads each shell block (```sh, ```bash, ```console, or unmarked) of
 README.md and docs/*.md, joins continued lines, drops comments and a
-trailing '&', and, in a scratch folder that holds the repository's scenes,
+trailing '&', adds the product commands written inline in the prose (a code
+span that starts with build/bin/PROGRAM, its `> FILE` left out), and, in a
+scratch folder that holds the repository's scenes,
 checks each command as follows:
 
 - the product's programs (build/bin/master, vehicle_node, track_node,
@@ -75,6 +77,18 @@ def commands(path):
         i += 1
 
 
+def inline_commands(path):
+    """(line, command) for each product command written inline, in a code
+    span of the prose (`build/bin/master compare A B ...`), its output's
+    redirection (`> FILE`) left out."""
+    text = open(path, encoding="utf-8").read()
+    prose = re.sub(r"```.*?```", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    for m in re.finditer(r"`([^`]+)`", prose):
+        cmd = re.sub(r"\s*>\s*\S+$", "", " ".join(m.group(1).split()))
+        if " " in cmd and product_program(cmd):
+            yield prose.count("\n", 0, m.start()) + 1, cmd
+
+
 def help_text(bin_dir, words):
     """--help of a program, or of the master's subcommand."""
     args = [os.path.join(bin_dir, words[0])]
@@ -118,7 +132,10 @@ def check_program(bin_dir, cwd, cmd):
 def product_program(cmd):
     """True for a command of the product's programs: build/bin/PROGRAM, or
     the installed PREFIX/bin/PROGRAM (the same program, installed)."""
-    first = shlex.split(cmd)[0]
+    try:
+        first = shlex.split(cmd)[0]
+    except ValueError:  # not a command (an unbalanced quote in prose)
+        return False
     name = os.path.basename(first)
     return name in PROGRAMS and (first.startswith("build/bin/") or first.endswith("/bin/" + name))
 
@@ -223,7 +240,7 @@ def main():
         os.mkdir(os.path.join(cwd, "study"))  # what `master study --collect study` reads
         for doc in docs:
             name = os.path.relpath(doc, source)
-            for line, cmd in commands(doc):
+            for line, cmd in list(commands(doc)) + list(inline_commands(doc)):
                 first = cmd.split()[0]
                 if product_program(cmd):
                     why = check_program(bin_dir, cwd, cmd)
