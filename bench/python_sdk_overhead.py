@@ -161,9 +161,8 @@ def direct(steps, kind=SOIL["LumpedSoil"]):
     link = Link(pb.PeerLink(peer="track", interfaces=[0]))
     link.chan = peer
     plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
-    plane.timeout, plane.id, plane.end, plane.why = 10.0, 1, steps, ""
-    plane.envelope = pb.Envelope(id=1)
-    plane.pending, plane.last_flush = plane.envelope.reports, time.process_time()
+    plane.timeout, plane.end, plane.why = 10.0, steps, ""
+    plane.begin(1)
     t0 = time.process_time()
     plane.run(0.0, 64)
     plane.flush()

@@ -35,6 +35,14 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATA
         FILES_MATCHING PATTERN "*.toml")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/cpp_soil/
         DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/cpp_soil)
+# The Python SDK and its example, so that a Python participant needs nothing
+# but the package either: the SDK finds the schema installed above.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/python/railcosim_sdk/
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/sdk/python/railcosim_sdk
+        FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
+install(FILES ${PROJECT_SOURCE_DIR}/examples/python_soil/soil_participant.py
+              ${PROJECT_SOURCE_DIR}/examples/python_soil/README.md
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/python_soil)
 
 set(railcosim_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/railcosim)
 install(EXPORT railcosimTargets NAMESPACE railcosim:: DESTINATION ${railcosim_cmake_dir})

@@ -12,7 +12,8 @@
 # waveform run bit for bit alike relayed and in lock step). Then `master
 # conform`, the refusals (BAD_REQUEST naming the file and the key; a
 # --config the program cannot read) and `master compare`'s exit status on
-# runs that differ.
+# runs that differ. And the Python SDK installed with the package: its
+# example soil, served from the prefix alone, in an implicit run in lock step.
 # Usage: cpp_sdk_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1
@@ -136,6 +137,30 @@ done
 grep -q 'line 2' "$work/broken.log" || fail "the syntax error has no line" "$work/broken.log"
 grep -q 'no \[soil\] table' "$work/other.log" || fail "the missing table is not named" "$work/other.log"
 
+# The Python SDK from the package alone: the installed example soil finds the
+# SDK and the schema in the prefix (no checkout; a schema cache of its own);
+# it runs implicit coupling in lock step and matches the built-in soil.
+env -u RAILCOSIM_PROTO RAILCOSIM_SDK_CACHE="$work/sdk-cache" PYTHONDONTWRITEBYTECODE=1 \
+  /usr/bin/python3 "$share/examples/python_soil/soil_participant.py" --listen 127.0.0.1:0 \
+  --config "$work/soil.toml" >"$work/python.out" 2>"$work/python.err" &
+pids+=($!)
+for _ in $(seq 600); do
+  grep -q '^listening on ' "$work/python.out" && break
+  sleep 0.1
+done
+python=$(sed -n 's/^listening on //p' "$work/python.out")
+[[ -n $python ]] || fail "the installed Python example did not start:" "$work/python.err"
+"$bin/master" run --scene "$work/soil.toml" --case rs-xx+ss-xx-jacobi --coupling implicit \
+  --inputs linear --node "soil=$python" --out "$work/python" >"$work/master.log" 2>&1 ||
+  fail "the run on the installed Python soil failed" "$work/master.log"
+grep -q '"data_plane_mode": "lock step"' "$work/python/rs-xx+ss-xx-jacobi/summary.json" ||
+  fail "the installed Python soil's implicit run was not in lock step" \
+    "$work/python/rs-xx+ss-xx-jacobi/summary.json"
+"$bin/master" compare "$work/python" "$work/builtin" --tolerance 1e-9 >"$work/python.log" ||
+  fail "the installed Python soil does not match the built-in one" "$work/python.log"
+grep -q '^agree: 1 run(s), 3 file(s), 0 over the tolerance 1e-09' "$work/python.log" ||
+  fail "unexpected verdict" "$work/python.log"
+
 # master compare's exit status: 1 on runs that differ (a value, a file), 2 on
 # a file it cannot read.
 cp -r "$work/outside" "$work/changed"
@@ -157,4 +182,5 @@ rc=0
 "$bin/master" compare "$work/builtin" "$work/changed" >"$work/changed.log" 2>&1 || rc=$?
 [[ $rc == 2 ]] || fail "compare exits $rc on a value that is not a number" "$work/changed.log"
 grep -q "deflection.csv:3: column .*'x' is not a number" "$work/changed.log" || fail "no position" "$work/changed.log"
-echo "cpp_soil: 7 cases agree with the built-in soil, conform passes, refusals and compare as expected"
+echo "cpp_soil: 7 cases agree with the built-in soil, conform passes, refusals and compare as expected;" \
+  "the installed Python example runs implicit coupling in lock step and agrees too"

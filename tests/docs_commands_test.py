@@ -3,11 +3,14 @@
 
 Reads each shell block (```sh, ```bash, ```console, or unmarked) of
 README.md and docs/*.md, joins continued lines, drops comments and a
-trailing '&', and, in a scratch folder that holds the repository's scenes,
+trailing '&', adds the product commands written inline in the prose (a code
+span that starts with build/bin/PROGRAM, its `> FILE` left out), and, in a
+scratch folder that holds the repository's scenes,
 checks each command as follows:
 
 - the product's programs (build/bin/master, vehicle_node, track_node,
-  soil_node): run with --check, which reads the command line and every file
+  soil_node, or the same installed, PREFIX/bin/master): run with --check
+  (`master compare` on empty folders of the names it is given), which reads the command line and every file
   it names as the real command would, and must exit 0. HOST and PORT stand
   for 127.0.0.1 and a port; optional parts in [brackets] are left out of the
   run, and every --option they name must be one the program's --help lists;
@@ -18,6 +21,8 @@ checks each command as follows:
   root, which must exit 0 and print the usage, and every --option the
   command names (in [brackets] too) must be one that usage lists, so a
   renamed option fails here;
+- the build's other programs (build/bin/BENCHMARK): a target some
+  CMakeLists.txt makes;
 - every other command (shell scripts, CMake, GNU parallel, Slurm): every
   path it names inside the repository (scenes/, scripts/, examples/,
   bench/, fe_soil/, docs/) must exist.
@@ -72,6 +77,18 @@ def commands(path):
         i += 1
 
 
+def inline_commands(path):
+    """(line, command) for each product command written inline, in a code
+    span of the prose (`build/bin/master compare A B ...`), its output's
+    redirection (`> FILE`) left out."""
+    text = open(path, encoding="utf-8").read()
+    prose = re.sub(r"```.*?```", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
+    for m in re.finditer(r"`([^`]+)`", prose):
+        cmd = re.sub(r"\s*>\s*\S+$", "", " ".join(m.group(1).split()))
+        if " " in cmd and product_program(cmd):
+            yield prose.count("\n", 0, m.start()) + 1, cmd
+
+
 def help_text(bin_dir, words):
     """--help of a program, or of the master's subcommand."""
     args = [os.path.join(bin_dir, words[0])]
@@ -102,10 +119,35 @@ def check_program(bin_dir, cwd, cmd):
             "exit %d: %s" % (out.returncode, (out.stdout + out.stderr).strip())
     if "--check" not in known:
         return "%s has no --check" % " ".join(words[:2])
+    if words[1:2] == ["compare"]:  # the output folders it reads, empty, in a folder of its own
+        cwd = tempfile.mkdtemp(prefix="docs-compare-")
+        for folder in [w for w in words[2:4] if not w.startswith("-")]:
+            os.makedirs(os.path.join(cwd, folder), exist_ok=True)
     out = subprocess.run(run + ["--check"], cwd=cwd, capture_output=True, text=True, timeout=60)
     if out.returncode != 0 or not out.stdout.startswith("check: "):
         return "exit %d: %s" % (out.returncode, (out.stdout + out.stderr).strip())
     return None
+
+
+def product_program(cmd):
+    """True for a command of the product's programs: build/bin/PROGRAM, or
+    the installed PREFIX/bin/PROGRAM (the same program, installed)."""
+    try:
+        first = shlex.split(cmd)[0]
+    except ValueError:  # not a command (an unbalanced quote in prose)
+        return False
+    name = os.path.basename(first)
+    return name in PROGRAMS and (first.startswith("build/bin/") or first.endswith("/bin/" + name))
+
+
+def check_target(source, program):
+    """Another program of the build (a benchmark, a tool): a target some
+    CMakeLists.txt of the repository makes, so a renamed one fails here."""
+    name = os.path.basename(program)
+    for path in glob.glob(os.path.join(source, "**", "CMakeLists.txt"), recursive=True):
+        if re.search(r"add_executable\(\s*%s\s" % re.escape(name), open(path).read()):
+            return None
+    return "%s is not a program the build makes (no add_executable(%s ...))" % (program, name)
 
 
 def check_paths(source, cmd):
@@ -189,7 +231,7 @@ def main():
     bin_dir, source = sys.argv[1], sys.argv[2]
     docs = [os.path.join(source, "README.md")] + sorted(glob.glob(os.path.join(source, "docs", "*.md")))
     cwd = tempfile.mkdtemp(prefix="docs-commands-")
-    failures, checked, paths, pythons, real = [], 0, 0, 0, []
+    failures, checked, paths, pythons, targets, real = [], 0, 0, 0, 0, []
     try:
         shutil.copytree(os.path.join(source, "scenes"), os.path.join(cwd, "scenes"))
         with open(os.path.join(cwd, "cosim.token"), "w") as f:
@@ -198,13 +240,16 @@ def main():
         os.mkdir(os.path.join(cwd, "study"))  # what `master study --collect study` reads
         for doc in docs:
             name = os.path.relpath(doc, source)
-            for line, cmd in commands(doc):
+            for line, cmd in list(commands(doc)) + list(inline_commands(doc)):
                 first = cmd.split()[0]
-                if first.startswith("build/bin/") and os.path.basename(first) in PROGRAMS:
+                if product_program(cmd):
                     why = check_program(bin_dir, cwd, cmd)
                     checked += 1
                     if cheap_run(cmd):
                         real.append((name, line, cmd))
+                elif first.startswith("build/bin/"):
+                    why = check_target(source, first)
+                    targets += 1
                 elif first == "sed" and ">" in cmd:
                     out = subprocess.run(cmd, shell=True, cwd=cwd, capture_output=True, text=True)
                     why = out.stderr.strip() if out.returncode else None
@@ -231,7 +276,8 @@ def main():
     finally:
         shutil.rmtree(cwd, ignore_errors=True)
     print("%d commands of the product checked with --check (%d of them run for real), %d Python "
-          "modules and scripts run with --help, %d others' paths checked" % (checked, len(real), pythons, paths))
+          "modules and scripts run with --help, %d other programs of the build found among its "
+          "targets, %d others' paths checked" % (checked, len(real), pythons, targets, paths))
     if checked < MIN_CHECKED:
         failures.append("only %d product commands found (at least %d expected): the reading of "
                         "the docs' shell blocks is broken" % (checked, MIN_CHECKED))

@@ -71,9 +71,8 @@ def steps_on(value):
                                                           last=True))])
     plane = Plane(s, Frames(), None)
     plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
-    plane.timeout, plane.id, plane.end, plane.why = 1.0, 1, 2, ""
-    plane.envelope = pb.Envelope(id=1)
-    plane.pending, plane.last_flush = plane.envelope.reports, time.monotonic()
+    plane.timeout, plane.end, plane.why = 1.0, 2, ""
+    plane.begin(1)
     try:
         plane.run(0.0, 64)
     except ProtocolError as e:

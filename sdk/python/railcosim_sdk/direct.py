@@ -196,13 +196,17 @@ class Plane:
             except (OSError, SendTimeout):
                 pass
 
+    def begin(self, req_id):
+        """The window's reports go to the master in frames of the request's id."""
+        self.id, self.pending, self.last_flush = req_id, [], time.monotonic()
+
     def flush(self, waiting_for=""):
-        if len(self.pending.reports) == 0 and not waiting_for:
+        """Sends the reports not sent yet (serialised StepReports), and the
+        peer this participant waits for."""
+        if not self.pending and not waiting_for:
             return
-        self.pending.waiting_for = waiting_for
-        self.master.send(self.envelope)
-        self.envelope = pb.Envelope(id=self.id)
-        self.pending = self.envelope.reports
+        self.master.send_bytes(packed.reports(self.id, self.pending, waiting_for))
+        self.pending = []
         self.last_flush = time.monotonic()
 
     def await_link(self, l, need, fresh):
@@ -274,15 +278,25 @@ class Plane:
         if len(d.data.interfaces) != len(l.interfaces):
             raise self.refused(l, "%d interfaces on a link of %d" % (
                 len(d.data.interfaces), len(l.interfaces)))
-        arrays = [packed.decode(i) for i in d.data.interfaces]
+        # Each interface's data as the one array of its usual layout, else
+        # {quantity: array}, which hold() checks against the interface.
+        takes = self.s.takes
+        arrays = []
+        for k, idata in zip(l.interfaces, d.data.interfaces):
+            values = takes[k].view(idata.SerializeToString())
+            arrays.append(packed.decode(idata) if values is None else values)
         if d.last:  # a diverging peer's last data: hold() checks it before any use
             return Unchecked(arrays)
         total = 0.0  # not finite when a value is not (or on overflow): look closer
         for got in arrays:
-            for a in got.values():
-                total += float(_sum(a))
+            if isinstance(got, dict):
+                for a in got.values():
+                    total += float(_sum(a))
+            else:
+                total += float(_sum(got, None))
         if total - total != 0.0 and not all(
-                np.isfinite(a).all() for got in arrays for a in got.values()):
+                np.isfinite(a).all() for got in arrays
+                for a in (got.values() if isinstance(got, dict) else (got,))):
             raise self.refused(l, "a non-finite value for point %d" % p)
         return arrays
 
@@ -290,29 +304,38 @@ class Plane:
         """Holds the links' data over the step as the session's inputs
         (Session.set_inputs with the arrays check() decoded)."""
         s = self.s
-        data, arrays = [None] * len(s.interfaces), [None] * len(s.interfaces)
-        finite = [True] * len(s.interfaces)  # check() found every value finite
+        held, data = [None] * len(s.interfaces), [None] * len(s.interfaces)
+        t0, H = s.step * s.H, s.H
         for l in self.links:
-            again = fresh and l.refreshes
-            src, got = (l.fresh, l.fresh_arrays) if again else (l.data, l.arrays)
+            src, got = (l.fresh, l.fresh_arrays) if fresh and l.refreshes else (l.data, l.arrays)
+            ok = not isinstance(got, Unchecked)  # check() found every value finite
             for k, i in enumerate(l.interfaces):
-                data[i], arrays[i] = src[k], got[k]
-                finite[i] = not isinstance(got, Unchecked)
-        t0 = s.step * s.H
-        held = []
-        for got, i, ok in zip(arrays, s.interfaces, finite):
-            extra = [q for q in got if q not in i.receives]
-            if extra:
-                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
-                                    "does not receive it" % (i.cut, extra[0]))
-            w = api.Inputs()
-            for q in i.receives:
-                a = got.get(q)
-                if not ok or a is None or a.shape[0] != i.n:
-                    a = s._check(a, i, q)  # the count (and finiteness) refused, naming it
-                setattr(w, q, api.Waveform(a, None, t0, s.H))
-            held.append(w)
+                data[i] = src[k]
+                held[i] = self.inputs(i, got[k], ok, t0, H)
         s.held, s.held_wire = held, (data, None)
+
+    def inputs(self, k, got, ok, t0, H):
+        """The api.Inputs of interface k from what check() decoded of it (ok:
+        its values were found finite), held over [t0, t0 + H]."""
+        s = self.s
+        names, w = s.takes[k].names, api.Inputs()
+        if not isinstance(got, dict):  # the usual layout: counted; finite when ok
+            if ok:
+                for j, q in enumerate(names):
+                    setattr(w, q, api.Waveform(got[j], None, t0, H))
+                return w
+            got = dict(zip(names, got))
+        i = s.interfaces[k]
+        extra = [q for q in got if q not in i.receives]
+        if extra:
+            raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                "does not receive it" % (i.cut, extra[0]))
+        for q in i.receives:
+            a = got.get(q)
+            if not ok or a is None or a.shape[0] != i.n:
+                a = s._check(a, i, q)  # the count (and finiteness) refused, naming it
+            setattr(w, q, api.Waveform(a, None, t0, H))
+        return w
 
     def on_window(self, req, out):
         s, w = self.s, req.window
@@ -328,9 +351,8 @@ class Plane:
                                 "participant is at %d" % (w.first_step, s.step))
         if w.end_step <= w.first_step:
             raise ProtocolError(E.BAD_REQUEST, "a window must hold at least one macro step")
-        self.end, self.why, self.id = w.end_step, "", req.id
-        self.envelope = pb.Envelope(id=self.id)
-        self.pending, self.last_flush = self.envelope.reports, time.monotonic()
+        self.end, self.why = w.end_step, ""
+        self.begin(req.id)
         every = w.report_steps or 64
         try:
             self.run(w.divergence_bound, every)
@@ -365,16 +387,13 @@ class Plane:
                 if not all([self.await_link(l, n, True) for l in again]):
                     break
                 self.hold(True)
-            try:
-                r = s.advance(n, self.pending.reports.add())
-            except ProtocolError:
-                del self.pending.reports[-1]  # the step that failed has no report
-                raise
+            report, finite, peak = s.advance_bytes(n)  # a step that fails has no report
+            self.pending.append(report)
             self.point = n + 1
-            diverged = bound > 0 and (not r.finite or r.max_abs_displacement > bound)
+            diverged = bound > 0 and (not finite or peak > bound)
             if diverged:
                 self.end = self.point
                 self.why = "diverged at macro step %d" % self.point
             self.send_outputs(s.encoded, diverged, False)
-            if len(self.pending.reports) >= every or time.monotonic() - self.last_flush >= 0.02:
+            if len(self.pending) >= every or time.monotonic() - self.last_flush >= 0.02:
                 self.flush()

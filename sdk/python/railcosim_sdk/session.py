@@ -9,6 +9,7 @@ import tomllib
 import numpy as np
 
 from . import packed
+from . import state
 from . import participant as api
 from . import waveforms
 from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's name)
@@ -18,7 +19,7 @@ from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
-class Session(waveforms.Handlers):
+class Session(waveforms.Handlers, state.Handlers):
     """The participant's side of one session. `handle(envelope)` returns the
     reply (or raises ProtocolError); `closing` is set after Shutdown."""
 
@@ -37,6 +38,7 @@ class Session(waveforms.Handlers):
         self.interfaces = []
         self.held = None       # list of api.Inputs for the coming step
         self.held_wire = None  # (start, end) lists of InterfaceData, for Save
+        self.takes = self.gives = []  # packed.Layout per interface, inputs and outputs
         self.last = None       # the outputs last returned, a list of dicts
         self.links_hook = links_hook  # (session, envelope) -> reply; the direct plane
 
@@ -47,22 +49,34 @@ class Session(waveforms.Handlers):
         if len(start) != len(self.interfaces) or (end is not None and len(end) != len(start)):
             raise ProtocolError(E.BAD_REQUEST, "inputs for %d interfaces; this participant "
                                 "has %d" % (len(start), len(self.interfaces)))
-        t0 = max(self.step, 0) * self.H
+        t0, H = max(self.step, 0) * self.H, self.H
         out = []
         for k, i in enumerate(self.interfaces):
-            got = packed.decode(start[k])
-            ends = None if end is None else packed.decode(end[k])
-            extra = [q for q in got if q not in i.receives] + (
-                [] if ends is None else [q for q in ends if q not in i.receives])
-            if extra:
-                raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
-                                    "does not receive it" % (i.cut, extra[0]))
+            names = self.takes[k].names
+            got = self.arrays(k, start[k])
+            ends = None if end is None else self.arrays(k, end[k])
             w = api.Inputs()
-            for q in i.receives:
-                e = None if ends is None else self._check(ends.get(q), i, q)
-                setattr(w, q, api.Waveform(self._check(got.get(q), i, q), e, t0, self.H))
+            for j, q in enumerate(names):
+                setattr(w, q, api.Waveform(got[j], None if ends is None else ends[j], t0, H))
             out.append(w)
         return out
+
+    def arrays(self, k, idata):
+        """The values of interface k's InterfaceData, checked: one array per
+        quantity it receives, in the order of self.takes[k].names."""
+        layout = self.takes[k]
+        values = layout.view(idata.SerializeToString())
+        if values is not None:  # the quantities received, n values each: are they finite?
+            total = float(_sum(values, None))
+            if total - total == 0.0:
+                return values
+        i = self.interfaces[k]  # the data differ from the usual layout: look closer
+        got = packed.decode(idata)
+        extra = [q for q in got if q not in i.receives]
+        if extra:
+            raise ProtocolError(E.BAD_REQUEST, "interface %s: %s given, but the interface "
+                                "does not receive it" % (i.cut, extra[0]))
+        return [self._check(got.get(q), i, q) for q in layout.names]
 
     @staticmethod
     def _check(a, i, q):
@@ -78,10 +92,11 @@ class Session(waveforms.Handlers):
 
     def set_inputs(self, start, end=None):
         self.held = self.inputs(start, end)
-        self.held_wire = (list(start), None if end is None else list(end))
+        self.held_wire = (start, end)  # the messages' lists: they are not changed after
 
-    def coupling(self, outputs, data):
-        """Writes the participant's outputs into a CouplingData."""
+    def encode(self, outputs):
+        """The participant's outputs checked and serialised, one InterfaceData
+        per interface, into self.encoded."""
         if outputs is None or len(outputs) != len(self.interfaces):
             raise ProtocolError(E.INTERNAL, "the participant returned outputs for %s "
                                 "interfaces; it has %d" % (
@@ -92,24 +107,40 @@ class Session(waveforms.Handlers):
                 if len(o[q]) != i.n:
                     raise ProtocolError(E.INTERNAL, "interface %s: the participant sent %d %s "
                                         "values, expected %d" % (i.cut, len(o[q]), q, i.n))
-        self.encoded = [packed.encode(o, i.sends) for i, o in zip(self.interfaces, outputs)]
-        for b in self.encoded:
-            data.interfaces.add().MergeFromString(b)
+        self.encoded = [g.encode(o) for g, o in zip(self.gives, outputs)]
+
+    def coupling(self, outputs, data):
+        """Writes the participant's outputs into a CouplingData."""
+        self.encode(outputs)
+        data.MergeFromString(b"".join([packed.field(1, b) for b in self.encoded]))
         return data
 
-    def report(self, outputs, step, r=None):
-        """Fills a StepReport (a new one, or r) from the participant's outputs."""
+    def finite(self, outputs, peak, hist):
+        """True when the peak, the history values and every value sent are
+        finite (one sum over each interface's encoded outputs, a closer look
+        only when a sum is not finite)."""
+        total = peak + sum(hist)
+        for g, b in zip(self.gives, self.encoded):
+            values = g.view(b)
+            if values is not None:
+                total += float(_sum(values, None))
+            elif g.names:  # arrays of another shape than n values: look at each
+                total = math.nan
+        if total - total == 0.0:
+            return True
+        return math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
+            bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
+            for q in i.sends)
+
+    def summary(self, outputs):
+        """What a StepReport says of the participant's outputs, checked: they
+        are encoded (self.encoded); returns (history values, peak, finite)."""
         self.last = outputs
-        if r is None:
-            r = pb.StepReport()
-        r.step = step
-        r.t = step * self.H
-        self.coupling(outputs, r.outputs)
+        self.encode(outputs)
         hist = [float(h) for h in self.p.history_values()]
         if len(hist) != len(self.p.history):
             raise ProtocolError(E.INTERNAL, "history_values() gave %d values for %d declared "
                                 "channels" % (len(hist), len(self.p.history)))
-        r.history.extend(hist)
         peak = self.p.max_abs_displacement()
         if peak is None:
             peak = 0.0
@@ -119,34 +150,53 @@ class Session(waveforms.Handlers):
                     m = float(np.abs(d).max())
                     if not m <= peak:  # NaN too
                         peak = m
+        return hist, peak, self.finite(outputs, peak, hist)
+
+    def report(self, outputs, step, r=None):
+        """Fills a StepReport (a new one, or r) from the participant's outputs."""
+        hist, peak, finite = self.summary(outputs)
+        if r is None:
+            r = pb.StepReport()
+        r.step = step
+        r.t = step * self.H
+        r.outputs.MergeFromString(b"".join([packed.field(1, b) for b in self.encoded]))
+        r.history.extend(hist)
         r.max_abs_displacement = peak
-        total = peak + sum(hist)
-        for i, o in zip(self.interfaces, outputs):
-            for q in i.sends:
-                total += float(_sum(o[q]))
-        finite = True
-        if total - total != 0.0:  # a value is not finite, or the sum overflowed: look closer
-            finite = math.isfinite(peak) and all(math.isfinite(h) for h in hist) and all(
-                bool(np.isfinite(o[q]).all()) for i, o in zip(self.interfaces, outputs)
-                for q in i.sends)
         r.finite = finite
         return r
+
+    def stepped(self, n):
+        """Macro step n with the held inputs: the participant's outputs."""
+        try:
+            if self.progress_ms > 0:  # progress frames may be due while it works
+                with Ticker(self, n):
+                    outputs = self.p.advance(n * self.H, self.H, self.held)
+            else:
+                outputs = self.p.advance(n * self.H, self.H, self.held)
+        except api.StepFailed as e:
+            raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
+        self.step = n + 1
+        return outputs
 
     def advance(self, n, r=None):
         """Macro step n with the held inputs; fills its StepReport (new or r)."""
         rec = self.p._recorder
         if rec is not None:  # substep waveforms: the outputs at the step's start first
             rec.begin(n * self.H, self.current_outputs())
-        try:
-            with Ticker(self, n):
-                outputs = self.p.advance(n * self.H, self.H, self.held)
-        except api.StepFailed as e:
-            raise ProtocolError(E.STEP_FAILED, str(e) or "the integrator gave up")
-        self.step = n + 1
-        r = self.report(outputs, self.step, r)
+        r = self.report(self.stepped(n), self.step, r)
         if rec is not None:
-            rec.write(r, self.step * self.H, outputs)
+            rec.write(r, self.step * self.H, self.last)
         return r
+
+    def advance_bytes(self, n):
+        """Macro step n as advance(), its StepReport serialised: returns
+        (the report's bytes, finite, max_abs_displacement)."""
+        if self.p._recorder is not None:  # with samples: as a message
+            r = self.advance(n)
+            return r.SerializeToString(), r.finite, r.max_abs_displacement
+        hist, peak, finite = self.summary(self.stepped(n))
+        return (packed.step_report(self.step, self.step * self.H, self.encoded, peak, finite,
+                                   hist), finite, peak)
 
     def current_outputs(self):
         o = self.p.outputs(self.held)
@@ -245,6 +295,9 @@ class Session(waveforms.Handlers):
         if not c.macro_step > 0:
             raise ProtocolError(E.BAD_REQUEST, "configure: macro_step must be > 0")
         self.interfaces = [api.Interface(i) for i in c.interfaces]
+        # The layout of each interface's data in each direction (packed.Layout).
+        self.takes = [packed.Layout(i.receives, i.n) for i in self.interfaces]
+        self.gives = [packed.Layout(i.sends, i.n) for i in self.interfaces]
         self.H = c.macro_step
         self.progress_ms = c.progress_ms  # > 0: progress frames while a step works
         self.p.run = api.Run(c)
@@ -322,57 +375,6 @@ class Session(waveforms.Handlers):
         out.outputs.step = self.step
         out.outputs.t = self.step * self.H
         self.coupling(self.current_outputs(), out.outputs.data)
-        return out
-
-    def on_get_results(self, req, out):
-        r = out.results
-        fields = list(self.p.results())
-        if len(fields) != len(self.p.results_fields):
-            raise ProtocolError(E.INTERNAL, "results() gave %d fields for %d declared"
-                                % (len(fields), len(self.p.results_fields)))
-        for f in fields:
-            r.fields.add().values.extend(np.asarray(f, dtype=float).tolist())
-        r.micro_steps = int(self.p.micro_steps)
-        return out
-
-    def on_save(self, req, out):
-        if self.step < 0:
-            raise ProtocolError(E.OUT_OF_ORDER, "save before initialize")
-        mine = [float(x) for x in self.p.save()]
-        start, end = self.held_wire
-        held = pb.CouplingData(interfaces=start).SerializeToString()
-        ramp = b"" if end is None else pb.CouplingData(interfaces=end).SerializeToString()
-        last = self.coupling(self.last, pb.CouplingData()).SerializeToString()
-        blob = b"".join((held, ramp, last))
-        out.state.values.extend([float(self.step), float(self.p.micro_steps), float(len(mine)),
-                                 float(len(held)), float(len(ramp)), float(len(last))] + mine
-                                + list(blob))
-        return out
-
-    def on_restore(self, req, out):
-        v = np.array(req.restore.state.values, dtype=float)
-        bad = ProtocolError(E.BAD_REQUEST, "restore: the state does not fit this participant "
-                            "(it was not saved by it in this session)")
-        if len(v) < 6 or not np.isfinite(v[:6]).all() or (v[:6] < 0).any() \
-                or (v[:6] != np.floor(v[:6])).any():
-            raise bad
-        step, micro, n, a, b, c = (int(x) for x in v[:6])
-        if len(v) != 6 + n + a + b + c or step > 2**53:
-            raise bad
-        blob = bytes(int(x) & 0xFF for x in v[6 + n:])
-        try:
-            held = pb.CouplingData.FromString(blob[:a]).interfaces
-            ramp = pb.CouplingData.FromString(blob[a:a + b]).interfaces if b else None
-            last = pb.CouplingData.FromString(blob[a + b:]).interfaces
-        except Exception:
-            raise bad
-        self.p.restore(v[6:6 + n])
-        self.step = step
-        self.p.micro_steps = micro
-        self.set_inputs(held, ramp)
-        self.last = [{q: np.array(getattr(d, q)) for q in i.sends}
-                     for i, d in zip(self.interfaces, last)]
-        out.ack.SetInParent()
         return out
 
     def out_of_order(self, req, out):

@@ -5,7 +5,8 @@ at first import, into a cache folder keyed by the schema's hash:
 $RAILCOSIM_SDK_CACHE, else $XDG_CACHE_HOME/railcosim, else
 ~/.cache/railcosim (a temporary folder if none is writable). The schema is
 $RAILCOSIM_PROTO, else protocol/railcosim.proto of the checkout this
-package lives in. Needs Debian's protobuf-compiler and python3-protobuf.
+package lives in, else (the SDK installed with the C++ package) the
+railcosim.proto installed beside it. Needs Debian's protobuf-compiler and python3-protobuf.
 """
 
 import hashlib
@@ -27,9 +28,16 @@ MAX_FRAME = 8 << 20
 
 
 def _schema_path():
+    """$RAILCOSIM_PROTO; else the checkout's protocol/railcosim.proto; else,
+    for the SDK installed with the package (PREFIX/share/railcosim/sdk/python),
+    the schema installed beside it (PREFIX/share/railcosim/railcosim.proto)."""
+    if os.environ.get("RAILCOSIM_PROTO"):
+        return os.environ["RAILCOSIM_PROTO"]
     here = os.path.dirname(os.path.abspath(__file__))
-    return os.environ.get("RAILCOSIM_PROTO") or os.path.normpath(
-        os.path.join(here, "..", "..", "..", "protocol", "railcosim.proto"))
+    checkout = os.path.normpath(os.path.join(here, "..", "..", "..", "protocol",
+                                             "railcosim.proto"))
+    installed = os.path.normpath(os.path.join(here, "..", "..", "..", "railcosim.proto"))
+    return installed if not os.path.exists(checkout) and os.path.exists(installed) else checkout
 
 
 def _cache_roots():
