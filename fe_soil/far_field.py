@@ -1,19 +1,31 @@
-"""The static far field: statics on the block extended by node planes that
-grow geometrically outwards (an infinite-element-like graded extension,
-statics only), so that the half-space outside the block carries the static
-load with its own stiffness instead of the boundary springs.
+"""The static far field: the correction the half-space outside the block
+makes to the block's statics, from a coarse copy of the block and its graded
+extension.
 
 The springs k = alpha G/R of the viscous-spring boundary (Liu et al. 2006)
 are tuned for waves leaving the block; under a static load they are too
 soft (on the ground-vibration block a footprint's static displacement at
-4 and 8 m was 1.07 and 1.12 of Boussinesq's). The extension reaches
-`static_reach` times the block's largest extent beyond it, each element
-`STATIC_GROWTH` times the one before; its outer boundary keeps the springs,
-whose error there is small at the block. The static displacement of the
-block's nodes is taken from the extended solution; the force the outer soil
-then exerts on the block's boundary beyond the springs is kept as a
-constant load in the dynamics (`FESoil.statics`), so that the static state
-is at rest on the block."""
+4 and 8 m was 1.07 and 1.12 of Boussinesq's). Statics on the block extended
+by node planes growing geometrically outwards (an infinite-element-like
+graded extension, statics only) carry the load with the outer soil's own
+stiffness, but the block's fine node planes run through the extension on
+a tensor grid: twice the DOFs, elements of aspect ratios in the hundreds,
+and a solve ten times the block's.
+
+So the extension is solved on a coarse grid only, for the difference it
+makes: the block's node planes thinned to about COARSE_ELEMENTS elements
+along its largest extent (a subset of them, keeping the layer interfaces),
+that coarse block solved once with its springs and once extended by
+`static_reach` times its largest extent, each extension element
+STATIC_GROWTH times the one before, its outer boundary keeping the springs.
+The difference of the two on the block is what the outer soil changes;
+near the load the two coarse solutions share their mesh and its error, so
+it is smooth, and its trilinear interpolation is added to the fine block's
+own static solution (`FESoil.statics`). Both coarse operators are small:
+each rank factorises them once (MUMPS Cholesky, on its own), and each later
+static solve adds two pairs of triangular solves. The force the outer soil
+then exerts on the block beyond its springs is held as a constant load in
+the dynamics, so the static state is at rest on the block."""
 from __future__ import annotations
 
 import dataclasses
@@ -21,16 +33,14 @@ import dataclasses
 import numpy as np
 from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import footprints, forms
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 
 STATIC_GROWTH = 2.0  # each extension element this many times the one before
-# Up to this many DOFs the extended operator is factorised once (MUMPS
-# Cholesky) and every static solve is two triangular solves; above, CG +
-# GAMG (whose iterations the extension's long thin elements multiply).
-DIRECT_DOFS = 60_000
+COARSE_ELEMENTS = 12  # the coarse block's elements along its largest extent
 
 
 def _grow(nodes, reach):
@@ -56,6 +66,33 @@ def extended_nodes(nodes, reach, symmetric):
     ez = flip(_grow(flip(zs), reach))
     return (ex, ey, ez), (len(ex) - len(_grow(xs, reach)), len(ey) - len(_grow(ys, reach)),
                           len(ez) - len(zs))
+
+
+def coarse_planes(planes, h, keep=()):
+    """A subset of `planes` spaced about h apart: the first and the last, the
+    ones in `keep` (layer interfaces), and a plane wherever the last one
+    kept lies h or more behind it; a last gap under h/2 is closed by
+    dropping the plane before it (unless kept)."""
+    planes = [float(v) for v in planes]
+    tol = 1e-9 * (planes[-1] - planes[0])
+    must = lambda v: any(abs(v - k) <= tol for k in keep)
+    out = [planes[0]]
+    for v in planes[1:-1]:
+        if must(v) or v - out[-1] >= h - tol:
+            out.append(v)
+    if len(out) > 1 and planes[-1] - out[-1] < 0.5 * h and not must(out[-1]):
+        out.pop()
+    return out + [planes[-1]]
+
+
+def coarse_nodes(params, nodes):
+    """The coarse block's node planes: every axis thinned to elements of
+    about the largest extent over COARSE_ELEMENTS (where the block's are
+    finer), the z planes of the layer interfaces kept."""
+    h = max(a[-1] - a[0] for a in nodes) / COARSE_ELEMENTS
+    tops = -np.cumsum([layer.thickness for layer in params.layers[:-1]])
+    return (coarse_planes(nodes[0], h), coarse_planes(nodes[1], h),
+            coarse_planes(nodes[2], h, keep=list(tops)))
 
 
 def cg_gamg(K, comm):
@@ -87,90 +124,100 @@ def solve(ksp, b, x, rtol, what):
                            % (what, ksp.getConvergedReason()))
 
 
-class StaticExtension:
-    """The static operator on the extended block and its solver (CG + GAMG
-    with the rigid-body modes), and the map of its solution to the block's
-    DOFs (by node-plane indices: the block's planes are the extension's)."""
+def trilinear(nodes, points):
+    """The Q1 interpolation on a tensor grid at `points` (n x 3): for each
+    point the flat indices (n x 8) of the grid nodes around it (index i, j, k
+    of the planes as (i ny + j) nz + k) and their weights (n x 8)."""
+    cells, fracs = [], []
+    for axis, planes in enumerate(nodes):
+        planes = np.asarray(planes, dtype=float)
+        e = np.clip(np.searchsorted(planes, points[:, axis], side="right") - 1, 0, len(planes) - 2)
+        s = np.clip((points[:, axis] - planes[e]) / (planes[e + 1] - planes[e]), 0.0, 1.0)
+        cells.append(e)
+        fracs.append(s)
+    ny, nz = len(nodes[1]), len(nodes[2])
+    index, weight = [], []
+    for a in (0, 1):
+        for b in (0, 1):
+            for c in (0, 1):
+                index.append(((cells[0] + a) * ny + cells[1] + b) * nz + cells[2] + c)
+                weight.append(np.where(a, fracs[0], 1.0 - fracs[0]) *
+                              np.where(b, fracs[1], 1.0 - fracs[1]) *
+                              np.where(c, fracs[2], 1.0 - fracs[2]))
+    return np.array(index).T, np.array(weight).T
 
-    BASIS = 24  # solutions kept to start the next solve from
 
-    def __init__(self, params, block_nodes, block_coords, comm):
-        self.comm = comm
-        ext, self.offset = extended_nodes(block_nodes, params.static_reach *
-                                          max(params.length, params.half_width, params.depth),
-                                          params.symmetric)
-        p = dataclasses.replace(params, x_nodes=ext[0], y_nodes=ext[1], z_nodes=ext[2])
-        mesh, self.nodes = block_mesh(p, comm)
+class GridStatics:
+    """The static operator of the block on the node planes `nodes` (springs
+    on its absorbing faces, u_y = 0 on a symmetry plane), on this rank alone,
+    factorised once; its solutions as arrays over the grid (nx, ny, nz, 3)."""
+
+    def __init__(self, params, nodes):
+        p = dataclasses.replace(params, x_nodes=nodes[0], y_nodes=nodes[1], z_nodes=nodes[2])
+        mesh, self.nodes = block_mesh(p, MPI.COMM_SELF)
         V = fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
         tags = facet_tags(mesh, self.nodes)
-        f = layer_fields(mesh, p)
-        centre = fem.Constant(mesh, np.array([0.5 * (ext[0][0] + ext[0][-1]), 0.0, 0.0]))
-        a_form = forms.stiffness_form(V, f, forms.boundary_measures(mesh, tags), centre,
-                                      p.spring_alpha)
-        K = fem.petsc.assemble_matrix(a_form)
-        K.assemble()
-        n_owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-        mask = np.ones(n_owned)
-        rows = np.array([], dtype=np.int32)
+        centre = fem.Constant(mesh, np.array([0.5 * (nodes[0][0] + nodes[0][-1]), 0.0, 0.0]))
+        a_form = forms.stiffness_form(V, layer_fields(mesh, p), forms.boundary_measures(mesh, tags),
+                                      centre, p.spring_alpha)
+        self.K = fem.petsc.assemble_matrix(a_form)
+        self.K.assemble()
+        self.mask = np.ones(V.dofmap.index_map.size_local * 3)
         if p.symmetric:
             Vy, _ = V.sub(1).collapse()
             dofs = fem.locate_dofs_topological((V.sub(1), Vy), 2, tags.find(SYMMETRY))[0]
-            dofs = dofs[dofs < n_owned]
-            mask[dofs] = 0.0
-            rows = (dofs + K.getOwnershipRange()[0]).astype(np.int32)
-        K.zeroRowsColumns(rows, 1.0)
-        coords = np.repeat(V.tabulate_dof_coordinates()[: n_owned // 3], 3, axis=0)
-        K.setNearNullSpace(forms.rigid_body_modes(K.createVecs()[0], coords, mask, comm))
-        self.K, self.mask = K, mask
-        if V.dofmap.index_map.size_global * 3 <= DIRECT_DOFS:
-            self.ksp = PETSc.KSP().create(comm)
-            self.ksp.setOperators(K)
-            self.ksp.setType("preonly")
-            self.ksp.getPC().setType("cholesky")
-            self.ksp.getPC().setFactorSolverType("mumps")
-        else:
-            self.ksp = cg_gamg(K, comm)
+            self.mask[dofs] = 0.0
+            self.K.zeroRowsColumns(dofs.astype(np.int32), 1.0)
+        self.ksp = PETSc.KSP().create(MPI.COMM_SELF)
+        self.ksp.setOperators(self.K)
+        self.ksp.setType("preonly")
+        self.ksp.getPC().setType("cholesky")
+        self.ksp.getPC().setFactorSolverType("mumps")
         index = footprints.surface_node_index(V, self.nodes)
         self.loads = [footprints.footprint_vector(fp, self.nodes, index) for fp in p.footprints]
-        self._to_block = self._block_map(coords, block_nodes, block_coords)
-        self.basis = []  # (forces, solution) of the last solves
+        # Each node's place in the grid (the planes are the grid's, exactly).
+        c = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local]
+        ijk = [np.searchsorted(np.asarray(a), c[:, k] - 1e-9 * (a[-1] - a[0]))
+               for k, a in enumerate(self.nodes)]
+        self.shape = tuple(len(a) for a in self.nodes)
+        self.order = np.argsort(np.ravel_multi_index(ijk, self.shape))
 
-    def _grid_key(self, coords, nodes, offset):
-        """Each row's node index (i, j, k) in `nodes`, shifted by `offset`,
-        as one integer over the extended grid (-1 where not on a plane)."""
-        key = np.zeros(len(coords), dtype=np.int64)
-        ok = np.ones(len(coords), dtype=bool)
-        for axis in range(3):
-            planes = np.asarray(nodes[axis], dtype=float)
-            tol = 1e-9 * (planes[-1] - planes[0])
-            i = np.clip(np.searchsorted(planes, coords[:, axis] - tol), 0, len(planes) - 1)
-            ok &= np.abs(planes[i] - coords[:, axis]) <= tol
-            key = key * len(self.nodes[axis]) + i + offset[axis]
-        return np.where(ok, key * 3 + np.arange(len(coords)) % 3, -1)
-
-    def _block_map(self, coords, block_nodes, block_coords):
-        """For each owned block DOF, where its value sits in the gathered
-        extended solution (every rank's owned values, concatenated)."""
-        keys = self._grid_key(coords, self.nodes, (0, 0, 0))
-        all_keys = np.concatenate(self.comm.allgather(keys))
-        order = np.argsort(all_keys)
-        mine = self._grid_key(block_coords, block_nodes, self.offset)
-        at = order[np.searchsorted(all_keys, mine, sorter=order)]
-        if np.any(mine < 0) or np.any(all_keys[at] != mine):
-            raise RuntimeError("soil: the static extension misses nodes of the block")
-        return at
-
-    def solve(self, forces, shares, areas, rtol):
-        """The block's displacement (owned DOFs) under the footprint forces
-        (whole sleeper; `shares` the modelled part of each, `areas` the
-        modelled footprint areas of the block)."""
+    def solve(self, forces, shares):
+        """The displacement under the footprint forces (whole sleeper,
+        `shares` the modelled part of each) as an array (nx, ny, nz, 3)."""
         b, x = self.K.createVecs()
         load = np.zeros(len(self.mask))
-        for (idx, val, _), f, s, a in zip(self.loads, forces, shares, areas):
-            load[idx] += f * s / a * val
+        for (idx, val, area), f, s in zip(self.loads, forces, shares):
+            if area > 0.0:
+                load[idx] += f * s / area * val
         b.array[:] = load * self.mask
-        x.array[:] = start_from(self.basis, forces)
-        solve(self.ksp, b, x, rtol, " on the extended block")
-        self.basis.append((np.array(forces, dtype=float), x.array.copy()))
-        del self.basis[: -self.BASIS]
-        return np.concatenate(self.comm.allgather(x.array))[self._to_block]
+        solve(self.ksp, b, x, 0.0, " of the coarse block")
+        return x.array.reshape(-1, 3)[self.order].reshape(self.shape + (3,))
+
+
+class StaticExtension:
+    """The far-field correction of the block's statics: the coarse block
+    extended minus the coarse block alone, interpolated to the block's
+    owned DOFs (`dof_coords`, one row per DOF, components in turn)."""
+
+    def __init__(self, params, block_nodes, dof_coords):
+        coarse = coarse_nodes(params, block_nodes)
+        reach = params.static_reach * max(params.length, params.half_width, params.depth)
+        ext, self.offset = extended_nodes(coarse, reach, params.symmetric)
+        self.block = GridStatics(params, coarse)
+        self.extended = GridStatics(params, ext)
+        self.index, self.weight = trilinear(coarse, dof_coords)
+        self.component = np.arange(len(dof_coords)) % 3
+
+    def dofs(self):
+        """The coarse operators' sizes: (block, extended)."""
+        return self.block.K.getSize()[0], self.extended.K.getSize()[0]
+
+    def correction(self, forces, shares):
+        """What the outer soil adds to the block's static displacement under
+        the footprint forces, at the block's owned DOFs."""
+        u_block = self.block.solve(forces, shares)
+        u_ext = self.extended.solve(forces, shares)
+        (i, j, k), (nx, ny, nz) = self.offset, u_block.shape[:3]
+        diff = (u_ext[i : i + nx, j : j + ny, k : k + nz] - u_block).reshape(-1, 3)
+        return np.sum(self.weight * diff[self.index, self.component[:, None]], axis=1)

@@ -51,8 +51,9 @@ class FESoil:
         self._setup_receivers()
         self.dt = self._stable_step()
         self._inv = None  # (dt, the update's diagonal) of the last run
-        self.ksp, self._extension = None, None  # the static solver, or the extension's
-        self._static_basis = []  # (forces, solution) of the last static solves
+        self.ksp, self._extension = None, None  # the block's static solver, the far field
+        # (forces, block solution, solution, held force) of the last static solves
+        self._static_basis = []
         self.reset()
 
     # ---- set-up -------------------------------------------------------
@@ -254,30 +255,33 @@ class FESoil:
         solve starts from the kept solutions' best fit (far_field.start_from).
         Forces asked for before get that solution back bitwise, so the
         iteration sees the change stop instead of the solver's round-off.
-        With `static_reach` the solve is on the extended block."""
+        With `static_reach` the outer soil's correction is added
+        (far_field.StaticExtension)."""
         forces = np.asarray(forces, dtype=float)
-        for f_old, x_old, c_old in self._static_basis:
+        for f_old, _, x_old, c_old in self._static_basis:
             if np.array_equal(f_old, forces):
                 self._set_static(x_old, c_old)
                 return self.footprint_average(self.u)
-        if self.p.static_reach > 0.0:
-            x = self._extended_statics(forces, rtol)
-        else:
-            x = self._block_statics(forces, rtol)
+        x_block = self._block_statics(forces, rtol)
+        x = x_block + self._far_field(forces)
         # The force the soil outside the block exerts beyond the boundary
         # springs (zero without the extension), held in the dynamics.
         self.U.array[:] = x
         self.K.mult(self.U, self.KU)
         corr = (self.KU.array - self.load_vector(forces)) * self.mask * (self.p.static_reach > 0.0)
-        self._static_basis.append((forces.copy(), x.copy(), corr))
+        self._static_basis.append((forces.copy(), x_block, x.copy(), corr))
         del self._static_basis[: -self.STATIC_BASIS]
         self._set_static(x, corr)
         return self.footprint_average(self.u)
 
-    def _extended_statics(self, forces, rtol):
+    def _far_field(self, forces):
+        """The outer soil's change to the block's static displacement (zero
+        without `static_reach`)."""
+        if self.p.static_reach <= 0.0:
+            return 0.0
         if self._extension is None:  # built at the first statics
-            self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates(), self.comm)
-        return self._extension.solve(forces, self.fp_share, self.fp_area, rtol) * self.mask
+            self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates())
+        return self._extension.correction(forces, self.fp_share) * self.mask
 
     def _block_statics(self, forces, rtol):
         b = self.U.duplicate()

@@ -1,7 +1,9 @@
 """The FE soil's static far field: a footprint's static displacement on the
 homogeneous half-space at 4 and 8 m against Boussinesq's closed form on the
-block the scene keys give (the default static extension), and the static
-state at rest when stepped on the block it was mapped to."""
+block the scene keys give (the default static extension), the static state
+at rest when stepped on the block with the correction added, and the parts
+of the correction: the coarse block's node planes, their interpolation,
+the coarse operators' size."""
 import math
 import unittest
 from types import SimpleNamespace
@@ -10,7 +12,7 @@ import numpy as np
 
 from support import HALF_SPACE
 
-from fe_soil import config
+from fe_soil import config, far_field
 from fe_soil.footprints import hat_values
 from fe_soil.model import FESoil
 
@@ -76,11 +78,56 @@ class StaticFarField(unittest.TestCase):
         self.assertLess(np.max(np.abs(v)), 1e-6 * np.max(self.w0) / H)
         self.soil.restore(state)
 
+    def test_the_coarse_operators_are_smaller_than_the_block(self):
+        # Measured: 1,080 and 5,700 DOFs against the block's 11,250 (the
+        # fine planes carried through the extension gave 41,184).
+        block_dofs, extended_dofs = self.soil._extension.dofs()
+        self.assertEqual(block_dofs, 3 * 10 * 6 * 6)
+        self.assertLess(extended_dofs, self.soil.global_dofs() / 1.5)
+
     def test_the_key_reaches_the_block(self):
         self.assertEqual(self.p.static_reach, 5.0)  # the default of [soil] static_reach
         self.assertEqual(block(0.0).static_reach, 0.0)
         with self.assertRaisesRegex(config.ConfigError, r"\[soil\] static_reach must be >= 0"):
             block(-1.0)
+
+
+class CoarseGrid(unittest.TestCase):
+    def test_coarse_planes_are_a_subset_spaced_h_apart(self):
+        planes = [float(v) for v in range(11)]
+        self.assertEqual(far_field.coarse_planes(planes, 3.0), [0.0, 3.0, 6.0, 10.0])
+        self.assertEqual(far_field.coarse_planes(planes, 3.0, keep=[4.0]),
+                         [0.0, 3.0, 4.0, 7.0, 10.0])
+        self.assertEqual(far_field.coarse_planes(planes, 0.5), planes)
+        graded = [0.0, 0.5, 1.0, 1.5, 2.5, 4.0, 6.0]
+        self.assertEqual(far_field.coarse_planes(graded, 1.2), [0.0, 1.5, 4.0, 6.0])
+
+    def test_the_layer_interfaces_stay_planes_of_the_coarse_block(self):
+        table = {"model": "fe", "f_max": 10.0, "growth": 1.25, "receivers": [4.0, 8.0],
+                 "layers": [{"thickness": 1.0, "density": 1800.0, "shear_wave_speed": 128.0,
+                             "poisson": 0.375},
+                            {"thickness": 2.0, "density": 1800.0, "shear_wave_speed": 176.0,
+                             "poisson": 0.195},
+                            {"density": 1800.0, "shear_wave_speed": 355.0, "poisson": 0.478}]}
+        sleepers = [SimpleNamespace(x=0.6 * i, length=0.25, width=2.5, y=0.0) for i in range(21)]
+        p = config.block_params(config.parse(table), sleepers)[0]
+        xs, ys, zs = far_field.coarse_nodes(p, (p.x_nodes, p.y_nodes, p.z_nodes))
+        for z in (-1.0, -3.0):  # -1 m falls between coarse planes unless kept
+            self.assertTrue(any(abs(v - z) < 1e-9 for v in zs), f"{z} m not in {zs}")
+        for coarse, fine in zip((xs, ys, zs), (p.x_nodes, p.y_nodes, p.z_nodes)):
+            self.assertTrue(set(coarse) <= set(fine))
+            self.assertEqual((coarse[0], coarse[-1]), (fine[0], fine[-1]))
+
+    def test_trilinear_interpolation_is_exact_for_a_trilinear_field(self):
+        nodes = ([0.0, 1.0, 3.0, 7.0], [0.0, 2.0, 2.5], [-5.0, -1.0, 0.0])
+        f = lambda x, y, z: 1.0 + 2.0 * x - 3.0 * y + 0.5 * z + 0.25 * x * y * z
+        grid = np.array([[[f(x, y, z) for z in nodes[2]] for y in nodes[1]] for x in nodes[0]])
+        rng = np.random.default_rng(3)
+        points = np.column_stack([rng.uniform(a[0], a[-1], 50) for a in nodes])
+        points = np.vstack([points, [0.0, 0.0, -5.0], [7.0, 2.5, 0.0], [3.0, 2.0, -1.0]])
+        index, weight = far_field.trilinear(nodes, points)
+        np.testing.assert_allclose(np.sum(weight * grid.reshape(-1)[index], axis=1),
+                                   f(*points.T), rtol=0.0, atol=1e-12)
 
 
 if __name__ == "__main__":
