@@ -43,28 +43,31 @@ STATIC_GROWTH = 2.0  # each extension element this many times the one before
 COARSE_ELEMENTS = 12  # the coarse block's elements along its largest extent
 
 
-def _grow(nodes, reach):
-    """Node planes past the last of `nodes`, each spacing STATIC_GROWTH times
-    the one before, until `reach` beyond it."""
+def _grow(nodes, reach, h):
+    """Node planes past the last of `nodes`, the first spacing STATIC_GROWTH
+    times h (or the last spacing, if larger), each next one STATIC_GROWTH
+    times the one before, until `reach` beyond it."""
     out = list(nodes)
-    h, end = out[-1] - out[-2], out[-1] + reach
+    h, end = max(h, out[-1] - out[-2]), out[-1] + reach
     while out[-1] < end - 1e-9 * reach:
         h *= STATIC_GROWTH
         out.append(out[-1] + h)
     return out
 
 
-def extended_nodes(nodes, reach, symmetric):
-    """The block's node planes and the extension's: beyond both ends along
-    the track, beyond the far side across it (and the near side when the
-    whole width is modelled), below the bottom. Returns the planes and the
-    number added before the block's first plane on each axis."""
+def extended_nodes(nodes, reach, symmetric, h=0.0):
+    """The block's node planes and the extension's (its first element
+    STATIC_GROWTH times h at least): beyond both ends along the track,
+    beyond the far side across it (and the near side when the whole width
+    is modelled), below the bottom. Returns the planes and the number added
+    before the block's first plane on each axis."""
     xs, ys, zs = (list(a) for a in nodes)
     flip = lambda a: [-v for v in a[::-1]]
-    ex = flip(_grow(flip(_grow(xs, reach)), reach))
-    ey = _grow(ys, reach) if symmetric else flip(_grow(flip(_grow(ys, reach)), reach))
-    ez = flip(_grow(flip(zs), reach))
-    return (ex, ey, ez), (len(ex) - len(_grow(xs, reach)), len(ey) - len(_grow(ys, reach)),
+    both = lambda a: flip(_grow(flip(_grow(a, reach, h)), reach, h))
+    ex = both(xs)
+    ey = _grow(ys, reach, h) if symmetric else both(ys)
+    ez = flip(_grow(flip(zs), reach, h))
+    return (ex, ey, ez), (len(ex) - len(_grow(xs, reach, h)), len(ey) - len(_grow(ys, reach, h)),
                           len(ez) - len(zs))
 
 
@@ -85,11 +88,17 @@ def coarse_planes(planes, h, keep=()):
     return out + [planes[-1]]
 
 
+def coarse_size(nodes):
+    """The coarse block's element size: its largest extent over
+    COARSE_ELEMENTS."""
+    return max(a[-1] - a[0] for a in nodes) / COARSE_ELEMENTS
+
+
 def coarse_nodes(params, nodes):
     """The coarse block's node planes: every axis thinned to elements of
-    about the largest extent over COARSE_ELEMENTS (where the block's are
-    finer), the z planes of the layer interfaces kept."""
-    h = max(a[-1] - a[0] for a in nodes) / COARSE_ELEMENTS
+    about coarse_size (where the block's are finer), the z planes of the
+    layer interfaces kept."""
+    h = coarse_size(nodes)
     tops = -np.cumsum([layer.thickness for layer in params.layers[:-1]])
     return (coarse_planes(nodes[0], h), coarse_planes(nodes[1], h),
             coarse_planes(nodes[2], h, keep=list(tops)))
@@ -203,7 +212,7 @@ class StaticExtension:
     def __init__(self, params, block_nodes, dof_coords):
         coarse = coarse_nodes(params, block_nodes)
         reach = params.static_reach * max(params.length, params.half_width, params.depth)
-        ext, self.offset = extended_nodes(coarse, reach, params.symmetric)
+        ext, self.offset = extended_nodes(coarse, reach, params.symmetric, coarse_size(block_nodes))
         self.block = GridStatics(params, coarse)
         self.extended = GridStatics(params, ext)
         self.index, self.weight = trilinear(coarse, dof_coords)
