@@ -22,8 +22,9 @@ The difference of the two on the block is what the outer soil changes;
 near the load the two coarse solutions share their mesh and its error, so
 it is smooth, and its trilinear interpolation is added to the fine block's
 own static solution (`FESoil.statics`). Both coarse operators are small:
-each rank factorises them once (MUMPS Cholesky, on its own), and each later
-static solve adds two pairs of triangular solves. The force the outer soil
+rank 0 factorises them once (MUMPS Cholesky, on its own) and sends the
+difference to the other ranks; each later static solve adds two pairs of
+triangular solves. The force the outer soil
 then exerts on the block beyond its springs is held as a constant load in
 the dynamics, so the static state is at rest on the block."""
 from __future__ import annotations
@@ -207,26 +208,35 @@ class GridStatics:
 class StaticExtension:
     """The far-field correction of the block's statics: the coarse block
     extended minus the coarse block alone, interpolated to the block's
-    owned DOFs (`dof_coords`, one row per DOF, components in turn)."""
+    owned DOFs (`dof_coords`, one row per DOF, components in turn). Rank 0
+    of `comm` holds and solves the coarse operators and sends the
+    difference on the coarse grid to every rank (a few thousand numbers)."""
 
-    def __init__(self, params, block_nodes, dof_coords):
+    def __init__(self, params, block_nodes, dof_coords, comm):
+        self.comm = comm
         coarse = coarse_nodes(params, block_nodes)
         reach = params.static_reach * max(params.length, params.half_width, params.depth)
         ext, self.offset = extended_nodes(coarse, reach, params.symmetric, coarse_size(block_nodes))
-        self.block = GridStatics(params, coarse)
-        self.extended = GridStatics(params, ext)
+        self.block = self.extended = None
+        if comm.rank == 0:
+            self.block = GridStatics(params, coarse)
+            self.extended = GridStatics(params, ext)
         self.index, self.weight = trilinear(coarse, dof_coords)
         self.component = np.arange(len(dof_coords)) % 3
 
     def dofs(self):
-        """The coarse operators' sizes: (block, extended)."""
-        return self.block.K.getSize()[0], self.extended.K.getSize()[0]
+        """The coarse operators' sizes: (block, extended), on every rank."""
+        sizes = (self.block.K.getSize()[0], self.extended.K.getSize()[0]) if self.block else None
+        return self.comm.bcast(sizes, root=0)
 
     def correction(self, forces, shares):
         """What the outer soil adds to the block's static displacement under
         the footprint forces, at the block's owned DOFs."""
-        u_block = self.block.solve(forces, shares)
-        u_ext = self.extended.solve(forces, shares)
-        (i, j, k), (nx, ny, nz) = self.offset, u_block.shape[:3]
-        diff = (u_ext[i : i + nx, j : j + ny, k : k + nz] - u_block).reshape(-1, 3)
+        diff = None
+        if self.block is not None:
+            u_block = self.block.solve(forces, shares)
+            u_ext = self.extended.solve(forces, shares)
+            (i, j, k), (nx, ny, nz) = self.offset, u_block.shape[:3]
+            diff = (u_ext[i : i + nx, j : j + ny, k : k + nz] - u_block).reshape(-1, 3)
+        diff = self.comm.bcast(diff, root=0)
         return np.sum(self.weight * diff[self.index, self.component[:, None]], axis=1)

@@ -280,7 +280,8 @@ class FESoil:
         if self.p.static_reach <= 0.0:
             return 0.0
         if self._extension is None:  # built at the first statics
-            self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates())
+            self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates(),
+                                                          self.comm)
         return self._extension.correction(forces, self.fp_share) * self.mask
 
     def _block_statics(self, forces, rtol):
