@@ -13,6 +13,7 @@ the checks run without dolfinx.
     margin = 8.0                 # m beyond the track's ends and the farthest receiver
     growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
     resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
+    static_reach = 5.0           # statics on the block extended this many times its size (0: off)
     receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: its middle)
     damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
@@ -35,9 +36,11 @@ from .soil_table import ConfigError
 
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
-            "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to"}
+            "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
+            "static_reach"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
-            "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0]}
+            "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
+            "static_reach": 5.0}
 MAX_RANKS = 256
 # What one configuration may ask of the machine, derived from its keys before
 # anything is meshed. Memory: measured on one rank (scenes/ground_vibration_ci
@@ -78,6 +81,8 @@ def parse(table):
     for key in ("f_max", "elements_per_wavelength", "depth", "margin"):
         out[key] = soil_table.number(table, key, "", lo=0.0, default=DEFAULTS[key])
     out["mesh_size"] = soil_table.number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
+    out["static_reach"] = soil_table.number(table, "static_reach", "", lo=0.0, hi=100.0,
+                                            lo_open=False, default=DEFAULTS["static_reach"])
     out["growth"] = soil_table.number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
     if out["growth"] > 1.0 and out["mesh_size"] is not None:
         raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
@@ -153,7 +158,8 @@ def block_params(cfg, footprints):
                    layers=cfg["layers"], footprints=fps,
                    receivers=[(rx - x0 + margin, d) for d in cfg["receivers"]],
                    f_max=cfg["f_max"], elements_per_wavelength=cfg["elements_per_wavelength"],
-                   symmetric=True, damping_band=cfg["damping_band"])
+                   symmetric=True, damping_band=cfg["damping_band"],
+                   static_reach=cfg["static_reach"])
     if cfg["mesh_size"] is not None:
         h = cfg["mesh_size"]
     else:

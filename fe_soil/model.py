@@ -19,20 +19,16 @@ from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.mesh
 from mpi4py import MPI
-from petsc4py import PETSc
 
 from . import footprints, forms
+from . import far_field
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 from .params import SoilParams, rayleigh_coefficients
 
 
 def _merge_counts(dicts):
     """The sum of {value: count} dicts (one per rank)."""
-    out = {}
-    for d in dicts:
-        for v, c in d.items():
-            out[v] = out.get(v, 0) + c
-    return out
+    return {v: sum(d.get(v, 0) for d in dicts) for v in set().union(*dicts)}
 
 
 class FESoil:
@@ -55,8 +51,9 @@ class FESoil:
         self._setup_receivers()
         self.dt = self._stable_step()
         self._inv = None  # (dt, the update's diagonal) of the last run
-        self.ksp = None  # the static solver, set up at the first statics
-        self._static_basis = []  # (forces, solution) of the last static solves
+        self.ksp, self._extension = None, None  # the block's static solver, the far field
+        # (forces, block solution, solution, held force) of the last static solves
+        self._static_basis = []
         self.reset()
 
     # ---- set-up -------------------------------------------------------
@@ -195,22 +192,19 @@ class FESoil:
         self.u[:] = 0.0
         self.v = np.zeros(self.n_owned)
         self.a = np.zeros(self.n_owned)
+        self.f_static = np.zeros(self.n_owned)  # see statics()
         self.history = []  # (t, vertical velocity per receiver)
 
     def save(self):
-        return {
-            "t": self.t,
-            "u": self.u.copy(),
-            "v": self.v.copy(),
-            "a": self.a.copy(),
-            "n_history": len(self.history),
-        }
+        return {"t": self.t, "u": self.u.copy(), "v": self.v.copy(), "a": self.a.copy(),
+                "f_static": self.f_static, "n_history": len(self.history)}
 
     def restore(self, state):
         self.t = state["t"]
         self.u[:] = state["u"]
         self.v[:] = state["v"]
         self.a[:] = state["a"]
+        self.f_static = state["f_static"]
         del self.history[state["n_history"] :]
 
     # ---- footprints ---------------------------------------------------
@@ -257,51 +251,57 @@ class FESoil:
         rest). Returns the downward displacement of each footprint.
 
         A coupled static iteration asks again and again with forces that
-        change less and less. The solver (CG + GAMG) is set up once; the
-        last solutions are kept with their forces, and a solve starts from
-        the combination of them whose forces fit the new ones best (least
-        squares in the n footprint forces, the same on every rank), so that
-        only the remainder is solved for. Forces asked for before get that
-        solution back as it was (bitwise), so the iteration sees the change
-        stop instead of the solver's round-off."""
+        change less and less: the solver (CG + GAMG) is set up once, and a
+        solve starts from the kept solutions' best fit (far_field.start_from).
+        Forces asked for before get that solution back bitwise, so the
+        iteration sees the change stop instead of the solver's round-off.
+        With `static_reach` the outer soil's correction is added
+        (far_field.StaticExtension)."""
         forces = np.asarray(forces, dtype=float)
-        for f_old, x_old in self._static_basis:
+        for f_old, _, x_old, c_old in self._static_basis:
             if np.array_equal(f_old, forces):
-                self._set_static(x_old)
+                self._set_static(x_old, c_old)
                 return self.footprint_average(self.u)
+        x_block = self._block_statics(forces, rtol)
+        x = x_block + self._far_field(forces)
+        # The force the soil outside the block exerts beyond the boundary
+        # springs (zero without the extension), held in the dynamics.
+        self.U.array[:] = x
+        self.K.mult(self.U, self.KU)
+        corr = (self.KU.array - self.load_vector(forces)) * self.mask * (self.p.static_reach > 0.0)
+        self._static_basis.append((forces.copy(), x_block, x.copy(), corr))
+        del self._static_basis[: -self.STATIC_BASIS]
+        self._set_static(x, corr)
+        return self.footprint_average(self.u)
+
+    def _far_field(self, forces):
+        """The outer soil's change to the block's static displacement (zero
+        without `static_reach`)."""
+        if self.p.static_reach <= 0.0:
+            return 0.0
+        if self._extension is None:  # built at the first statics
+            self._extension = far_field.StaticExtension(self.p, self.nodes, self.dof_coordinates(),
+                                                          self.comm)
+        return self._extension.correction(forces, self.fp_share) * self.mask
+
+    def _block_statics(self, forces, rtol):
         b = self.U.duplicate()
         b.array[:] = self.load_vector(forces) * self.mask
         if self.ksp is None:
-            ksp = PETSc.KSP().create(self.comm)
             # The rigid-body modes as GAMG's near null space: on the graded
-            # ground-vibration block (219k DOFs, elements up to 7:1, a
-            # half-space with nu = 0.478) 145 CG iterations to 1e-12 against
-            # 253 without; on a 40k-DOF homogeneous cube they had cost time.
+            # ground-vibration block (219k DOFs, elements up to 7:1, nu = 0.478)
+            # 145 CG iterations to 1e-12 against 253 without.
             self.K_static.setNearNullSpace(forms.rigid_body_modes(
                 self.U, self.dof_coordinates(), self.mask, self.comm))
-            ksp.setOperators(self.K_static)
-            ksp.setType("cg")
-            ksp.getPC().setType("gamg")
-            ksp.setInitialGuessNonzero(True)
-            self.ksp = ksp
-        self.ksp.setTolerances(rtol=rtol, atol=0.0, max_it=5000)
+            self.ksp = far_field.cg_gamg(self.K_static, self.comm)
         x = self.U.duplicate()
-        if self._static_basis:
-            F = np.array([f for f, _ in self._static_basis]).T
-            alpha = np.linalg.lstsq(F, forces, rcond=None)[0]
-            x.array[:] = sum(a * xs for a, (_, xs) in zip(alpha, self._static_basis))
-        else:
-            x.array[:] = 0.0
-        self.ksp.solve(b, x)
-        if self.ksp.getConvergedReason() <= 0:
-            raise RuntimeError(f"soil: static solve did not converge ({self.ksp.getConvergedReason()})")
-        self._static_basis.append((forces.copy(), x.array.copy()))
-        del self._static_basis[: -self.STATIC_BASIS]
-        self._set_static(x.array)
-        return self.footprint_average(self.u)
+        x.array[:] = far_field.start_from(self._static_basis, forces)
+        far_field.solve(self.ksp, b, x, rtol, "")
+        return x.array.copy()
 
-    def _set_static(self, x):
+    def _set_static(self, x, corr):
         self.u[:] = x
+        self.f_static = corr
         self.v[:] = 0.0
         self.a[:] = 0.0
 
@@ -311,6 +311,7 @@ class FESoil:
         footprint at t + H."""
         f0 = self.load_vector(forces_start)
         df = self.load_vector(forces_end) - f0
+        f0 = f0 + self.f_static
         n = max(1, math.ceil(H / self.dt - 1e-9))
         self.run(H / n, n, f0, df)
         self.t = t + H

@@ -64,6 +64,10 @@ class SoilParams:
     spring_alpha: Tuple[float, float] = (4.0 / 3.0, 2.0 / 3.0)  # (normal, tangential)
     dashpots: bool = True  # False: springs alone (a reflecting boundary, for comparison)
     cfl_safety: float = 0.8
+    # Statics on the block extended by geometrically growing elements to
+    # this many times its largest extent beyond it (fe_soil/far_field.py);
+    # 0: statics on the block with its boundary springs.
+    static_reach: float = 0.0
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
     x_nodes: Sequence[float] | None = None

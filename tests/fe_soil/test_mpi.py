@@ -1,6 +1,6 @@
-"""The soil on two MPI ranks gives what it gives on one: statics,
-footprint outputs and receiver velocities after a pulse (to 1e-7
-relative; only the order of parallel sums differs)."""
+"""The soil on two MPI ranks gives what it gives on one: statics (with the
+static far field), footprint outputs and receiver velocities after a pulse
+(to 1e-7 relative; only the order of parallel sums differs)."""
 import json
 import os
 import shutil
@@ -22,7 +22,7 @@ def run_case():
     p = SoilParams(
         length=16.0, half_width=10.0, depth=8.0, layers=[HALF_SPACE],
         footprints=[Footprint(8.0, 1.0, 1.0), Footprint(8.6, 0.25, 2.6)],
-        receivers=[(8.0, 4.0), (8.0, 8.0)],
+        receivers=[(8.0, 4.0), (8.0, 8.0)], static_reach=5.0,
         x_nodes=uniform_nodes(0, 16, 0.5), y_nodes=uniform_nodes(0, 10, 0.5), z_nodes=uniform_nodes(-8, 0, 0.5))
     soil = FESoil(p)
     w0 = soil.statics([1e4, 2e4])
