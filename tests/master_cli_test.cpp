@@ -122,8 +122,8 @@ TEST(MasterCli, AnExternalSoilWithoutItsAddressNamesTheFlag) {
 }
 
 // The FE soil is started by the master over TCP: in process it cannot run,
-// and a study does not start it.
-TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
+// nor be studied.
+TEST(MasterCli, TheFeSoilNeedsTcp) {
   const fs::path out = temp_dir("cli_fe");
   std::ofstream(out / "fe.toml") << read_file(test::source_path("scenes/ground_vibration_ci.toml"));
   const Outcome o =
@@ -135,13 +135,15 @@ TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
                           "default), not --transport inproc"),
             std::string::npos)
       << o.output;
-  const Outcome s = run_master("study --scene " + (out / "fe.toml").string() + " --out " +
-                               (out / "study").string());
+  const Outcome s = run_master("study --scene " + (out / "fe.toml").string() +
+                               " --transport inproc --out " + (out / "study").string());
   EXPECT_EQ(s.status, 2) << s.output;
-  EXPECT_NE(s.output.find("the scene's soil is the FE soil (soil.model = \"fe\"): master study"),
+  EXPECT_NE(s.output.find("fe.toml: the scene's soil is the FE soil (soil.model = \"fe\"), a "
+                          "program of its own that the study starts and reaches over TCP: use "
+                          "--transport tcp (the default), not --transport inproc"),
             std::string::npos)
       << s.output;
-  EXPECT_NE(s.output.find("scripts/run-main.sh OUT"), std::string::npos) << s.output;
+  EXPECT_FALSE(fs::exists(out / "study" / "plan.txt")) << "nothing may run";
   const Outcome m = run_master("run --scene " + (out / "fe.toml").string() +
                                " --case monolithic --out " + (out / "res").string());
   EXPECT_NE(m.status, 0) << m.output;
@@ -151,7 +153,7 @@ TEST(MasterCli, TheFeSoilNeedsTcpAndNoStudy) {
 
 // The soil from Green's functions, another soil the master starts: the same
 // refusals, naming it by its row of the table of started soils.
-TEST(MasterCli, TheGreenSoilNeedsTcpAndNoStudy) {
+TEST(MasterCli, TheGreenSoilNeedsTcp) {
   const fs::path out = temp_dir("cli_green");
   const std::string scene = test::source_path("scenes/ground_vibration_green_ci.toml");
   const Outcome o =
@@ -163,12 +165,14 @@ TEST(MasterCli, TheGreenSoilNeedsTcpAndNoStudy) {
                           "--transport tcp"),
             std::string::npos)
       << o.output;
-  const Outcome s = run_master("study --scene " + scene + " --out " + (out / "study").string());
+  const Outcome s = run_master("study --scene " + scene + " --transport inproc --out " +
+                               (out / "study").string());
   EXPECT_EQ(s.status, 2) << s.output;
-  EXPECT_NE(s.output.find("(soil.model = \"green\"), a program of its own that master study "
-                          "does not start"),
+  EXPECT_NE(s.output.find("(soil.model = \"green\"), a program of its own that the study "
+                          "starts and reaches over TCP"),
             std::string::npos)
       << s.output;
+  fs::remove_all(out);
 }
 
 TEST(MasterCli, TcpRunAgainstNodesStartedByHand) {

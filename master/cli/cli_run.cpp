@@ -294,7 +294,9 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--reference-step", a.reference_step,
                   "Macro step of the co-simulation reference a run is judged against where no "
                   "monolithic one can be built (a --node participant, an external soil), s; "
-                  "default: half the run's")
+                  "default: half the run's. On a scene whose soil the master starts (FE, "
+                  "Green's functions) it asks for that judgement, and the soil then writes no "
+                  "measures into the run's folder")
       ->check(CLI::PositiveNumber);
   run->add_option("--out", a.out, "Output folder; the run writes OUT/CASE/")->capture_default_str();
   run->add_option("--token-file", a.token_file, "Shared secret of nodes started with --token-file")
@@ -362,11 +364,15 @@ int do_run(const RunArgs& command_line) {
     reference = run::run_monolithic(scene, o);
     return reference;
   };
-  if (scene.started_soil() != nullptr)  // it writes its measures next to the run's files
-    job.on_folder = [&](const std::filesystem::path& dir) {
-      pool.use_fe_soil({scene.soil_ranks, std::filesystem::absolute(dir).string(),
+  // It writes its measures next to the run's files, unless the run is
+  // judged against a co-simulation reference, whose runs would overwrite them.
+  if (scene.started_soil() != nullptr) {
+    const bool judged = a.reference_step > 0;
+    job.on_folder = [&pool, &scene, judged](const std::filesystem::path& dir) {
+      pool.use_fe_soil({scene.soil_ranks, judged ? "" : std::filesystem::absolute(dir).string(),
                         scene.started_soil(), scene.source});
     };
+  }
   auto progress = std::make_shared<run::Progress>(spec.name(), 1, 1);
   job.on_progress = [progress, name = spec.name()](long done, long total) {
     progress->step(0, name, done, total);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <exception>
+#include <iomanip>
 #include <sstream>
 #include <type_traits>
 
@@ -114,9 +115,23 @@ std::string too_coarse(const RunRecord& run, const Scene& scene) {
 
 }  // namespace
 
+const CosimReferences::Made& CosimReferences::get(const std::string& key,
+                                                  const std::function<Made()>& make) {
+  Entry* e = nullptr;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    auto& slot = entries_[key];
+    if (!slot) slot = std::make_unique<Entry>();
+    e = slot.get();
+  }
+  std::call_once(e->once, [e, &make] { e->made = make(); });
+  return e->made;
+}
+
 void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& spec,
                           const RunOptions& options, const remote::ParticipantFactory& make,
-                          const std::string& transport, double reference_step) {
+                          const std::string& transport, double reference_step,
+                          CosimReferences* shared) {
   // The map and the probe would build the scene's own participants, not
   // those behind a given address: the defect along the run is its own.
   assess_growth(run, scene, spec, options, false);
@@ -128,10 +143,19 @@ void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& sp
   const double H = options.macro_step;
   const long k = reference_step > 0 ? std::max(1L, std::lround(H / reference_step)) : 2L;
   const double H_ref = H / static_cast<double>(k);
-  RunRecord fine, coarse;
-  std::string note;
-  const std::string why =
-      reference_runs({scene, spec, options, make, transport}, H_ref, fine, coarse, note);
+  auto made_here = [&] {
+    CosimReferences::Made m;
+    m.why_not =
+        reference_runs({scene, spec, options, make, transport}, H_ref, m.fine, m.coarse, m.note);
+    return m;
+  };
+  std::ostringstream key;
+  key << std::setprecision(17) << scene.source << "|" << spec.name() << "|" << H_ref << "|"
+      << options.tolerance << "|" << transport << "|" << static_cast<int>(options.data_plane);
+  CosimReferences::Made own;
+  const CosimReferences::Made& m = shared ? shared->get(key.str(), made_here) : (own = made_here());
+  const RunRecord &fine = m.fine, &coarse = m.coarse;
+  const std::string &note = m.note, &why = m.why_not;
   if (!why.empty()) {
     run.reference_note = why;
     judge_unmeasured(run, "no co-simulation reference: " + why);

@@ -15,6 +15,10 @@
 // with inputs at least linear over the step, are second order).
 #pragma once
 
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "cosim_case.hpp"
@@ -40,6 +44,28 @@ inline constexpr double kReferenceErrorShare = 0.5;
 // history; its final fields as they are): a run at H_ref seen at k H_ref.
 RunRecord every_kth_row(const RunRecord& fine, long k);
 
+// The reference runs of a case, made once for every run that is judged
+// against them (a study's methods of one case share its reference): by scene
+// file, case, reference step, tolerance and transport.
+class CosimReferences {
+ public:
+  struct Made {
+    RunRecord fine, coarse;  // at H_ref and 2 H_ref
+    std::string note;        // how they were made (linear inputs instead of a waveform)
+    std::string why_not;     // why they cannot serve; "" when they can
+  };
+  // The pair of `key`, made by `make` the first time it is asked for.
+  const Made& get(const std::string& key, const std::function<Made()>& make);
+
+ private:
+  struct Entry {
+    std::once_flag once;
+    Made made;
+  };
+  std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<Entry>> entries_;
+};
+
 // Makes the co-simulation reference for a run of `spec` at options.macro_step
 // from participants made by `make` over `transport`, at the macro step
 // `reference_step` (0: H / 2; else H / k, k the nearest whole number of
@@ -48,9 +74,12 @@ RunRecord every_kth_row(const RunRecord& fine, long k);
 // built-in participants). Where no reference can be made (a reference run
 // fails, diverges or does not converge) or its estimated error is too large
 // to judge by, the status becomes "not_judged" and the message says why.
+// With `shared`, the reference runs are made once for every run asking for
+// the same ones.
 void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& spec,
                           const RunOptions& options, const remote::ParticipantFactory& make,
-                          const std::string& transport, double reference_step);
+                          const std::string& transport, double reference_step,
+                          CosimReferences* shared = nullptr);
 
 // The judgement's parts of summary.json, each line "  \"key\": {...},\n":
 // the stability (stability.hpp) and what the run was judged against.

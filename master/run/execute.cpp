@@ -25,15 +25,20 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   };
   RunRecord r = run_cosim(scene, job.spec, o, factory, t.name);
   // A soil the master starts (FE, Green's functions) writes its measures
-  // into the run's folder, which reference runs would overwrite.
-  if (given_node || scene.soil_model == "external") {
+  // into the run's folder, which reference runs would overwrite: it is
+  // judged when a reference step is asked for (the study's runs; it is then
+  // started without an output folder).
+  const bool started = scene.started_soil() != nullptr;
+  if (given_node || scene.soil_model == "external" || (started && job.reference_step > 0)) {
     judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
-    assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step);
-  } else if (scene.started_soil() != nullptr) {
+    assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step,
+                         job.cosim_references);
+  } else if (started) {
     r.reference_kind = "none";
     r.reference_note =
         "the soil is a program the master starts, which writes its measures into the run's "
-        "folder: no co-simulation reference is made for it";
+        "folder: no co-simulation reference is made for it (--reference-step makes one, and "
+        "the soil then writes no measures)";
   } else {
     r.reference_kind = "monolithic";
     assess(r, job.reference(), scene, job.spec, o);

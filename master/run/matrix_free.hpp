@@ -46,6 +46,17 @@ namespace railcosim::run {
 inline constexpr double kMatrixFreePerturbation = 1e-9;
 // The perturbation's growth at which the iteration ends.
 inline constexpr double kMatrixFreeGrowth = 1e6;
+// Implicit coupling (converged to kMatrixFreeConvergence, at most
+// kMatrixFreeMaxIterations a step): the perturbation, and the growth that
+// ends the iteration (its product stays 1e-3 of the static values, in the
+// linear range).
+inline constexpr double kMatrixFreeConvergence = 1e-10;
+inline constexpr int kMatrixFreeMaxIterations = 100;
+inline constexpr double kMatrixFreeImplicitPerturbation = 1e-6;
+inline constexpr double kMatrixFreeImplicitGrowth = 1e3;
+// Below this share of itself after one step the perturbation did not enter
+// the step (implicit coupling with held inputs): nothing is measured.
+inline constexpr double kMatrixFreeCarried = 1e-2;
 // The unperturbed pass's largest drift from rest (relative to the static
 // values) at which the iteration ends.
 inline constexpr double kMatrixFreeDrift = 1e-3;
@@ -55,10 +66,13 @@ struct MatrixFreeRho {
   double rate_per_s = 0;  // ln(rho) / H
   long steps = 0;         // macro steps measured (each pass)
   double growth = 1;      // the perturbation's growth over them
+  double carried = 0;     // its size after the first step, over its size at the start
 };
 
 // The estimate for a co-simulation case under these options (explicit
-// coupling), its participants made over `transport` (a name of the
+// coupling; implicit coupling whose inputs over a step start from the
+// coupling data at t_n, a ramp or a waveform, where that start is the state
+// the perturbation moves), its participants made over `transport` (a name of the
 // transport table) with `setup` for the parked scene, over at most
 // `max_steps` macro steps.
 MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
@@ -68,10 +82,10 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
 // The most parked macro steps a run's measure takes (its own count if fewer).
 inline constexpr long kMatrixFreeMaxSteps = 2000;
 
-// A run's stability from the matrix-free measure, for a run whose
-// participants the master cannot hold (explicit coupling that ran to its
+// A run's stability from the matrix-free measure (a run that ran to its
 // end): unstable, on the basis "matrix-free", when the perturbation grew
-// kMatrixFreeGrowth times at a rate of at least unstable_rate(t_end);
+// kMatrixFreeGrowth times (implicit: kMatrixFreeImplicitGrowth) at a rate
+// of at least unstable_rate(t_end);
 // otherwise the verdict is left as it is (the measure cannot resolve the
 // slow growths of stable-looking runs: matrix_free_rho and its steps are
 // recorded all the same). A measure that fails leaves its reason in

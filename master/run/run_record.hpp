@@ -51,9 +51,9 @@ struct RunRecord {
   std::optional<long> map_micro_steps;  // per macro step, the most of a participant
   std::string spectral_note;
   // The growth rate measured through the participants (matrix_free.hpp):
-  // its rho and the parked macro steps it took; the verdict's basis
-  // "matrix-free" when it found a clear growth.
-  std::optional<double> matrix_free_rho;
+  // its rho, its rate ln(rho) / H per second and the parked macro steps it
+  // took; the verdict's basis "matrix-free" when it found a clear growth.
+  std::optional<double> matrix_free_rho, matrix_free_rate;
   std::optional<long> matrix_free_steps;
   // The check over the moving run (stability.hpp): the growth of the
   // coupling's defect between the second and the last quarter, its rate

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "run/evaluation.hpp"
+#include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
 #include "run/spectral.hpp"
 
@@ -164,6 +165,9 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
   run.error_growth = s.growth;
   run.error_growth_rate = s.rate_per_s;
   run.probe_time = s.duration_s;
+  // Implicit coupling has no dense map: its rho through the participants.
+  if (options.coupling.method == engine::CouplingMethod::kImplicit)
+    judge_growth_matrix_free(run, scene, spec, options, remote::kInprocTransport, {});
 }
 
 }  // namespace
@@ -203,6 +207,7 @@ std::string stability_json(const RunRecord& r) {
   if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
   if (r.matrix_free_steps)
     s << ", \"rho_matrix_free\": " << opt(r.matrix_free_rho)
+      << ", \"rho_matrix_free_rate_per_s\": " << opt(r.matrix_free_rate)
       << ", \"matrix_free_steps\": " << *r.matrix_free_steps;
   s << ", \"growth\": " << opt(r.error_growth) << ", \"rate_per_s\": " << opt(r.error_growth_rate)
     << ", \"probe_s\": " << opt(r.probe_time) << ", \"defect_growth\": " << opt(r.defect_growth)

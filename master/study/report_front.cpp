@@ -78,7 +78,10 @@ std::vector<FrontRow> study_front(const std::vector<StudyRun>& runs, const std::
       while (at != columns.end() && at->first == c.first) ++at;
       columns.insert(at, c);
     }
-  columns.emplace_back("monolithic", transport);
+  // A scene whose soil is a participant of its own has no monolithic runs.
+  if (std::any_of(runs.begin(), runs.end(),
+                  [](const StudyRun& r) { return r.method == "monolithic"; }))
+    columns.emplace_back("monolithic", transport);
   std::vector<FrontRow> front;
   for (const auto& [cut, t] : columns)
     for (double level : accuracy_levels()) {

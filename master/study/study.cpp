@@ -261,6 +261,7 @@ struct Reference {
 struct PlanScenes {
   std::map<std::string, Scene> scenes;
   std::map<std::tuple<std::string, double, double>, Reference> references;
+  run::CosimReferences cosim;  // the co-simulation references of a case, made once
 };
 
 // Runs one planned run with the worker's nodes and writes its folder (see
@@ -281,6 +282,7 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
   job.transport = run.transport;
   job.nodes = {given_nodes(plan.nodes), &pool, {}, {}};
   job.reference_step = run.reference_step;
+  job.cosim_references = &shared.cosim;
   job.out = plan.out / std::filesystem::path(run.folder).parent_path();
   job.folder = run.case_name;
   job.on_progress = std::move(on_progress);
@@ -314,6 +316,12 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt,
   const std::size_t total = plan.runs.size();
   const int workers = std::max(1, std::min<int>(opt.jobs, static_cast<int>(total)));
   std::vector<remote::NodePool> pools(static_cast<std::size_t>(workers));
+  // A soil the study starts (FE, Green's functions): one per worker, kept for
+  // its runs; it writes no measures (its reference runs would overwrite them).
+  for (const auto& [file, scene] : shared.scenes)
+    if (scene.started_soil() != nullptr && given_nodes(plan.nodes).count("soil") == 0)
+      for (remote::NodePool& pool : pools)
+        pool.use_fe_soil({scene.soil_ranks, "", scene.started_soil(), scene.source});
   logger("master")->info("study of {}, stage {}: {} runs on {} worker(s)", plan.source_scene,
                          plan.stage, total, workers);
   std::atomic<std::size_t> next{0};
@@ -348,26 +356,7 @@ void execute_plan(const StudyPlan& plan, const StudyOptions& opt,
 }  // namespace
 
 CollectedStudy run_study(const std::string& scene_path, const StudyOptions& opt) {
-  // A study starts its own nodes: it cannot reach a soil that is a program of its own.
-  if (load_scene(scene_path).soil_model == "fe")
-    throw std::invalid_argument(
-        scene_path +
-        ": the scene's soil is the FE soil (soil.model = \"fe\"): master study runs its cases by "
-        "the hundred, too many for a finite-element soil; study it with scripts/run-main.sh OUT " +
-        scene_path + " (python3 -m fe_soil.study --scene " + scene_path +
-        " --out OUT --master build/bin/master), or run each case with master run");
-  if (const Scene scene = load_scene(scene_path); scene.started_soil() != nullptr)
-    throw std::invalid_argument(scene_path + ": the scene's soil is " +
-                                scene.started_soil()->title + " (soil.model = \"" +
-                                scene.started_soil()->model +
-                                "\"), a program of its own that master study does not start; "
-                                "run each case with master run");
-  if (load_scene(scene_path).soil_model == "external")
-    throw std::invalid_argument(
-        scene_path +
-        ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
-        "nodes and cannot reach that program; run each case with master run --node "
-        "soil=HOST:PORT");
+  check_study_scene(load_scene(scene_path), opt);
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                             std::chrono::duration<double>(opt.budget_s));

@@ -56,6 +56,14 @@ std::map<std::string, long> scene_cut_windows(const Scene& scene);
 std::vector<Method> methods_with_nodes(const Scene& scene, const std::vector<Method>& methods,
                                        const std::vector<std::string>& nodes);
 
+// The methods of a study of a scene whose soil the study starts itself
+// (common/outside_soil.hpp: the FE soil, the Green's-function soil), as
+// master run does: those whose inputs are not substep waveforms (run in
+// process, where that soil is not) and, for a soil that takes the ballast
+// force only, whose ss cut is X-T. Throws std::invalid_argument if none is.
+std::vector<Method> methods_with_started_soil(const Scene& scene,
+                                              const std::vector<Method>& methods);
+
 // The transport a study runs a coupling over: the study's, except for
 // substep waveforms, which the study runs in process ("inproc").
 std::string run_transport(const engine::CouplingOptions& coupling, const std::string& transport);
@@ -139,6 +147,10 @@ CollectedStudy collect_study(const std::filesystem::path& dir, const std::string
 // collect_study(). Throws only for what stops the whole study (an unwritable
 // folder, nodes that cannot start); a run that fails is recorded as failed.
 CollectedStudy run_study(const std::string& scene_path, const StudyOptions& options);
+// Throws std::invalid_argument for a scene the study cannot run: an
+// external soil, a soil the study starts (FE, Green's functions) over a
+// transport that cannot reach it.
+void check_study_scene(const Scene& scene, const StudyOptions& options);
 
 // Whether a run has an error on the speed/accuracy chart: it ran to its end
 // and, judged against a co-simulation reference, was measured against it.

@@ -150,6 +150,7 @@ run::RunRecord record_of(const fs::path& json) {
   r.spectral_radius = num("stability.rho");
   r.spectral_rate = num("stability.rho_rate_per_s");
   r.matrix_free_rho = num("stability.rho_matrix_free");
+  r.matrix_free_rate = num("stability.rho_matrix_free_rate_per_s");
   if (const auto v = num("stability.matrix_free_steps"))
     r.matrix_free_steps = static_cast<long>(*v);
   r.reference_kind = str("reference.kind").value_or("");

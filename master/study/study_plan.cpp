@@ -274,7 +274,10 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   std::vector<Method> methods = o.methods.empty() ? methods_for(scene) : o.methods;
   if (!o.cases.empty()) methods = methods_of_cases(methods, o.cases);
   if (!o.nodes.empty()) methods = methods_with_nodes(scene, methods, o.nodes);
-  to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
+  if (scene.started_soil() != nullptr) methods = methods_with_started_soil(scene, methods);
+  // A soil of its own (FE, Green's functions, external) has no monolithic model.
+  const bool monolithic = !scene.outside_soil();
+  if (monolithic) to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
   for (const Method& m : methods)
     to.add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
 
@@ -284,7 +287,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
       if (m.coupling.method != engine::CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
         to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
   }
-  if (!o.nodes.empty()) {  // every run against one co-simulation reference step
+  if (!o.nodes.empty() || !monolithic) {  // every run against one co-simulation reference step
     const double smallest =
         std::min(*std::min_element(sweep.begin(), sweep.end()), scene.macro_step);
     for (PlannedRun& r : plan.runs)
@@ -292,6 +295,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   } else {  // the restart check's cases need not hold the given roles
     add_restart_runs(to, scene, base, scene_path);
   }
+  if (!monolithic) return;
   for (double tol : o.tolerances)
     to.add("tolerance", "sweep/tol_" + short_number(tol) + "/", nullptr, scene.macro_step, tol,
            scene_rel);
@@ -352,8 +356,12 @@ StudyPlan other_transport_plan(const StudyPlan& stage1, const std::vector<StudyR
   p.stage = 2;
   p.runs.clear();
   p.scene_files.clear();
-  // The other transport cannot reach a node given by address.
-  if (!stage1.nodes.empty()) return p;
+  // The other transport cannot reach a node given by address, nor hold a
+  // soil that is a program of its own (no monolithic run was planned).
+  const bool has_monolithic =
+      std::any_of(stage1.runs.begin(), stage1.runs.end(),
+                  [](const PlannedRun& r) { return r.case_name == "monolithic"; });
+  if (!stage1.nodes.empty() || !has_monolithic) return p;
   const std::string other = remote::other_transport(stage1.transport);
   std::map<std::string, std::vector<StudyRun>> by_variant;
   std::map<std::string, std::vector<std::size_t>> index;  // into stage1.runs
