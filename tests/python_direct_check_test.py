@@ -9,7 +9,6 @@ never steps on it; the same frame without the NaN is stepped on.
 Usage: python_direct_check_test.py SOURCE_DIR"""
 
 import os
-import runpy
 import sys
 import time
 
@@ -19,28 +18,11 @@ from railcosim_sdk.direct import Link, Plane  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
 
-SOIL = runpy.run_path(os.path.join(src, "examples", "python_soil", "soil_participant.py"))
-CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
-          "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sdk_session_support import Frames, SOIL_CONFIG as CONFIG, example_soil  # noqa: E402
+
+SOIL = example_soil(src)
 N, H = 4, 1e-4
-
-
-class Frames:
-    """A channel whose frames are given; what it is sent is dropped."""
-
-    what = "track at test"
-
-    def __init__(self, envelopes=()):
-        self.envelopes = list(envelopes)
-
-    def receive(self, timeout=None):
-        return self.envelopes.pop(0)
-
-    def send(self, env):
-        pass
-
-    def send_bytes(self, b, timeout=None):
-        pass
 
 
 def data(value):

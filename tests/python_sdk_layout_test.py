@@ -12,7 +12,6 @@ and from a peer on the direct plane; a report's `finite` flag sees a
 non-finite value in any quantity sent. Usage: python_sdk_layout_test.py SOURCE_DIR"""
 
 import os
-import runpy
 import sys
 import time
 
@@ -25,9 +24,10 @@ from railcosim_sdk.direct import Link, Plane  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
 
-SOIL = runpy.run_path(os.path.join(src, "examples", "python_soil", "soil_participant.py"))
-CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
-          "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sdk_session_support import Frames, SOIL_CONFIG as CONFIG, example_soil  # noqa: E402
+
+SOIL = example_soil(src)
 N, H = 4, 1e-4
 failures = []
 
@@ -135,25 +135,6 @@ for step, t, peak, fin, hist in ((7, 7e-4, 1.5e-3, True, [0.25, -1.0]),
               frame.reports.waiting_for == waiting and len(frame.reports.reports) == 2 and
               all(r.SerializeToString() == theirs.SerializeToString()
                   for r in frame.reports.reports), str(frame))
-
-
-class Frames:
-    """A channel whose frames are given; what it is sent is kept."""
-
-    what = "the track participant"
-
-    def __init__(self, envelopes=()):
-        self.envelopes = list(envelopes)
-        self.sent = []
-
-    def receive(self, timeout=None):
-        return self.envelopes.pop(0)
-
-    def send(self, env):
-        self.sent.append(env)
-
-    def send_bytes(self, b, timeout=None):
-        self.sent.append(pb.Envelope.FromString(b))
 
 
 def direct(q):

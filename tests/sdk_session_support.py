@@ -3,6 +3,7 @@ child process over a real socket, and a master's side of the wire (framed
 Envelopes, Hello with the answer to a challenge)."""
 
 import os
+import runpy
 import socket
 import struct
 import subprocess
@@ -13,6 +14,34 @@ from railcosim_sdk.wire import PROTOCOL_VERSION, pb
 # The example soil's configuration the session tests serve.
 SOIL_TOML = ("[soil]\nmass = 699.6\nstiffness = 121.08e6\ndamping = 341.9e3\n"
              "coupling_stiffness = 43.72e6\ncoupling_damping = 0.0\n")
+
+# The same values as a participant's configuration.
+SOIL_CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
+               "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
+
+
+def example_soil(src):
+    """The example soil's module namespace (its LumpedSoil participant)."""
+    return runpy.run_path(os.path.join(src, "examples", "python_soil", "soil_participant.py"))
+
+
+class Frames:
+    """A channel whose frames are given (received in order); what it is sent
+    is kept in `sent`, as Envelopes. `what` names its peer in errors."""
+
+    def __init__(self, envelopes=(), what="the track participant"):
+        self.envelopes = list(envelopes)
+        self.sent = []
+        self.what = what
+
+    def receive(self, timeout=None):
+        return self.envelopes.pop(0)
+
+    def send(self, env):
+        self.sent.append(env)
+
+    def send_bytes(self, b, timeout=None):
+        self.sent.append(pb.Envelope.FromString(b))
 
 
 def write_soil_config(work):
