@@ -98,6 +98,12 @@ TEST(StudyFront, StageTwoNeverPlansAWaveformRunOverTcp) {
     p.macro_step = r.record.macro_step;
     stage1.runs.push_back(p);
   }
+  // The scene is one the product builds whole (a study of a soil it
+  // starts, without a monolithic run, plans no stage 2 at all).
+  study::PlannedRun whole;
+  whole.case_name = "monolithic";
+  whole.transport = "inproc";
+  stage1.runs.push_back(whole);
   const study::StudyPlan second = study::other_transport_plan(stage1, runs);
   ASSERT_EQ(second.runs.size(), 1u);
   EXPECT_EQ(second.runs[0].method, kLinear);

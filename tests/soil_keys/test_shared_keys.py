@@ -77,8 +77,8 @@ class SharedKeys(unittest.TestCase):
         self.assertEqual(green, "[soil] layers[1].damping must be < 0.5 (got 0.7)")
         fe, green = self.both(layers=[dict(LAYER)] * 64 + [dict(HALF_SPACE)], depth=200.0)
         self.assertEqual(green, "[soil] depth is not a key of the Green's-function soil (its "
-                                "keys: f_max, layers, memory, model, receiver_x, receivers, "
-                                "workers)")
+                                "keys: f_max, layers, memory, model, receiver_memory, receiver_x, "
+                                "receivers, workers)")
         self.assertIsNone(fe)
         green = message(green_config.parse, table("green", layers=[dict(LAYER)] * 64
                                                   + [dict(HALF_SPACE)]))
