@@ -15,11 +15,10 @@ import time
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
 from railcosim_sdk.direct import Link, Plane  # noqa: E402
-from railcosim_sdk.session import Session  # noqa: E402
-from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
+from railcosim_sdk.wire import E, ProtocolError, pb  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sdk_session_support import Frames, SOIL_CONFIG as CONFIG, example_soil  # noqa: E402
+from sdk_session_support import Frames, configured_session, example_soil  # noqa: E402
 
 SOIL = example_soil(src)
 N, H = 4, 1e-4
@@ -35,15 +34,7 @@ def steps_on(value):
     """Runs a window of two steps whose peer's second frame is its last, the
     displacement `value`; returns (the participant's macro step after it,
     the error or None)."""
-    s = Session(SOIL["LumpedSoil"](), None, "test", CONFIG)
-    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION,
-                                              participant="soil")))
-    c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
-    i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
-    i.x.extend([0.3 + 0.6 * k for k in range(N)])
-    i.receives.extend([1, 2])
-    i.sends.extend([1, 2])
-    s.handle(pb.Envelope(id=2, configure=c))
+    s = configured_session(SOIL, N, H)
     s.handle(pb.Envelope(id=3, initialize=pb.Initialize(inputs=data(1e-4))))
     # A link whose peer is a step ahead: step n takes the peer's point n + 1,
     # so the last data (point 1) is what step 0 steps on.

@@ -8,7 +8,7 @@ import socket
 import struct
 import subprocess
 
-from railcosim_sdk.session import auth_answer
+from railcosim_sdk.session import Session, auth_answer
 from railcosim_sdk.wire import PROTOCOL_VERSION, pb
 
 # The example soil's configuration the session tests serve.
@@ -42,6 +42,21 @@ class Frames:
 
     def send_bytes(self, b, timeout=None):
         self.sent.append(pb.Envelope.FromString(b))
+
+
+def configured_session(soil, n, h):
+    """A Session of the example soil (`soil`: example_soil()'s namespace),
+    greeted and configured with one ss interface of n points at macro step h."""
+    s = Session(soil["LumpedSoil"](), None, "test", SOIL_CONFIG)
+    s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION,
+                                              participant="soil")))
+    c = pb.Configure(participant="soil", macro_step=h, end_time=1.0, micro_steps=10)
+    i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
+    i.x.extend([0.3 + 0.6 * k for k in range(n)])
+    i.receives.extend([1, 2])
+    i.sends.extend([1, 2])
+    s.handle(pb.Envelope(id=2, configure=c))
+    return s
 
 
 def write_soil_config(work):
