@@ -14,11 +14,11 @@ import time
 
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
-from railcosim_sdk.direct import Link, Plane  # noqa: E402
-from railcosim_sdk.wire import E, ProtocolError, pb  # noqa: E402
+from railcosim_sdk.direct import Link  # noqa: E402
+from railcosim_sdk.wire import E, pb  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sdk_session_support import Frames, configured_session, example_soil  # noqa: E402
+from sdk_session_support import Frames, configured_session, example_soil, run_window  # noqa: E402
 
 SOIL = example_soil(src)
 N, H = 4, 1e-4
@@ -42,15 +42,8 @@ def steps_on(value):
     link.chan = Frames([pb.Envelope(peer_data=pb.PeerData(point=0, data=data(1e-4))),
                         pb.Envelope(peer_data=pb.PeerData(point=1, data=data(value),
                                                           last=True))])
-    plane = Plane(s, Frames(), None)
-    plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
-    plane.timeout, plane.end, plane.why = 1.0, 2, ""
-    plane.begin(1)
-    try:
-        plane.run(0.0, 64)
-    except ProtocolError as e:
-        return s.step, e
-    return s.step, None
+    _, error = run_window(s, link, Frames())
+    return s.step, error
 
 
 failures = []

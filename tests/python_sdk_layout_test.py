@@ -20,11 +20,11 @@ import numpy as np
 src = sys.argv[1]
 sys.path.insert(0, os.path.join(src, "sdk", "python"))
 from railcosim_sdk import packed  # noqa: E402
-from railcosim_sdk.direct import Link, Plane  # noqa: E402
+from railcosim_sdk.direct import Link  # noqa: E402
 from railcosim_sdk.wire import E, ProtocolError, pb  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sdk_session_support import Frames, configured_session, example_soil  # noqa: E402
+from sdk_session_support import Frames, configured_session, example_soil, run_window  # noqa: E402
 
 SOIL = example_soil(src)
 N, H = 4, 1e-4
@@ -137,14 +137,9 @@ def direct(q):
     link.chan = Frames([pb.Envelope(peer_data=pb.PeerData(point=0, data=data(**ok))),
                         pb.Envelope(peer_data=pb.PeerData(point=1, data=data(**q)))])
     master = Frames()
-    plane = Plane(s, master, None)
-    plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
-    plane.timeout, plane.end, plane.why = 1.0, 2, ""
-    plane.begin(1)
-    try:
-        plane.run(0.0, 64)
-    except ProtocolError as e:
-        return s.step, e
+    plane, error = run_window(s, link, master)
+    if error is not None:
+        return s.step, error
     plane.flush()
     # The reports the master was sent: those of a relayed session on the same data.
     relayed = session()

@@ -59,6 +59,23 @@ def configured_session(soil, n, h):
     return s
 
 
+def run_window(session, link, master):
+    """Runs session's window of two steps on the direct plane, `link` its one
+    peer link and `master` the channel its reports go to; returns (the
+    plane, the ProtocolError it raised or None)."""
+    from railcosim_sdk.direct import Plane
+    from railcosim_sdk.wire import ProtocolError
+    plane = Plane(session, master, None)
+    plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
+    plane.timeout, plane.end, plane.why = 1.0, 2, ""
+    plane.begin(1)
+    try:
+        plane.run(0.0, 64)
+    except ProtocolError as e:
+        return plane, e
+    return plane, None
+
+
 def write_soil_config(work):
     """Writes the example soil's configuration into work; returns its path."""
     path = os.path.join(work, "soil.toml")
