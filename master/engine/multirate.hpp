@@ -39,6 +39,8 @@ class MultirateExecutor final : public CoupledSteps {
   Memory memory() const override;
   void set_memory(Memory m) override;
   long map_windows() const override { return rates_.ratio; }
+  // The outer level's next step (the slow window's) takes its first pass.
+  void single_pass_next() override { outer_->single_pass_next(); }
   // The inner level's iterations (of every pass, re-runs included).
   const ConvergenceLog& inner_log() const { return group_->inner().log(); }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/interface_values.hpp"
 
@@ -357,6 +358,7 @@ std::vector<StepResult> StepExecutor::implicit_step(long n) {
     x.push_back(
         stack(std::vector<InterfaceData>(nodes_, out_[plan_.links[k].q][plan_.links[k].i])));
   if (!accel_) make_blocks();
+  const bool single = std::exchange(single_pass_, false);
   for (int k = 1;; ++k) {
     if (o_.iteration_budget > 0 && log_.total >= o_.iteration_budget)
       throw IterationBudgetSpent(o_.iteration_budget, n);
@@ -373,8 +375,8 @@ std::vector<StepResult> StepExecutor::implicit_step(long n) {
     const bool converged = measure(n, k, X, G, scale), finite = G.allFinite();
     if (k == 1) accel_->start_window();
     accel_->set_weights(scale);
-    if (converged || !finite || k >= o_.max_iterations) {
-      if (!converged && finite) {
+    if (converged || !finite || single || k >= o_.max_iterations) {
+      if (!converged && finite && !single) {
         ++log_.not_converged;
         if (log_.first_not_converged < 0) log_.first_not_converged = n;
       }

@@ -67,6 +67,11 @@ class CoupledSteps : public MacroSteps {
   // The finest windows one step of the coupled map spans (a multirate
   // plan's slow window; else 1).
   virtual long map_windows() const { return 1; }
+  // The next implicit step takes its first pass only, its iterate the
+  // memory's values at t_n: the matrix-free measure (run/matrix_free.hpp)
+  // moves the participants' inner states this way, which a converged step
+  // would not let the memory reach. An explicit coupling ignores it.
+  virtual void single_pass_next() = 0;
   // Step N of the coupled map: finest windows N * map_windows() onwards;
   // returns the results of the last.
   std::vector<StepResult> advance_map(long N) {
@@ -94,6 +99,7 @@ class StepExecutor : public CoupledSteps {
 
   Memory memory() const override { return {out_, past_}; }
   // Sets the state between macro steps; no pass of the next step has run.
+  void single_pass_next() override { single_pass_ = true; }
   void set_memory(Memory m) override {
     out_ = std::move(m.out);
     past_ = std::move(m.past);
@@ -176,6 +182,7 @@ class StepExecutor : public CoupledSteps {
   std::vector<OutputSamples> fresh_;  // per participant: the samples of this pass
   std::vector<OutputSamples> last_;   // and of the last pass
   long last_step_ = -1;               // the macro step of last_
+  bool single_pass_ = false;          // the next implicit step: its first pass only
 };
 
 }  // namespace railcosim::engine

@@ -52,8 +52,8 @@ inline constexpr double kMatrixFreeGrowth = 1e6;
 // linear range).
 inline constexpr double kMatrixFreeConvergence = 1e-10;
 inline constexpr int kMatrixFreeMaxIterations = 100;
-inline constexpr double kMatrixFreeImplicitPerturbation = 1e-6;
-inline constexpr double kMatrixFreeImplicitGrowth = 1e3;
+inline constexpr double kMatrixFreeImplicitPerturbation = 1e-7;
+inline constexpr double kMatrixFreeImplicitGrowth = 1e4;
 // Below this share of itself after one step the perturbation did not enter
 // the step (implicit coupling with held inputs): nothing is measured.
 inline constexpr double kMatrixFreeCarried = 1e-2;

@@ -105,6 +105,8 @@ class ParkedCoupling {
 
   // The most micro steps a participant took in one step().
   long micro_steps() const { return micro_; }
+  // The implicit steps that hit the iteration limit so far.
+  long not_converged() const { return parked_.schedule->log().not_converged; }
 
   // Back to the saved state of rest.
   std::vector<double> rest() {
@@ -181,17 +183,24 @@ Eigen::MatrixXd map_matrix(ParkedCoupling& c, double H) {
   return R;
 }
 
+// The options the map steps with: an implicit coupling converged to
+// kMapConvergence (its columns then carry that error over the perturbation,
+// 1e-6 of the static values), with no budget of iterations.
+RunOptions map_options(RunOptions o) {
+  if (o.coupling.method == engine::CouplingMethod::kImplicit) {
+    o.coupling.convergence = kMapConvergence;
+    o.coupling.max_iterations = kMapMaxIterations;
+    o.coupling.iteration_budget = 0;
+  }
+  return o;
+}
+
 }  // namespace
 
 MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
                                 const RunOptions& options) {
   MapSpectrum s;
-  if (options.coupling.method == engine::CouplingMethod::kImplicit) {
-    s.why_not =
-        "implicit coupling: its step is a fixed point an accelerator reaches only to its "
-        "tolerance, not a map the product can linearise";
-    return s;
-  }
+  const RunOptions o = map_options(options);
   const auto t0 = std::chrono::steady_clock::now();
   // A step of the map: the macro step, or a multirate plan's slow window.
   const double window =
@@ -202,15 +211,21 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
     // steps it takes there, fixed, so that a perturbation does not change
     // their number (the error control would refine a step for a
     // perturbation of 1e-9 m at a stiff rail node).
-    ParkedCoupling at_rest(parked, spec, options);
+    ParkedCoupling at_rest(parked, spec, o);
     at_rest.step(at_rest.rest());
     parked.micro_steps = static_cast<int>(std::max(1L, at_rest.micro_steps()));
   }
-  ParkedCoupling c(parked, spec, options);
+  ParkedCoupling c(parked, spec, o);
   s.states = static_cast<long>(c.state().size());
   const Eigen::MatrixXd A = map_matrix(c, options.macro_step);
   s.dimension = static_cast<long>(A.rows());
   s.micro_steps = c.micro_steps();
+  if (c.not_converged() > 0) {
+    s.why_not = "the implicit step did not converge to " + std::to_string(kMapConvergence) +
+                " within " + std::to_string(kMapMaxIterations) + " iterations in " +
+                std::to_string(c.not_converged()) + " of the map's steps";
+    return s;
+  }
   if (A.rows() > 0) {
     const Eigen::EigenSolver<Eigen::MatrixXd> eig(A, false);
     if (eig.info() != Eigen::Success) {

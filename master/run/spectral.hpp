@@ -51,12 +51,17 @@ struct MapSpectrum {
 // The relative size of the perturbations: of the static displacements and
 // forces (1e-6 of the largest).
 inline constexpr double kMapPerturbation = 1e-6;
+// Implicit coupling: each step of the map is iterated to this residual
+// (relative to the static values), in at most kMapMaxIterations iterations.
+inline constexpr double kMapConvergence = 1e-12;
+inline constexpr int kMapMaxIterations = 200;
 
 // The spectral radius of the case's macro-step map under these options, its
 // participants the built-in subsystems made in the master's process (for a
-// run over TCP: the same subsystems the node programs serve). Not computed
-// for implicit coupling, whose step is a fixed point that an accelerator
-// reaches only to its tolerance.
+// run over TCP: the same subsystems the node programs serve). An implicit
+// coupling's step is the fixed point its iterations converge to: each of
+// its steps is iterated to kMapConvergence, and the map is not computed
+// where a step does not get there.
 MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
                                 const RunOptions& options);
 
