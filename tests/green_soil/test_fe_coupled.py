@@ -22,14 +22,17 @@ Measured (elastic): ballast forces within 0.70 % of their peak, the
 wheel's displacement within 0.79 %, the rail's deflection 0.74 %, the
 footprints 3.4 % of their peak. What remains: the FE block's far field,
 solved for the load's first position and held while the wheel moves (the
-FE soil's footprints at t_end are 0.94 to 1.10 of its own static state
+FE soil's footprints at t_end are 0.91 to 1.06 of its own static state
 with the wheel there; the Green's soil's are 0.99 to 1.04 of that static
 state), and the FE mesh's footprint (h = 0.5 m, about one element along
-it: its mean displacement below the closed form's), the 1.04 under the
-wheel. The comparison does not resolve a footprint's own flexibility
-finer than that: the Green's soil's own footprint spring made 1.25 times
-stiffer stays within the bounds (0.30 %, 1.10 %, 4.2 %);
-green_soil_participant checks it against the closed form to 1 %. Seen
+it; statics with one footprint loaded: the FE block's own displacement
+0.866 of the Green's soil's, its neighbours' 1.07 and 1.06, so the load
+spread over the sleepers under a wheel comes out 1.04 of the FE's; all
+footprints loaded alike: 0.985). The comparison does not resolve a
+footprint's own flexibility finer than that: the Green's soil's own
+footprint spring made 1.25 times stiffer stays within the bounds (0.30 %,
+1.10 %, 4.2 %); green_soil_participant checks it against the closed form
+to 1 %. Seen
 failing: the Green's soil's shear modulus doubled (green_soil/spectral.py's
 moduli; all three bounds: 1.6 %, 13 %, 48 %), and 1.1 or 0.9 times (the
 wheel, 1.8 % and 3.8 %, and the footprints, 6.6 % and 15 %); its own
