@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "monolithic.hpp"
+#include "run/spectral.hpp"
 #include "track_model.hpp"
 
 namespace railcosim::run {
@@ -168,6 +169,11 @@ void map_words(std::ostream& s, const RunRecord& run) {
   if (run.stability_basis == "matrix-free")
     s << ", measured through the participants (matrix-free, " << run.matrix_free_steps.value_or(0)
       << " macro steps parked)";
+  if (run.stability_basis == "map" && run.method == "implicit")
+    s << " (the map of the step converged to " << kMapConvergence << ")";
+  if (run.method == "implicit" && run.not_converged_steps.value_or(0) > 0)
+    s << "; " << *run.not_converged_steps
+      << " of the run's own macro steps did not converge, and it is not that coupling";
   if (!run.map_micro_steps) return;
   double most = 0;  // the moving run's micro steps per macro step, on average
   for (const auto& [who, count] : run.micro_steps)

@@ -54,8 +54,10 @@ inline constexpr double kMatrixFreeConvergence = 1e-10;
 inline constexpr int kMatrixFreeMaxIterations = 100;
 inline constexpr double kMatrixFreeImplicitPerturbation = 1e-7;
 inline constexpr double kMatrixFreeImplicitGrowth = 1e4;
-// Below this share of itself after one step the perturbation did not enter
-// the step (implicit coupling with held inputs): nothing is measured.
+// Below this share of itself after the first step (which an implicit pass
+// takes as one pass, unconverged, to carry the perturbation into the
+// participants' inner states) the perturbation did not enter the map:
+// nothing is measured.
 inline constexpr double kMatrixFreeCarried = 1e-2;
 // The unperturbed pass's largest drift from rest (relative to the static
 // values) at which the iteration ends.
@@ -69,10 +71,8 @@ struct MatrixFreeRho {
   double carried = 0;     // its size after the first step, over its size at the start
 };
 
-// The estimate for a co-simulation case under these options (explicit
-// coupling; implicit coupling whose inputs over a step start from the
-// coupling data at t_n, a ramp or a waveform, where that start is the state
-// the perturbation moves), its participants made over `transport` (a name of the
+// The estimate for a co-simulation case under these options (explicit or
+// implicit coupling, any inputs), its participants made over `transport` (a name of the
 // transport table) with `setup` for the parked scene, over at most
 // `max_steps` macro steps.
 MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const RunOptions& options,

@@ -53,9 +53,9 @@ void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,
   md << "\n"
      << h << " Largest stable macro step per method\n\n"
      << "Stable: ok or inaccurate (the error is bounded but over its bound); not stable: "
-        "amplified (the spectral radius of the macro-step map at rest, or for implicit coupling "
-        "the stability probe, finds a growing perturbation), diverged, or not "
-        "converged.\n\n"
+        "amplified (the spectral radius of the macro-step map at rest, implicit coupling's "
+        "converged step included, or where no map is computed the matrix-free rate or the "
+        "stability probe, finds a growing perturbation), diverged, or not converged.\n\n"
      << "| method | largest H stable (s) | first H not stable (s): status | largest H ok (s) "
         "|\n|---|---|---|---|\n";
   for (const std::string& m : order) {
