@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <sstream>
 
 #include "engine/coupled_statics.hpp"
 #include "engine/window_schedule.hpp"
@@ -221,9 +222,11 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
   s.dimension = static_cast<long>(A.rows());
   s.micro_steps = c.micro_steps();
   if (c.not_converged() > 0) {
-    s.why_not = "the implicit step did not converge to " + std::to_string(kMapConvergence) +
-                " within " + std::to_string(kMapMaxIterations) + " iterations in " +
-                std::to_string(c.not_converged()) + " of the map's steps";
+    std::ostringstream w;
+    w << "the implicit step did not converge to " << kMapConvergence << " within "
+      << kMapMaxIterations << " iterations in " << c.not_converged() << " of the map's "
+      << 2 * s.states << " steps";
+    s.why_not = w.str();
     return s;
   }
   if (A.rows() > 0) {
