@@ -158,7 +158,8 @@ class OutsideReference(unittest.TestCase):
         self.assertLess(s["history_error"], 0.1 * 0.1, s)
         # Its matrix-free rho does not grow; its verdict stays not judged.
         self.assertLessEqual(s["stability"]["rho_matrix_free"], 1.0, s)
-        self.assertEqual(s["stability"]["matrix_free_steps"], 200, s)
+        # Ten run lengths parked (200 macro steps), at most 2000.
+        self.assertEqual(s["stability"]["matrix_free_steps"], 2000, s)
 
     def test_unstable_coupling_is_still_caught(self):
         s = self.run_master("lagged", "wr-xt+ss-xx-jacobi", self.stiff, "--reference-step", "2.5e-5")

@@ -184,6 +184,17 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
   });
   if (log_norm.size() >= 2) {
     const double per_step = log_slope(log_norm, log_norm.size() / 2);
+    // The largest value over the last quarter over the largest over the
+    // second: a sum of modes that do not grow has a falling envelope, which
+    // its beats reach within a quarter.
+    const std::size_t q = log_norm.size() / 4;
+    if (q > 0) {
+      const auto largest = [&](std::size_t from) {
+        return *std::max_element(log_norm.begin() + static_cast<std::ptrdiff_t>(from),
+                                 log_norm.begin() + static_cast<std::ptrdiff_t>(from + q));
+      };
+      r.late_growth = std::exp(largest(log_norm.size() - q) - largest(q));
+    }
     r.rho = std::exp(per_step);
     r.rate_per_s = per_step / window;
   }
@@ -195,9 +206,11 @@ void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec
                               const remote::TransportSetup& setup) {
   if (run.status != "ok") return;
   const FreeSettings f = free_settings(options);
-  const long steps = std::min(
-      kMatrixFreeMaxSteps, std::lround(scene.end_time / options.macro_step /
-                                       static_cast<double>(rate_plan(scene, spec, options).ratio)));
+  const long steps =
+      std::min(kMatrixFreeMaxSteps,
+               kMatrixFreeRunLengths *
+                   std::lround(scene.end_time / options.macro_step /
+                               static_cast<double>(rate_plan(scene, spec, options).ratio)));
   MatrixFreeRho m;
   try {
     m = matrix_free_rho(scene, spec, options, transport, setup, steps);
@@ -216,7 +229,8 @@ void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec
   run.matrix_free_rho = m.rho;
   run.matrix_free_rate = m.rate_per_s;
   run.matrix_free_steps = m.steps;
-  if (m.growth >= f.growth && m.rate_per_s >= unstable_rate(scene.end_time)) {
+  const bool grew = m.growth >= f.growth || m.late_growth >= kMatrixFreeLateGrowth;
+  if (grew && m.rate_per_s >= unstable_rate(scene.end_time)) {
     run.stability = "unstable";
     run.stability_basis = "matrix-free";
     run.spectral_radius = m.rho;

@@ -64,11 +64,13 @@ inline constexpr double kMatrixFreeCarried = 1e-2;
 inline constexpr double kMatrixFreeDrift = 1e-3;
 
 struct MatrixFreeRho {
-  double rho = 0;         // exp(slope): the growth per macro step
-  double rate_per_s = 0;  // ln(rho) / H
-  long steps = 0;         // macro steps measured (each pass)
-  double growth = 1;      // the perturbation's growth over them
-  double carried = 0;     // its size after the first step, over its size at the start
+  double rho = 0;          // exp(slope): the growth per macro step
+  double rate_per_s = 0;   // ln(rho) / H
+  long steps = 0;          // macro steps measured (each pass)
+  double growth = 1;       // the perturbation's growth over them
+  double carried = 0;      // its size after the first step, over its size at the start
+  double late_growth = 0;  // its largest value over the last quarter of the steps taken
+                           // over its largest over the second quarter
 };
 
 // The estimate for a co-simulation case under these options (explicit or
@@ -79,17 +81,25 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
                               const std::string& transport, const remote::TransportSetup& setup,
                               long max_steps);
 
-// The most parked macro steps a run's measure takes (its own count if fewer).
+// The parked macro steps a run's measure takes: kMatrixFreeRunLengths times
+// its own count (a growth must have time to show), at most
+// kMatrixFreeMaxSteps.
 inline constexpr long kMatrixFreeMaxSteps = 2000;
+inline constexpr long kMatrixFreeRunLengths = 10;
+// A perturbation whose largest value over the last quarter of the steps
+// taken is this many times its largest over the second quarter is growing:
+// modes that do not grow have a falling envelope, and their beats reach it
+// within a quarter.
+inline constexpr double kMatrixFreeLateGrowth = 2.0;
 
 // A run's stability from the matrix-free measure (a run that ran to its
-// end): unstable, on the basis "matrix-free", when the perturbation grew
-// kMatrixFreeGrowth times (implicit: kMatrixFreeImplicitGrowth) at a rate
-// of at least unstable_rate(t_end);
-// otherwise the verdict is left as it is (the measure cannot resolve the
-// slow growths of stable-looking runs: matrix_free_rho and its steps are
-// recorded all the same). A measure that fails leaves its reason in
-// spectral_note.
+// end): unstable, on the basis "matrix-free", when the perturbation grew at
+// a rate of at least unstable_rate(t_end) and either kMatrixFreeGrowth times
+// (implicit: kMatrixFreeImplicitGrowth) or kMatrixFreeLateGrowth times from
+// the second quarter of the steps taken to the last; otherwise the verdict is left as it is
+// (growths too slow to double within the parked steps are not resolved:
+// matrix_free_rho and its steps are recorded all the same). A measure that
+// fails leaves its reason in spectral_note.
 void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec& spec,
                               const RunOptions& options, const std::string& transport,
                               const remote::TransportSetup& setup);
