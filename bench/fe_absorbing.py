@@ -35,23 +35,23 @@ RHO, CS, NU = 2000.0, 100.0, 0.25
 FORCE, MIDDLE, SLEEPERS = 1e4, 10, 21
 
 
-def table(args):
+def table(args, baseline=False):
     t = {"model": "fe", "f_max": args.f_max, "growth": args.growth,
          "receivers": [float(r) for r in args.receivers.split(",")],
          "resolve_to": args.resolve_to, "static_reach": 0.0,
          "layers": [{"density": RHO, "shear_wave_speed": CS, "poisson": NU}]}
-    for kv in args.set:
+    for kv in (args.baseline.split(",") if baseline else args.set):
         k, v = kv.split("=", 1)
         t[k] = float(v)
     return t
 
 
-def run(args):
+def run(args, baseline=False):
     """(soil, params, times, downward velocity per receiver, seconds)."""
     from fe_soil.model import FESoil
 
     sleepers = [SimpleNamespace(x=0.6 * i, length=0.25, width=2.5, y=0.0) for i in range(SLEEPERS)]
-    p = config.block_params(config.parse(table(args)), sleepers)[0]
+    p = config.block_params(config.parse(table(args, baseline)), sleepers)[0]
     t_start = time.perf_counter()
     soil = FESoil(p)
     f = record_check.lamb.ricker(args.fc, args.t0)[0]
@@ -62,6 +62,33 @@ def run(args):
         soil.advance(k * H, H, forces[0], forces[1])
     t, v = soil.receiver_series()
     return soil, p, t, -v[:, :, 2], time.perf_counter() - t_start
+
+
+def measure(args, soil, p, t, v, wall, title):
+    """Prints a row per judged receiver; returns (distance, reference, measures)."""
+    onset = args.t0 - 1.0 / args.fc
+    extents = (p.length, p.half_width, p.depth)  # the direct waves: before the block's echo
+    fp = p.footprints[MIDDLE]
+    print("%s: f_max %g Hz, Ricker %g Hz: %d DOFs, dt %.3f ms, %d steps, %.1f s"
+          % (title, args.f_max, args.fc, soil.global_dofs(), soil.dt * 1e3, len(t), wall))
+    print("%5s %7s %7s %7s %7s %9s | %8s %7s %7s" % ("r m", "nRMS", "PPV", "KB", "band dB",
+                                                      "at Hz", "arrival", "peak", "nRMS d"))
+    rows = []
+    judged = [float(r) for r in args.judged.split(",")]
+    for i, (x, y) in enumerate(p.receivers):
+        if y not in judged:
+            continue
+        ref = record_check.footprint_reference(t, (x, y), (fp.x, fp.y, fp.along, fp.across),
+                                               RHO * CS * CS, CS, FORCE, args.fc, args.t0)
+        m = record_check.compare(t, v[:, i], ref, args.t0,
+                                 record_check.direct_end(onset, y, extents, CS), args.f_max)
+        rows.append((y, ref, m, v[:, i], t))
+        if args.bands:
+            print("      bands", " ".join("%.3g:%+.2f" % b for b in zip(*m["bands"])))
+        print("%5g %7.3f %+7.3f %+7.3f %7.2f %9.3g | %+8.4f %+7.3f %7.3f" % (
+            y, m["nrms"], m["ppv"], m["kb"], m["band_db"], m["band_at"], m["arrival"], m["peak"],
+            m["direct_nrms"]), flush=True)
+    return rows
 
 
 def main():
@@ -76,58 +103,42 @@ def main():
     ap.add_argument("--judged", default="4,8,16", help="receivers compared (m)")
     ap.add_argument("--set", action="append", default=[], help="another [soil] key=number")
     ap.add_argument("--bands", action="store_true", help="print each band's difference")
+    ap.add_argument("--baseline", default=None, help="key=number,...: a second run on other "
+                    "keys, measured and drawn beside (e.g. growth=1.25,fine_depth=0,"
+                    "absorbing_reflection=1: the previous rule)")
     ap.add_argument("--png", default=None, help="a figure of the records, FE against Pekeris")
     args = ap.parse_args()
     args.t0 = 1.2 / args.fc if args.t0 is None else args.t0
-    soil, p, t, v, wall = run(args)
-    onset = args.t0 - 1.0 / args.fc
-    extents = (p.length, p.half_width, p.depth)  # the direct waves: before the block's echo
-    fp = p.footprints[MIDDLE]
-    mu = RHO * CS * CS
-    print("f_max %g Hz, Ricker %g Hz, growth %g, %s: %d DOFs, dt %.3f ms, %d steps, %.1f s"
-          % (args.f_max, args.fc, args.growth, " ".join(args.set) or "defaults",
-             soil.global_dofs(), soil.dt * 1e3, len(t), wall))
-    print("%5s %7s %7s %7s %7s %9s | %8s %7s %7s" % ("r m", "nRMS", "PPV", "KB", "band dB",
-                                                      "at Hz", "arrival", "peak", "nRMS d"))
-    rows = []
-    judged = [float(r) for r in args.judged.split(",")]
-    for i, (x, y) in enumerate(p.receivers):
-        if y not in judged:
-            continue
-        ref = record_check.footprint_reference(t, (x, y), (fp.x, fp.y, fp.along, fp.across),
-                                               mu, CS, FORCE, args.fc, args.t0)
-        m = record_check.compare(t, v[:, i], ref, args.t0,
-                                 record_check.direct_end(onset, y, extents, CS), args.f_max)
-        rows.append((y, ref, m))
-        if args.bands:
-            fcs, _ = record_check.measures.third_octave_levels(ref, t[1] - t[0])
-            print("      bands", " ".join("%.3g:%+.2f" % b for b in zip(*m["bands"])))
-        print("%5g %7.3f %+7.3f %+7.3f %7.2f %9.3g | %+8.4f %+7.3f %7.3f" % (
-            y, m["nrms"], m["ppv"], m["kb"], m["band_db"], m["band_at"], m["arrival"], m["peak"],
-            m["direct_nrms"]), flush=True)
+    rows = measure(args, *run(args), "growth %g %s" % (args.growth, " ".join(args.set)))
+    old = None
+    if args.baseline:
+        old = measure(args, *run(args, True), "baseline %s" % args.baseline)
     if args.png:
-        figure(args.png, t, v, p, rows, args)
+        figure(args.png, rows, old, args)
 
 
-def figure(path, t, v, p, rows, args):
+def figure(path, rows, old, args):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(len(rows), 1, figsize=(7.0, 1.9 * len(rows)), sharex=True)
-    for ax, (y, ref, m) in zip(np.atleast_1d(axes), rows):
-        i = [r[1] for r in p.receivers].index(y)
+    fig, axes = plt.subplots(len(rows), 1, figsize=(7.0, 1.8 * len(rows)), sharex=True)
+    axes = np.atleast_1d(axes)
+    for k, (ax, (y, ref, m, v, t)) in enumerate(zip(axes, rows)):
+        if old is not None:
+            ax.plot(old[k][4], old[k][3] * 1e3, color="0.6", lw=0.8,
+                    label="FE, baseline (nRMS %.2f)" % old[k][2]["nrms"])
         ax.plot(t, ref * 1e3, "k-", lw=1.2, label="Pekeris (closed form)")
-        ax.plot(t, v[:, i] * 1e3, "r--", lw=1.0, label="FE")
+        ax.plot(t, v * 1e3, "r--", lw=1.0, label="FE")
         ax.set_ylabel("%g m: v_z mm/s" % y, fontsize=8)
-        ax.set_title("nRMS %.3f, PPV %+.1f %%, KB_Fmax %+.1f %%" % (
-            m["nrms"], 100 * m["ppv"], 100 * m["kb"]), fontsize=8)
+        ax.set_title("%g m: nRMS %.3f, PPV %+.1f %%, KB_Fmax %+.1f %%" % (
+            y, m["nrms"], 100 * m["ppv"], 100 * m["kb"]), fontsize=8)
         ax.tick_params(labelsize=7)
-    np.atleast_1d(axes)[0].legend(fontsize=7)
-    np.atleast_1d(axes)[-1].set_xlabel("t (s)", fontsize=8)
+        ax.legend(fontsize=6, loc="upper right")
+    axes[-1].set_xlabel("t (s)", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=72)
 
 
 if __name__ == "__main__":

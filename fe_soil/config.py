@@ -14,6 +14,10 @@ the checks run without dolfinx.
     growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
     resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
     static_reach = 5.0           # statics on the block extended this many times its size (0: off)
+    fine_depth = 9.2             # m: the graded mesh keeps the rule's spacing to here (default
+                                 # the softest layer's Rayleigh wavelength at f_max / 2)
+    absorbing_reflection = 0.01  # the graded zones' absorbing layers: their nominal reflection
+                                 # (0 < R <= 1; 1: no layers), fe_soil/absorbing.py
     receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: its middle)
     damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
