@@ -63,6 +63,13 @@ def thickness(points, inner, outer):
     return out
 
 
+def peak_damping(c, thick, reflection):
+    """a_max (1/s) of a layer `thick` m thick for waves at c m/s: a trip
+    through the quadratic profile and back takes exp(-a_max L / (3 c)) =
+    `reflection` off them."""
+    return 3.0 * c * math.log(1.0 / reflection) / thick
+
+
 def damping_field(mesh, params, nodes, cs):
     """The cell-wise (DG0) a0 of the layers (1/s); `cs` the cell-wise
     shear-wave speed (layer_fields)."""
@@ -79,6 +86,6 @@ def damping_field(mesh, params, nodes, cs):
     dofs = Q.dofmap.list.array.reshape(-1)[:n_cells]
     c = cs.x.array[dofs]
     with np.errstate(divide="ignore", invalid="ignore"):
-        a_max = np.where(s > 0.0, 3.0 * c * math.log(1.0 / params.absorbing_reflection) / thick, 0.0)
+        a_max = np.where(s > 0.0, peak_damping(c, thick, params.absorbing_reflection), 0.0)
     a0.x.array[dofs] = a_max * s**2
     return a0

@@ -15,7 +15,7 @@ import numpy as np
 
 from support import HALF_SPACE
 
-from fe_soil import config, lamb, record_check
+from fe_soil import absorbing, config, lamb, record_check
 from fe_soil.model import FESoil
 
 F, FC, T_END, MIDDLE = 1e4, 7.5, 0.6, 10
@@ -33,7 +33,7 @@ def block(**keys):
 
 
 def whole_record(p):
-    """{distance: measures} at 4 and 8 m."""
+    """({distance: measures} at 4 and 8 m, the soil)."""
     soil = FESoil(p)
     f = lamb.ricker(FC, T0)[0]
     H = soil.dt
@@ -51,14 +51,14 @@ def whole_record(p):
         end = record_check.direct_end(T0 - 1.0 / FC, y, (p.length, p.half_width, p.depth),
                                       HALF_SPACE.shear_speed)
         out[y] = record_check.compare(t, -v[:, i, 2], ref, T0, end, p.f_max)
-    return out
+    return out, soil
 
 
 class WholeRecord(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.layers = whole_record(block())
-        cls.bare = whole_record(block(absorbing_reflection=1.0))
+        cls.layers, cls.soil = whole_record(block())
+        cls.bare, cls.bare_soil = whole_record(block(absorbing_reflection=1.0))
 
     def test_absorbing_layers_pass_the_whole_record(self):
         # Measured at 4 / 8 m: nRMS 0.107 / 0.182, PPV +0.3 % / -0.9 %,
@@ -84,9 +84,63 @@ class WholeRecord(unittest.TestCase):
     def test_the_previous_rule_fails(self):
         # growth 1.25, the rule's spacing to the top of the half-space only,
         # no layers (the scene's mesh before): nRMS 0.326 / 0.476 at 4 / 8 m.
-        old = whole_record(block(growth=1.25, fine_depth=0.0, absorbing_reflection=1.0))
+        old = whole_record(block(growth=1.25, fine_depth=0.0, absorbing_reflection=1.0))[0]
         self.assertAlmostEqual(old[8.0]["nrms"], 0.476, delta=0.02)
         self.assertGreater(min(m["nrms"] for m in old.values()), 0.25, old)
+
+    def test_the_layers_change_neither_the_step_nor_the_statics(self):
+        # Mass-proportional damping, diagonal and taken at the end of the
+        # step: the same stable step and the same static state, bitwise.
+        self.assertEqual(self.soil.dt, self.bare_soil.dt)
+        forces = np.zeros(21)
+        forces[MIDDLE] = F
+        np.testing.assert_array_equal(self.soil.statics(forces), self.bare_soil.statics(forces))
+        self.assertGreater(np.max(self.soil.c), np.max(self.bare_soil.c))
+
+
+class Layers(unittest.TestCase):
+    """The layers' damping profile, its size and the keys (no dolfinx run)."""
+
+    def test_profile_and_round_trip(self):
+        # A block 0..30 along, 0..20 across, 10 deep; the region of interest
+        # 8..22 along, to 12 across, to 4 deep: the layer's depth d/L per
+        # axis, the largest of them, 0 inside.
+        inner, outer = (8.0, 22.0, 12.0, -4.0), (0.0, 30.0, 20.0, -10.0)
+        pts = np.array([[15.0, 5.0, -1.0], [4.0, 5.0, -1.0], [26.0, 5.0, -1.0],
+                        [15.0, 16.0, -1.0], [15.0, 5.0, -7.0], [2.0, 18.0, -9.0],
+                        [0.0, 20.0, -10.0], [15.0, -16.0, -1.0]])
+        np.testing.assert_allclose(absorbing.profile(pts, inner, outer),
+                                   [0.0, 0.5, 0.5, 0.5, 0.5, 5.0 / 6.0, 1.0, 0.5], rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(absorbing.thickness(pts, inner, outer)[1:6],
+                                      [8.0, 8.0, 8.0, 6.0, 6.0])
+        # a_max: a plane wave through the layer and back, attenuated by
+        # exp(-a0 x/(2c)), comes back R times as large.
+        c, L, R = 100.0, 8.0, 0.01
+        a_max = absorbing.peak_damping(c, L, R)
+        x = np.linspace(0.0, L, 100001)
+        a0 = a_max * (x / L) ** 2
+        trip = np.exp(-2.0 * np.sum(0.5 * (a0[1:] + a0[:-1]) * np.diff(x)) / (2.0 * c))
+        self.assertAlmostEqual(trip, R, delta=1e-9)
+
+    def test_keys(self):
+        p = block()
+        c_r = lamb.RAYLEIGH_RATIO * HALF_SPACE.shear_speed
+        self.assertAlmostEqual(config.fine_depth(config.parse(
+            {"layers": [{"density": 2000.0, "shear_wave_speed": 100.0, "poisson": 0.25}]})),
+            2.0 * c_r / 20.0, delta=1e-9)
+        # The layers' inner faces: the footprints' span, resolve_to, fine_depth.
+        self.assertAlmostEqual(p.absorbing[0], 8.0, delta=1e-12)
+        self.assertAlmostEqual(p.absorbing[1] - p.absorbing[0], 12.25, delta=1e-12)
+        self.assertEqual(p.absorbing[2], 16.0)
+        self.assertAlmostEqual(p.absorbing[3], -2.0 * c_r / 10.0, delta=1e-9)
+        self.assertEqual(p.absorbing_reflection, 0.01)
+        self.assertIsNone(block(growth=1.0).absorbing)  # uniform: no graded zones
+        with self.assertRaisesRegex(config.ConfigError, r"\[soil\] absorbing_reflection must be <= 1"):
+            block(absorbing_reflection=1.5)
+        with self.assertRaisesRegex(config.ConfigError, r"\[soil\] absorbing_reflection must be > 0"):
+            block(absorbing_reflection=0.0)
+        with self.assertRaisesRegex(config.ConfigError, r"\[soil\] fine_depth must be >= 0"):
+            block(fine_depth=-1.0)
 
 
 if __name__ == "__main__":
