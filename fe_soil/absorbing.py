@@ -63,6 +63,16 @@ def thickness(points, inner, outer):
     return out
 
 
+def inside(params, nodes, point):
+    """True when `point` (x, y, z) lies in the absorbing layers (where
+    they damp: a record there is not a result)."""
+    if params.absorbing is None:
+        return False
+    xs, ys, zs = nodes
+    return bool(profile(np.array([point], dtype=float), params.absorbing,
+                        (xs[0], xs[-1], ys[-1], zs[0]))[0] > 0.0)
+
+
 def peak_damping(c, thick, reflection):
     """a_max (1/s) of a layer `thick` m thick for waves at c m/s: a trip
     through the quadratic profile and back takes exp(-a_max L / (3 c)) =

@@ -15,7 +15,7 @@ import numpy as np
 
 from support import HALF_SPACE
 
-from fe_soil import absorbing, config, lamb, record_check
+from fe_soil import absorbing, config, lamb, record_check, spectrum, study
 from fe_soil.model import FESoil
 
 F, FC, T_END, MIDDLE = 1e4, 7.5, 0.6, 10
@@ -141,6 +141,23 @@ class Layers(unittest.TestCase):
             block(absorbing_reflection=0.0)
         with self.assertRaisesRegex(config.ConfigError, r"\[soil\] fine_depth must be >= 0"):
             block(fine_depth=-1.0)
+
+    def test_a_receiver_in_the_layers_is_reported_unresolved(self):
+        # The default receivers: 32 m lies beyond resolve_to (16 m), in the
+        # layers; 4 to 16 m do not.
+        p = block()
+        cfg = config.parse({"f_max": 10.0, "growth": 1.1, "receivers": [4.0, 8.0, 16.0, 32.0],
+                            "resolve_to": 16.0, "layers": [{"density": 2000.0,
+                                                            "shear_wave_speed": 100.0,
+                                                            "poisson": 0.25}]})
+        soil = SimpleNamespace(p=p, nodes=(p.x_nodes, p.y_nodes, p.z_nodes), dt=3e-3)
+        rows = study.resolution(soil, cfg)[1]
+        self.assertEqual([f > 0.0 for _, f, _ in rows], [True, True, True, False])
+        self.assertEqual(rows[3][1:], (0.0, 0.0))
+        text = spectrum.load_verdicts(np.ones((10, 1)), 1e-3, [16.0, 32.0],
+                                      [f for _, f, _ in rows[2:]])
+        self.assertIn("32 m: the receiver lies in the absorbing layers", text[1][3])
+        self.assertNotIn("absorbing", text[0][3])
 
 
 if __name__ == "__main__":
