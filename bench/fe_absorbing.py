@@ -15,6 +15,8 @@ the normalised RMS.
 
 Usage:  nice -n 10 bench/fe_absorbing.py [--f-max 10] [--fc 7.5] [--growth 1.25]
             [--set KEY=VALUE ...] [--bands] [--png FILE]
+        nice -n 10 bench/fe_absorbing.py --scene-cost scenes/ground_vibration.toml
+            --baseline growth=1.25,fine_depth=0,absorbing_reflection=1
 One row per receiver; --set absorbing_reflection=1 --growth 1.25 is the old
 mesh and boundary.
 """
@@ -64,6 +66,36 @@ def run(args, baseline=False):
     return soil, p, t, -v[:, :, 2], time.perf_counter() - t_start
 
 
+def scene_cost(args):
+    """The block of a scene's [soil] table (under --sleepers footprints),
+    as it stands and with --baseline's keys: DOFs, the stable step and the
+    fastest of three runs of --steps steps, alternately in this run."""
+    import tomllib
+
+    from fe_soil.model import FESoil
+
+    with open(args.scene_cost, "rb") as f:
+        soil_table = tomllib.load(f)["soil"]
+    sleepers = [SimpleNamespace(x=0.6 * i, length=0.25, width=2.5, y=0.0)
+                for i in range(args.sleepers)]
+    soils = {}
+    for name, keys in (("scene", []), ("baseline", (args.baseline or "").split(","))):
+        t = dict(soil_table)
+        t.update({k: float(v) for k, v in (kv.split("=", 1) for kv in keys if kv)})
+        soils[name] = FESoil(config.block_params(config.parse(t), sleepers)[0])
+    best = {name: math.inf for name in soils}
+    for _ in range(3):
+        for name, soil in soils.items():
+            f0 = soil.load_vector(np.full(args.sleepers, 1e4))
+            t0 = time.perf_counter()
+            soil.run(soil.dt, args.steps, f0, 0.0 * f0)
+            best[name] = min(best[name], time.perf_counter() - t0)
+    for name, soil in soils.items():
+        print("%-8s %8d DOFs, dt %.4f ms, %.2f ms a step (%.2f x the baseline's)" % (
+            name, soil.global_dofs(), soil.dt * 1e3, best[name] / args.steps * 1e3,
+            best[name] / best["baseline"]))
+
+
 def measure(args, soil, p, t, v, wall, title):
     """Prints a row per judged receiver; returns (distance, reference, measures)."""
     onset = args.t0 - 1.0 / args.fc
@@ -107,7 +139,13 @@ def main():
                     "keys, measured and drawn beside (e.g. growth=1.25,fine_depth=0,"
                     "absorbing_reflection=1: the previous rule)")
     ap.add_argument("--png", default=None, help="a figure of the records, FE against Pekeris")
+    ap.add_argument("--scene-cost", default=None, help="a scene: time its block's steps "
+                    "against --baseline's keys instead")
+    ap.add_argument("--sleepers", type=int, default=123, help="with --scene-cost: footprints")
+    ap.add_argument("--steps", type=int, default=50, help="with --scene-cost: steps timed")
     args = ap.parse_args()
+    if args.scene_cost:
+        return scene_cost(args)
     args.t0 = 1.2 / args.fc if args.t0 is None else args.t0
     rows = measure(args, *run(args), "growth %g %s" % (args.growth, " ".join(args.set)))
     old = None
