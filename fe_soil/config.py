@@ -92,8 +92,8 @@ def parse(table):
     if out["absorbing_reflection"] > 1.0:
         raise ConfigError("[soil] absorbing_reflection must be <= 1 (1: no absorbing layers; got %g)"
                           % out["absorbing_reflection"])
-    out["fine_depth"] = (soil_table.number(table, "fine_depth", "", lo=0.0, lo_open=False) if "fine_depth" in table
-                         else None)
+    out["fine_depth"] = (soil_table.number(table, "fine_depth", "", lo=0.0, lo_open=False)
+                         if "fine_depth" in table else None)
     out["growth"] = soil_table.number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
     if out["growth"] > 1.0 and out["mesh_size"] is not None:
         raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
@@ -141,9 +141,9 @@ def layered_nodes(layers, depth, h):
 def graded_layer_nodes(layers, depth, f_max, n, growth, fine_depth=0.0):
     """z node planes of the graded mesh: in each layer above the last, at
     most h_k = c_R,k / (n f_max) apart (the mesh-size rule with that layer's
-    own Rayleigh speed); in the last layer (the half-space) h_k at its top,
-    growing by `growth` per element downwards. Every layer interface is a
-    node plane."""
+    own Rayleigh speed); in the last layer (the half-space) h_k from its top
+    to `fine_depth` m below the surface, growing by `growth` per element
+    below. Every layer interface is a node plane."""
     tops = [0.0]
     for layer in layers[:-1]:
         tops.append(tops[-1] - layer.thickness)
