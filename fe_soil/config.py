@@ -14,6 +14,10 @@ the checks run without dolfinx.
     growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
     resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
     static_reach = 5.0           # statics on the block extended this many times its size (0: off)
+    fine_depth = 9.2             # m: the graded mesh keeps the rule's spacing to here (default
+                                 # the softest layer's Rayleigh wavelength at f_max / 2)
+    absorbing_reflection = 0.01  # the graded zones' absorbing layers: their nominal reflection
+                                 # (0 < R <= 1; 1: no layers), fe_soil/absorbing.py
     receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: its middle)
     damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
@@ -37,10 +41,10 @@ from .soil_table import ConfigError
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
-            "static_reach"}
+            "static_reach", "absorbing_reflection", "fine_depth"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
-            "static_reach": 5.0}
+            "static_reach": 5.0, "absorbing_reflection": 0.01}
 MAX_RANKS = 256
 # What one configuration may ask of the machine, derived from its keys before
 # anything is meshed. Memory: measured on one rank (scenes/ground_vibration_ci
@@ -83,6 +87,13 @@ def parse(table):
     out["mesh_size"] = soil_table.number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
     out["static_reach"] = soil_table.number(table, "static_reach", "", lo=0.0, hi=100.0,
                                             lo_open=False, default=DEFAULTS["static_reach"])
+    out["absorbing_reflection"] = soil_table.number(
+        table, "absorbing_reflection", "", lo=0.0, default=DEFAULTS["absorbing_reflection"])
+    if out["absorbing_reflection"] > 1.0:
+        raise ConfigError("[soil] absorbing_reflection must be <= 1 (1: no absorbing layers; got %g)"
+                          % out["absorbing_reflection"])
+    out["fine_depth"] = (soil_table.number(table, "fine_depth", "", lo=0.0, lo_open=False)
+                         if "fine_depth" in table else None)
     out["growth"] = soil_table.number(table, "growth", "", lo=1.0, hi=2.0, lo_open=False, default=1.0)
     if out["growth"] > 1.0 and out["mesh_size"] is not None:
         raise ConfigError("[soil] growth %g grades the mesh of the f_max rule; it cannot be combined "
@@ -103,6 +114,17 @@ def parse(table):
     return out
 
 
+def fine_depth(cfg):
+    """The depth the graded mesh keeps the rule's spacing to (m): [soil]
+    fine_depth, by default the Rayleigh wavelength of the softest layer at
+    half f_max (20 elements of the rule), about as deep as the surface
+    wave's motion reaches at the frequencies that carry it."""
+    if cfg["fine_depth"] is not None:
+        return cfg["fine_depth"]
+    c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
+    return 2.0 * c_min / cfg["f_max"]
+
+
 def layered_nodes(layers, depth, h):
     """z node planes from -depth to 0, at most h apart, with a plane on every
     layer interface (the material is cell-wise)."""
@@ -116,12 +138,12 @@ def layered_nodes(layers, depth, h):
     return sorted(z) + [0.0]
 
 
-def graded_layer_nodes(layers, depth, f_max, n, growth):
+def graded_layer_nodes(layers, depth, f_max, n, growth, fine_depth=0.0):
     """z node planes of the graded mesh: in each layer above the last, at
     most h_k = c_R,k / (n f_max) apart (the mesh-size rule with that layer's
-    own Rayleigh speed); in the last layer (the half-space) h_k at its top,
-    growing by `growth` per element downwards. Every layer interface is a
-    node plane."""
+    own Rayleigh speed); in the last layer (the half-space) h_k from its top
+    to `fine_depth` m below the surface, growing by `growth` per element
+    below. Every layer interface is a node plane."""
     tops = [0.0]
     for layer in layers[:-1]:
         tops.append(tops[-1] - layer.thickness)
@@ -132,7 +154,8 @@ def graded_layer_nodes(layers, depth, f_max, n, growth):
         if k < len(layers) - 1:
             z.extend(uniform_nodes(tops[k + 1], top, h_k)[:-1])
         else:
-            z.extend(graded_nodes(-depth, top, top, h_k, h_k, growth)[:-1])
+            fine = max(h_k, fine_depth + top)
+            z.extend(graded_nodes(-depth, top, top, h_k, fine, growth)[:-1])
     return sorted(z)
 
 
@@ -168,10 +191,16 @@ def block_params(cfg, footprints):
     check_size(cfg, h, [length, half_width, cfg["depth"]])
     if cfg["growth"] > 1.0:
         g = cfg["growth"]
+        across = min(cfg["resolve_to"], half_width)
+        deep = min(fine_depth(cfg), cfg["depth"])
         p.x_nodes = graded_nodes(0.0, length, 0.5 * length, h, 0.5 * (x1 - x0), g)
-        p.y_nodes = graded_nodes(0.0, half_width, 0.0, h, min(cfg["resolve_to"], half_width), g)
+        p.y_nodes = graded_nodes(0.0, half_width, 0.0, h, across, g)
         p.z_nodes = graded_layer_nodes(cfg["layers"], cfg["depth"], cfg["f_max"],
-                                       cfg["elements_per_wavelength"], g)
+                                       cfg["elements_per_wavelength"], g, deep)
+        # The graded zones are absorbing layers (fe_soil/absorbing.py).
+        if cfg["absorbing_reflection"] < 1.0:
+            p.absorbing = (margin, margin + (x1 - x0), across, -deep)
+            p.absorbing_reflection = cfg["absorbing_reflection"]
     else:
         p.x_nodes = uniform_nodes(0.0, length, h)
         p.y_nodes = uniform_nodes(0.0, half_width, h)

@@ -20,8 +20,7 @@ import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.mesh
 from mpi4py import MPI
 
-from . import footprints, forms
-from . import far_field
+from . import absorbing, far_field, footprints, forms
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 from .params import SoilParams, rayleigh_coefficients
 
@@ -84,6 +83,8 @@ class FESoil:
         xi = f["xi"]
         w1, w2 = (2.0 * math.pi * fr for fr in p.damping_band)
         a0 = fem.Constant(self.mesh, 2.0 * w1 * w2 / (w1 + w2)) * xi
+        if p.absorbing is not None:
+            a0 = a0 + absorbing.damping_field(self.mesh, p, self.nodes, f["cs"])
         self.c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
         xis = {layer.damping for layer in p.layers}
         self.a1_max = rayleigh_coefficients(max(xis), *p.damping_band)[1]
@@ -358,10 +359,6 @@ class FESoil:
     def receiver_velocities(self):
         """Velocity (3 components) at each receiver, on every rank."""
         return self._reduce([self._local_receivers()])[0].reshape(-1, 3)
-
-    def _record(self):
-        if len(self.rec_points):
-            self.history.append((self.t, self.receiver_velocities()))
 
     def receiver_series(self):
         """(times, velocities[time, receiver, component])."""

@@ -68,6 +68,11 @@ class SoilParams:
     # this many times its largest extent beyond it (fe_soil/far_field.py);
     # 0: statics on the block with its boundary springs.
     static_reach: float = 0.0
+    # Absorbing layers (fe_soil/absorbing.py): the region of interest's faces
+    # (x_lo, x_hi, y_hi, z_lo); mass-proportional damping grows from zero
+    # there to the block's sides and bottom. None: no layers.
+    absorbing: Tuple[float, float, float, float] | None = None
+    absorbing_reflection: float = 1e-3  # the layers' nominal reflection
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
     x_nodes: Sequence[float] | None = None

@@ -48,7 +48,10 @@ def load_verdicts(load, dt, distances, resolved):
     out = []
     for d, f in zip(distances, resolved):
         share = energy_above(load, dt, f)
-        if share > ABOVE_SHARE:
+        if f <= 0.0:
+            text = ("%g m: the receiver lies in the absorbing layers, which damp its record: "
+                    "nothing is resolved there (raise [soil] resolve_to beyond it)" % d)
+        elif share > ABOVE_SHARE:
             text = ("%g m: the load has %.1f %% of its energy above the resolved %.3g Hz: "
                     "the record there is not resolved (refine the mesh: raise [soil] f_max)"
                     % (d, 100.0 * share, f))

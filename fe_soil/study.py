@@ -237,7 +237,9 @@ def resolution(soil, cfg):
     """(c_R of the softest layer, [per receiver: (the largest element on its
     path, the frequency with 10 such elements per Rayleigh wavelength, the
     45-degree phase-error estimate)]). A graded mesh keeps the rule's size
-    out to resolve_to and grows beyond it, so each receiver has its own."""
+    out to resolve_to and grows beyond it, so each receiver has its own; a
+    receiver inside its absorbing layers has none (0 Hz: they damp it)."""
+    from .absorbing import inside
     from .params import rayleigh_speed, resolved_frequency
 
     soft = min(cfg["layers"], key=lambda l: rayleigh_speed(l.shear_speed, l.poisson))
@@ -245,7 +247,10 @@ def resolution(soil, cfg):
     out = []
     for (x, y), d in zip(soil.p.receivers, cfg["receivers"]):
         h = largest_element_on_path(soil.nodes, x, y)
-        out.append((h, c / (10.0 * h), resolved_frequency(h, soil.dt, soft, d)))
+        if inside(soil.p, soil.nodes, (x, y, 0.0)):
+            out.append((h, 0.0, 0.0))
+        else:
+            out.append((h, c / (10.0 * h), resolved_frequency(h, soil.dt, soft, d)))
     return c, out
 
 

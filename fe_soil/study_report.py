@@ -53,7 +53,8 @@ def answer(runs, info):
          "docs/ground-vibration.md) and the 45-degree phase-error estimate: %s. Bands above "
          "are rough, in both methods alike (they share the mesh)." % (
              info["resolution"][0],
-             "; ".join("%g m: %.2g m, %.3g Hz (phase %.3g Hz)" % (x, h, f, g)
+             "; ".join("%g m: %.2g m, %.3g Hz (phase %.3g Hz)" % (x, h, f, g) if f > 0.0 else
+                       "%g m: in the absorbing layers (damped: nothing resolved)" % x
                        for (h, f, g), x in zip(info["resolution"][1], d))),
          "", load_content(info), "",
          "### Free field per distance", "",
