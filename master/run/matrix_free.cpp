@@ -107,6 +107,24 @@ void add_matrix_free_note(RunRecord& run, const std::string& note) {
   run.spectral_note += (run.spectral_note.empty() ? "" : "; ") + note;
 }
 
+// rho and its rate from ln(norm) per step (the slope over the second half),
+// and the late growth: the largest value over the last quarter over the
+// largest over the second (a sum of modes that do not grow has a falling
+// envelope, which its beats reach within a quarter).
+void fit_growth(const std::vector<double>& log_norm, double window, MatrixFreeRho& r) {
+  if (log_norm.size() < 2) return;
+  const double per_step = log_slope(log_norm, log_norm.size() / 2);
+  r.rho = std::exp(per_step);
+  r.rate_per_s = per_step / window;
+  const std::size_t q = log_norm.size() / 4;
+  if (q == 0) return;
+  const auto largest = [&log_norm, q](std::size_t from) {
+    return *std::max_element(log_norm.begin() + static_cast<std::ptrdiff_t>(from),
+                             log_norm.begin() + static_cast<std::ptrdiff_t>(from + q));
+  };
+  r.late_growth = std::exp(largest(log_norm.size() - q) - largest(q));
+}
+
 }  // namespace
 
 MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
@@ -182,22 +200,7 @@ MatrixFreeRho matrix_free_rho(const Scene& scene, const CaseSpec& spec, const Ru
     if (j == 0) r.carried = r.growth;
     return r.growth < f.growth;
   });
-  if (log_norm.size() >= 2) {
-    const double per_step = log_slope(log_norm, log_norm.size() / 2);
-    // The largest value over the last quarter over the largest over the
-    // second: a sum of modes that do not grow has a falling envelope, which
-    // its beats reach within a quarter.
-    const std::size_t q = log_norm.size() / 4;
-    if (q > 0) {
-      const auto largest = [&](std::size_t from) {
-        return *std::max_element(log_norm.begin() + static_cast<std::ptrdiff_t>(from),
-                                 log_norm.begin() + static_cast<std::ptrdiff_t>(from + q));
-      };
-      r.late_growth = std::exp(largest(log_norm.size() - q) - largest(q));
-    }
-    r.rho = std::exp(per_step);
-    r.rate_per_s = per_step / window;
-  }
+  fit_growth(log_norm, window, r);
   return r;
 }
 
