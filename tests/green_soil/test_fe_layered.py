@@ -30,7 +30,7 @@ numbers are in docs/ground-vibration-validation.md.
 
     /usr/bin/python3 tests/green_soil/test_fe_layered.py            # the test
     nice -n 10 /usr/bin/python3 tests/green_soil/test_fe_layered.py --measure \\
-        [--f-mesh 20] [--elastic]   # the comparison's table, both damping laws
+        [--f-mesh 20] [--elastic] [--fine 18]   # the comparison's numbers, both damping laws
 """
 import argparse
 import math
@@ -87,24 +87,24 @@ def pulse(t, f_mesh=F_MESH):
     return AMPLITUDE * np.exp(-(((np.asarray(t, dtype=float) - PULSE_T0) / tau) ** 2))
 
 
-def fe_params(layers, band, along, f_mesh):
+def fe_params(layers, band, along, f_mesh, fine=FINE):
     """The FE block: the footprint at its centre on the symmetry plane."""
     h = min(rayleigh_speed(l.shear_speed, l.poisson) for l in layers) / (10.0 * f_mesh)
     return SoilParams(
         length=2.0 * REACH, half_width=REACH, depth=REACH, layers=layers,
         footprints=[Footprint(REACH, along, ACROSS, 0.0)],
         receivers=[(REACH, d) for d in DISTANCES], f_max=f_mesh, damping_band=tuple(band),
-        x_nodes=graded_nodes(0.0, 2.0 * REACH, REACH, h, FINE, GROWTH),
-        y_nodes=graded_nodes(0.0, REACH, 0.0, h, FINE, GROWTH),
+        x_nodes=graded_nodes(0.0, 2.0 * REACH, REACH, h, fine, GROWTH),
+        y_nodes=graded_nodes(0.0, REACH, 0.0, h, fine, GROWTH),
         z_nodes=fe_config.graded_layer_nodes(layers, REACH, f_mesh, 10.0, GROWTH))
 
 
-def fe_run(layers, band, along, f_mesh):
+def fe_run(layers, band, along, f_mesh, fine=FINE):
     """(v_z downward (n, receivers), resolved Hz per receiver, DOFs, seconds)."""
     from fe_soil.model import FESoil
 
     start = time.time()
-    soil = FESoil(fe_params(layers, band, along, f_mesh))
+    soil = FESoil(fe_params(layers, band, along, f_mesh, fine))
     n = int(round(RECORD / H))
     for k in range(n):
         soil.advance(k * H, H, [float(pulse(k * H, f_mesh))], [float(pulse((k + 1) * H, f_mesh))])
@@ -204,11 +204,13 @@ def measure(argv):
     ap.add_argument("--measure", action="store_true")
     ap.add_argument("--f-mesh", type=float, default=F_MESH, help="the FE mesh's rule, Hz")
     ap.add_argument("--elastic", action="store_true", help="both soils without damping")
+    ap.add_argument("--fine", type=float, default=FINE,
+                    help="m: the rule's h in x and y out to here (default %g)" % FINE)
     a = ap.parse_args(argv)
     layers, band, along = scene_ground()
     if a.elastic:
         layers = [Layer(l.thickness, l.density, l.shear_speed, l.poisson, 0.0) for l in layers]
-    fe, resolved, dofs, seconds = fe_run(layers, band, along, a.f_mesh)
+    fe, resolved, dofs, seconds = fe_run(layers, band, along, a.f_mesh, a.fine)
     print("FE: %d DOFs, %.1f s" % (dofs, seconds))
     start = time.time()
     rayleigh = green_run(spectral.rayleigh_layers(layers, band), along, a.f_mesh)
