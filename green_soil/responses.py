@@ -216,7 +216,8 @@ def hat_spectrum(rec: Record, derivative=False):
 def cache_key(layers, fp, pair_offsets, point_offsets, rec, d, kind=None):
     extra = {} if kind is None else {"kind": kind}
     text = json.dumps({**extra,
-        "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping] for l in layers],
+        "layers": [[l.thickness, l.density, l.shear_speed, l.poisson, l.damping]
+                   + list(getattr(l, "rayleigh_band", ())) for l in layers],
         "fp": [fp.along, fp.across], "pairs": [[float(v) for v in p] for p in pair_offsets],
         "points": [[float(v) for v in p] for p in point_offsets],
         "rec": [rec.dt, rec.duration, rec.f_max, rec.taper, rec.pad, rec.eta_t],

@@ -33,20 +33,58 @@ constant down to w = 0 (s = sgn w) has no static limit in the time domain:
 its response to a held force creeps like ln t, by about 4 xi / pi of the
 static value per e-fold of time. The static flexibility (w = 0) is the
 elastic one.
+
+For a comparison with the FE soil, whose material is damped the Rayleigh
+way (C = a0 M + a1 K, the layer's xi matched at the two frequencies of its
+damping band: fe_soil/params.py), a layer given as `RayleighLayer` takes
+that law instead. In the frequency domain the FE soil's equation of motion
+(-w^2 + i w a0) rho u + (1 + i w a1) K u = f is that of an elastic medium
+with the complex density rho (1 - i a0 / w) and the complex moduli
+mu (1 + i w a1), lambda (1 + i w a1), the traction on the surface
+unchanged: exactly the FE soil's material, causal by itself (no onset).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Tuple
+
 import numpy as np
+
+from fe_soil.params import Layer, rayleigh_coefficients
 
 
 LOSS_ONSET = 0.25  # Hz: below it the loss factor fades (see the module's text)
 
 
+@dataclass
+class RayleighLayer(Layer):
+    """A layer damped as the FE soil damps it: `damping` matched at the two
+    frequencies of `rayleigh_band` (Hz) by C = a0 M + a1 K."""
+
+    rayleigh_band: Tuple[float, float] = (5.0, 50.0)
+
+
+def rayleigh_layers(layers, band):
+    """The layers with the FE soil's Rayleigh damping fitted over band (Hz)."""
+    return [RayleighLayer(l.thickness, l.density, l.shear_speed, l.poisson, l.damping,
+                          (float(band[0]), float(band[1]))) for l in layers]
+
+
 def moduli(layer, w):
-    """(mu*, lambda*, rho) of a layer at the complex circular frequency w."""
+    """(mu*, lambda*, rho*) of a layer at the complex circular frequency w:
+    hysteretic, or the FE soil's Rayleigh law for a RayleighLayer (its
+    density complex; at w = 0, where only the moduli enter, the elastic
+    ones)."""
     mu = layer.density * layer.shear_speed**2
     nu = layer.poisson
     lam = 2.0 * mu * nu / (1.0 - 2.0 * nu)
+    band = getattr(layer, "rayleigh_band", None)
+    if band is not None:
+        if w == 0:
+            return mu + 0j, lam + 0j, layer.density
+        a0, a1 = rayleigh_coefficients(layer.damping, *band)
+        stiff = 1.0 + 1j * w * a1
+        return mu * stiff, lam * stiff, layer.density * (1.0 - 1j * a0 / w)
     x = np.real(w) / (2.0 * np.pi * LOSS_ONSET)
     loss = 1.0 + 2.0j * layer.damping * x / np.sqrt(1.0 + x * x)
     return mu * loss, lam * loss, layer.density
