@@ -7,13 +7,19 @@ import numpy as np
 from fe_soil import measures
 
 
+def vertical_up(rows):
+    """The soil's vertical rows (along the force: down) as the files give
+    them: z up, as the FE soil's."""
+    return -np.asarray(rows, dtype=float)
+
+
 def components(series, n):
-    """(steps, n, 3) velocities (x, y, z) from the soil's receiver rows per
-    step (the n vertical ones, then x, then y; only the vertical ones when
-    the soil has no horizontal rows)."""
+    """(steps, n, 3) velocities (x, y, z; z up) from the soil's receiver rows
+    per step (the n vertical ones, down, then x, then y; only the vertical
+    ones when the soil has no horizontal rows)."""
     series = np.asarray(series, dtype=float).reshape(len(series), -1)
     v = np.zeros((len(series), n, 3))
-    v[:, :, 2] = series[:, :n]
+    v[:, :, 2] = vertical_up(series[:, :n])
     if series.shape[1] >= 3 * n:
         v[:, :, 0] = series[:, n:2 * n]
         v[:, :, 1] = series[:, 2 * n:3 * n]

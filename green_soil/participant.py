@@ -31,7 +31,7 @@ from fe_soil import measures  # noqa: E402
 from fe_soil.config import channel_names  # noqa: E402
 
 from . import config as green_config  # noqa: E402
-from .outputs import components, vibration_csv  # noqa: E402
+from .outputs import components, vertical_up, vibration_csv  # noqa: E402
 from .track import TrackSoil  # noqa: E402
 
 KEEP_SAVES = 8  # states held for restore (implicit coupling restores the latest)
@@ -138,7 +138,7 @@ class GreenSoilParticipant(rc.Participant):
 
     def history_values(self):
         n = len(self.history)
-        return [float(x) for x in self.series[-1][:n]] if self.series else [0.0] * n
+        return [float(x) for x in vertical_up(self.series[-1][:n])] if self.series else [0.0] * n
 
     def max_abs_displacement(self):
         return float(np.abs(self.last).max()) if len(self.last) else 0.0

@@ -19,7 +19,7 @@ import unittest
 import numpy as np
 
 import support
-from green_soil import greens, responses as R, track
+from green_soil import greens, outputs, responses as R, track
 
 CACHE = tempfile.mkdtemp(prefix="green_held_")  # this test's own cache of Green's functions
 atexit.register(shutil.rmtree, CACHE, True)
@@ -77,6 +77,21 @@ class HeldForce(unittest.TestCase):
             # Measured 1.0e-2 at 5 m (what the cut at f_max puts before
             # t = 0 there), 1.0e-3 at 8 m, 5.4e-3 at 16 m.
             self.assertLess(err.max(), 0.015, "at %g m: %.3g" % (d, err.max()))
+
+    def test_receivers_files_point_z_up(self):
+        # The kernels are the velocity along the force (down); the files
+        # (receivers.csv, vibration.csv's rows, the history channels) give
+        # v_z up, as the FE soil's: under a held downward force the ground
+        # settles, so the integral of the written v_z is minus the static
+        # displacement.
+        t, _, static, soil = integrated_velocity(support.HALF_SPACE)
+        rows = soil.R[::-1, :, 0]  # the vertical rows a held unit force gives, step by step
+        vz = outputs.components(rows, len(DISTANCES))[:, :, 2]
+        written = H * (np.cumsum(vz, axis=0) - 0.5 * vz)
+        late = t >= 0.45
+        for k in range(3):
+            self.assertLess(abs(written[late, k].mean() / static[k] + 1.0), 5e-3)
+        self.assertEqual(outputs.vertical_up(rows[-1]).tolist(), (-rows[-1]).tolist())
 
 
 if __name__ == "__main__":
