@@ -14,13 +14,17 @@ the record's highest), and over the direct waves the arrival, the peak and
 the normalised RMS.
 
 Usage:  nice -n 10 bench/fe_absorbing.py [--f-max 10] [--fc 7.5] [--growth 1.25]
-            [--set KEY=VALUE ...] [--bands] [--png FILE]
+            [--set KEY=VALUE ...] [--param FIELD=LITERAL ...] [--bands] [--png FILE]
+            [--save FILE.npz]
         nice -n 10 bench/fe_absorbing.py --scene-cost scenes/ground_vibration.toml
             --baseline growth=1.25,fine_depth=0,absorbing_reflection=1
 One row per receiver; --set absorbing_reflection=1 --growth 1.25 is the old
-mesh and boundary.
+mesh and boundary. --param sets a SoilParams field after the keys (e.g.
+spring_alpha=(0.0,0.0): dashpots alone on the outer boundary); --save keeps
+t and each judged receiver's FE and reference records for a closer look.
 """
 import argparse
+import ast
 import math
 import os
 import sys
@@ -54,6 +58,9 @@ def run(args, baseline=False):
 
     sleepers = [SimpleNamespace(x=0.6 * i, length=0.25, width=2.5, y=0.0) for i in range(SLEEPERS)]
     p = config.block_params(config.parse(table(args, baseline)), sleepers)[0]
+    for kv in ([] if baseline else args.param):
+        k, v = kv.split("=", 1)
+        setattr(p, k, ast.literal_eval(v))
     t_start = time.perf_counter()
     soil = FESoil(p)
     f = record_check.lamb.ricker(args.fc, args.t0)[0]
@@ -134,6 +141,9 @@ def main():
     ap.add_argument("--receivers", default="4,8,16,32")
     ap.add_argument("--judged", default="4,8,16", help="receivers compared (m)")
     ap.add_argument("--set", action="append", default=[], help="another [soil] key=number")
+    ap.add_argument("--param", action="append", default=[],
+                    help="a SoilParams field=Python literal, set after the [soil] keys")
+    ap.add_argument("--save", default=None, help="an .npz of t, the FE and reference records")
     ap.add_argument("--bands", action="store_true", help="print each band's difference")
     ap.add_argument("--baseline", default=None, help="key=number,...: a second run on other "
                     "keys, measured and drawn beside (e.g. growth=1.25,fine_depth=0,"
@@ -147,7 +157,10 @@ def main():
     if args.scene_cost:
         return scene_cost(args)
     args.t0 = 1.2 / args.fc if args.t0 is None else args.t0
-    rows = measure(args, *run(args), "growth %g %s" % (args.growth, " ".join(args.set)))
+    rows = measure(args, *run(args), "growth %g %s" % (args.growth, " ".join(args.set + args.param)))
+    if args.save:
+        np.savez(args.save, t=rows[0][4], fe=np.array([r[3] for r in rows]),
+                 ref=np.array([r[1] for r in rows]), r=np.array([r[0] for r in rows]))
     old = None
     if args.baseline:
         old = measure(args, *run(args, True), "baseline %s" % args.baseline)

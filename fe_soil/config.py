@@ -11,6 +11,7 @@ the checks run without dolfinx.
     mesh_size = 0.5              # optional, m: overrides the rule
     depth = 20.0                 # m
     margin = 8.0                 # m beyond the track's ends and the farthest receiver
+    margin_along = 12.0          # optional, m beyond the track's ends (default: margin)
     growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
     resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
     static_reach = 5.0           # statics on the block extended this many times its size (0: off)
@@ -41,7 +42,7 @@ from .soil_table import ConfigError
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
-            "static_reach", "absorbing_reflection", "fine_depth"}
+            "static_reach", "absorbing_reflection", "fine_depth", "margin_along"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01}
@@ -84,6 +85,8 @@ def parse(table):
     out = {"ranks": ranks_of(table)}
     for key in ("f_max", "elements_per_wavelength", "depth", "margin"):
         out[key] = soil_table.number(table, key, "", lo=0.0, default=DEFAULTS[key])
+    out["margin_along"] = (soil_table.number(table, "margin_along", "", lo=0.0)
+                           if "margin_along" in table else out["margin"])
     out["mesh_size"] = soil_table.number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
     out["static_reach"] = soil_table.number(table, "static_reach", "", lo=0.0, hi=100.0,
                                             lo_open=False, default=DEFAULTS["static_reach"])
@@ -168,18 +171,18 @@ def block_params(cfg, footprints):
         raise ConfigError("no footprints")
     x0 = min(f.x - 0.5 * f.length for f in footprints)
     x1 = max(f.x + 0.5 * f.length for f in footprints)
-    margin = cfg["margin"]
-    length = (x1 - x0) + 2.0 * margin
+    margin, along = cfg["margin"], cfg["margin_along"]
+    length = (x1 - x0) + 2.0 * along
     width_track = max(f.y + 0.5 * f.width for f in footprints)
     half_width = max(max(cfg["receivers"]), width_track) + margin
     rx = 0.5 * (x0 + x1) if cfg["receiver_x"] is None else cfg["receiver_x"]
-    if not x0 - margin < rx < x1 + margin:
+    if not x0 - along < rx < x1 + along:
         raise ConfigError("[soil] receiver_x %g m lies outside the block (%g to %g m along the "
-                          "rail)" % (rx, x0 - margin, x1 + margin))
-    fps = [Footprint(f.x - x0 + margin, f.length, f.width, f.y) for f in footprints]
+                          "rail)" % (rx, x0 - along, x1 + along))
+    fps = [Footprint(f.x - x0 + along, f.length, f.width, f.y) for f in footprints]
     p = SoilParams(length=length, half_width=half_width, depth=cfg["depth"],
                    layers=cfg["layers"], footprints=fps,
-                   receivers=[(rx - x0 + margin, d) for d in cfg["receivers"]],
+                   receivers=[(rx - x0 + along, d) for d in cfg["receivers"]],
                    f_max=cfg["f_max"], elements_per_wavelength=cfg["elements_per_wavelength"],
                    symmetric=True, damping_band=cfg["damping_band"],
                    static_reach=cfg["static_reach"])
@@ -199,7 +202,7 @@ def block_params(cfg, footprints):
                                        cfg["elements_per_wavelength"], g, deep)
         # The graded zones are absorbing layers (fe_soil/absorbing.py).
         if cfg["absorbing_reflection"] < 1.0:
-            p.absorbing = (margin, margin + (x1 - x0), across, -deep)
+            p.absorbing = (along, along + (x1 - x0), across, -deep)
             p.absorbing_reflection = cfg["absorbing_reflection"]
     else:
         p.x_nodes = uniform_nodes(0.0, length, h)
@@ -207,7 +210,7 @@ def block_params(cfg, footprints):
         p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
     check_size(cfg, h, [length, half_width, cfg["depth"]],
                [len(p.x_nodes) - 1, len(p.y_nodes) - 1, len(p.z_nodes) - 1])
-    return p, x0 - margin
+    return p, x0 - along
 
 
 def memory_bytes():

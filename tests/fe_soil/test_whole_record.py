@@ -145,6 +145,22 @@ class Layers(unittest.TestCase):
         with self.assertRaisesRegex(config.ConfigError, r"\[soil\] fine_depth must be >= 0"):
             block(fine_depth=-1.0)
 
+    def test_margin_along_the_track_alone(self):
+        # margin_along = 12: 12 m beyond the track's ends (the layers along
+        # the track 12 m thick), the half width still the farthest receiver
+        # plus margin (32 + 8); the footprints and receivers move with it.
+        p, q = block(), block(margin_along=12.0)
+        self.assertAlmostEqual(p.length, 12.25 + 16.0, delta=1e-12)
+        self.assertAlmostEqual(q.length, 12.25 + 24.0, delta=1e-12)
+        self.assertEqual((q.half_width, q.depth), (40.0, 20.0))
+        self.assertAlmostEqual(q.absorbing[0], 12.0, delta=1e-12)
+        self.assertAlmostEqual(q.absorbing[1], 24.25, delta=1e-12)
+        self.assertEqual(q.absorbing[2:], p.absorbing[2:])
+        self.assertAlmostEqual(q.footprints[0].x - p.footprints[0].x, 4.0, delta=1e-12)
+        self.assertAlmostEqual(q.receivers[0][0] - 0.5 * q.length, 0.0, delta=1e-12)
+        with self.assertRaisesRegex(config.ConfigError, r"\[soil\] margin_along must be > 0"):
+            block(margin_along=-1.0)
+
     def test_a_receiver_in_the_layers_is_reported_unresolved(self):
         # The default receivers: 32 m lies beyond resolve_to (16 m), in the
         # layers; 4 to 16 m do not.
