@@ -59,7 +59,7 @@ def band_errors(v, ref, dt, f_res, floor_db=30.0):
     _, lr = measures.third_octave_levels(ref, dt, 1.0, 100.0)
     finite = np.isfinite(lr)
     keep = finite & (fc <= f_res * (1.0 + 1e-9)) & (lr >= np.max(lr[finite]) - floor_db)
-    return fc[keep], (lv - lr)[keep]
+    return fc[keep], lv[keep] - lr[keep]
 
 
 def compare(t, v, ref, t0, direct_end, f_res):
