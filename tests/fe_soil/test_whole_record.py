@@ -91,7 +91,8 @@ class WholeRecord(unittest.TestCase):
         # is 2.71 / 5.23 dB off at 4 / 8 m (3.2 Hz, what comes back from the
         # bottom, 1.6 m below fine_depth at this f_max, and the track's
         # ends); 30 m deep, 12 m along the track beyond its ends
-        # (margin_along) and the rule's spacing to 18 m across: 0.91 / 0.56
+        # (margin_along) and the rule's spacing to 18 m across (the block
+        # keys of scenes/ground_vibration.toml): 0.91 / 0.56
         # dB, nRMS 0.027 / 0.073 (89,001 DOFs against 59,616).
         deeper, _ = whole_record(block(depth=30.0, margin_along=12.0, resolve_to=18.0))
         for r, m in deeper.items():
