@@ -27,7 +27,10 @@ shape; the coarse one once per pattern of planes around a footprint.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
+import os
 
 import numpy as np
 from mpi4py import MPI
@@ -93,7 +96,7 @@ def local_block(params, nodes, fp):
     scene)."""
     xs, ys, zs = (np.asarray(a, dtype=float) for a in nodes)
     hx, hy = 0.5 * fp.along + REACH, 0.5 * fp.across + REACH
-    sym = params.symmetric and fp.y - hy <= ys[0]
+    sym = bool(params.symmetric and fp.y - hy <= ys[0])
     x_lo, x_hi = max(fp.x - hx, xs[0]), min(fp.x + hx, xs[-1])
     y_lo, y_hi = (ys[0] if sym else max(fp.y - hy, ys[0])), min(fp.y + hy, ys[-1])
     tops = list(np.cumsum([-l.thickness for l in params.layers[:-1]]))
@@ -166,6 +169,42 @@ def mean_compliance(params, block, iterative=False):
     return float(np.sum(val * x.array[idx]) / area)
 
 
+def cache_dir():
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "railcosim", "fe_soil", "near_field")
+
+
+def cached_compliance(params, block, iterative=False):
+    """mean_compliance(), kept in cache_dir() under a hash of everything that
+    enters it (the planes, the footprint, the layers, the springs, the
+    solver), so that the next run of a scene reads it back bitwise."""
+    fp = block.footprint
+    text = json.dumps({
+        "planes": [[float(v) for v in a] for a in (block.x, block.y, block.z)],
+        "symmetric": bool(block.symmetric),
+        "fp": [float(v) for v in (fp.x, fp.y, fp.along, fp.across)],
+        "layers": [[float(v) for v in (l.thickness, l.density, l.shear_speed, l.poisson)]
+                   for l in params.layers],
+        "springs": list(params.spring_alpha), "iterative": iterative, "rtol": SOLVE_RTOL,
+        "version": 1}, sort_keys=True)
+    path = os.path.join(cache_dir(), hashlib.sha256(text.encode()).hexdigest()[:24] + ".json")
+    try:
+        with open(path) as f:
+            return float(json.load(f)["compliance"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    c = mean_compliance(params, block, iterative)
+    try:
+        os.makedirs(cache_dir(), exist_ok=True)
+        tmp = "%s.%d.tmp" % (path, os.getpid())
+        with open(tmp, "w") as f:
+            json.dump({"compliance": c}, f)
+        os.replace(tmp, path)
+    except OSError:
+        pass  # a cache that cannot be written costs the next run the solve
+    return c
+
+
 def _key(block):
     return (tuple(np.round(np.concatenate([block.x, block.y, block.z]), 9)), block.symmetric,
             block.footprint.along, block.footprint.across, len(block.x), len(block.y))
@@ -174,7 +213,8 @@ def _key(block):
 def compliances(params, nodes, comm=MPI.COMM_WORLD):
     """c_loc of every footprint (m/N, the same array on every rank); zeros
     unless params.footprint_compliance. Each distinct local problem is
-    solved once, the problems dealt out over the ranks."""
+    solved once (or read from the cache), the problems dealt out over the
+    ranks."""
     n = len(params.footprints)
     if not params.footprint_compliance or n == 0:
         return np.zeros(n)
@@ -185,7 +225,7 @@ def compliances(params, nodes, comm=MPI.COMM_WORLD):
         r = refined_block(b)
         refined.setdefault(_key(r), r)
     jobs = [(k, b, False) for k, b in coarse.items()] + [(k, r, True) for k, r in refined.items()]
-    mine = {(k, it): mean_compliance(params, b, it)
+    mine = {(k, it): cached_compliance(params, b, it)
             for j, (k, b, it) in enumerate(jobs) if j % comm.size == comm.rank}
     found = {}
     for part in comm.allgather(mine):
