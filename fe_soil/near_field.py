@@ -11,18 +11,22 @@ afford. But a footprint's near field is quasi-static up to the mesh's
 f_max (the shear wavelength at 20 Hz is 6 m or more against the footprint's
 0.25 m): what the mesh misses is a static compliance c_loc (m/N: mean
 displacement per unit force on that footprint alone), which the soil adds
-to each footprint's outputs (FESoil: u_k + c_loc F_k, v_k + c_loc dF_k/dt).
+to each footprint's displacement (FESoil: u_k + c_loc F_k; the velocity is
+the FE's, since c_loc dF_k/dt would close a loop of gain d_b c_loc / H with
+the ballast's damper in an explicit coupling).
 
 c_loc comes from a local problem at set-up: the footprint alone on a small
 block of the scene's layers (its boundary springs as the scene block's),
 solved twice, on the scene's own node planes around the footprint (the
-coarse solve) and on planes refined under it (elements of REFINED_SIZE in
-x and z at the footprint, REFINED_SIZE_EDGE across its long edge, growing by
-REFINED_GROWTH to the scene's spacing). c_loc is their difference: the block
+coarse solve) and on planes refined under it (REFINED_SIZE at its edges
+along the track and at the surface, REFINED_SIZE_EDGE at its long edges,
+growing by REFINED_GROWTH to the scene's spacing). c_loc is their
+difference: the block
 and its springs are in both and cancel to first order; what remains is what
 the scene's spacing misses near the footprint. The refined solve does not
 depend on where the scene's planes lie, so it is made once per footprint
-shape; the coarse one once per pattern of planes around a footprint.
+shape; the coarse one once per pattern of planes around a footprint; both
+are cached across runs (cached_compliance).
 """
 from __future__ import annotations
 
@@ -190,9 +194,11 @@ def cached_compliance(params, block, iterative=False):
     path = os.path.join(cache_dir(), hashlib.sha256(text.encode()).hexdigest()[:24] + ".json")
     try:
         with open(path) as f:
-            return float(json.load(f)["compliance"])
+            c = float(json.load(f)["compliance"])
+        if math.isfinite(c):
+            return c
     except (OSError, ValueError, KeyError, TypeError):
-        pass
+        pass  # not there or not a number: solved again, and written anew
     c = mean_compliance(params, block, iterative)
     try:
         os.makedirs(cache_dir(), exist_ok=True)
@@ -206,8 +212,9 @@ def cached_compliance(params, block, iterative=False):
 
 
 def _key(block):
+    fp = block.footprint
     return (tuple(np.round(np.concatenate([block.x, block.y, block.z]), 9)), block.symmetric,
-            block.footprint.along, block.footprint.across, len(block.x), len(block.y))
+            round(fp.x, 9), round(fp.y, 9), fp.along, fp.across, len(block.x), len(block.y))
 
 
 def compliances(params, nodes, comm=MPI.COMM_WORLD):
