@@ -15,6 +15,8 @@ the checks run without dolfinx.
     growth = 1.0                 # > 1: a graded mesh (the rule only where needed), see below
     resolve_to = 16.0            # m from the track axis: the graded mesh's fine zone across
     static_reach = 5.0           # statics on the block extended this many times its size (0: off)
+    footprint_compliance = true  # the static compliance the mesh misses under each footprint,
+                                 # added to its outputs (fe_soil/near_field.py; false: the FE alone)
     fine_depth = 9.2             # m: the graded mesh keeps the rule's spacing to here (default
                                  # the softest layer's Rayleigh wavelength at f_max / 2)
     absorbing_reflection = 0.01  # the graded zones' absorbing layers: their nominal reflection
@@ -42,7 +44,8 @@ from .soil_table import ConfigError
 
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
-            "static_reach", "absorbing_reflection", "fine_depth", "margin_along"}
+            "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
+            "footprint_compliance"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01}
@@ -90,6 +93,10 @@ def parse(table):
     out["mesh_size"] = soil_table.number(table, "mesh_size", "", lo=0.0) if "mesh_size" in table else None
     out["static_reach"] = soil_table.number(table, "static_reach", "", lo=0.0, hi=100.0,
                                             lo_open=False, default=DEFAULTS["static_reach"])
+    out["footprint_compliance"] = table.get("footprint_compliance", True)
+    if not isinstance(out["footprint_compliance"], bool):
+        raise ConfigError("[soil] footprint_compliance must be true or false (got %r)"
+                          % (out["footprint_compliance"],))
     out["absorbing_reflection"] = soil_table.number(
         table, "absorbing_reflection", "", lo=0.0, default=DEFAULTS["absorbing_reflection"])
     if out["absorbing_reflection"] > 1.0:
@@ -185,7 +192,8 @@ def block_params(cfg, footprints):
                    receivers=[(rx - x0 + along, d) for d in cfg["receivers"]],
                    f_max=cfg["f_max"], elements_per_wavelength=cfg["elements_per_wavelength"],
                    symmetric=True, damping_band=cfg["damping_band"],
-                   static_reach=cfg["static_reach"])
+                   static_reach=cfg["static_reach"],
+                   footprint_compliance=cfg["footprint_compliance"])
     if cfg["mesh_size"] is not None:
         h = cfg["mesh_size"]
     else:

@@ -187,6 +187,7 @@ class GridStatics:
         self.loads = [footprints.footprint_vector(fp, self.nodes, index) for fp in p.footprints]
         # Each node's place in the grid (the planes are the grid's, exactly).
         c = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local]
+        self.coords = np.repeat(c, 3, axis=0)  # one row per DOF
         ijk = [np.searchsorted(np.asarray(a), c[:, k] - 1e-9 * (a[-1] - a[0]))
                for k, a in enumerate(self.nodes)]
         self.shape = tuple(len(a) for a in self.nodes)

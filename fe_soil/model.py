@@ -20,9 +20,13 @@ import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.mesh
 from mpi4py import MPI
 
-from . import absorbing, far_field, footprints, forms
+from . import absorbing, far_field, footprints, forms, near_field
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 from .params import SoilParams, rayleigh_coefficients
+
+
+def _cat(arrays, dtype):
+    return np.concatenate(arrays).astype(dtype) if arrays else np.zeros(0, dtype)
 
 
 def _merge_counts(dicts):
@@ -39,14 +43,15 @@ class FESoil:
         self.V = fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
         tags = facet_tags(mesh, self.nodes)
         ds = forms.boundary_measures(mesh, tags)
-        f = layer_fields(mesh, params)
-        self.fields = f
+        self.fields = f = layer_fields(mesh, params)
         # Numbers of the block and the damping fit enter the forms as
         # constants, not literals: the compiled forms (FFCx, cached) are then
         # the same for every block, and a new scene compiles nothing.
         centre = fem.Constant(mesh, np.array([0.5 * (self.nodes[0][0] + self.nodes[0][-1]), 0.0, 0.0]))
         self._setup_operators(f, ds, tags, centre)
         self._setup_footprints()
+        self.fp_compliance = (near_field.compliances(params, self.nodes, comm)  # m/N; None: off
+                              if params.footprint_compliance else None)
         self._setup_receivers()
         self.dt = self._stable_step()
         self._inv = None  # (dt, the update's diagonal) of the last run
@@ -111,9 +116,7 @@ class FESoil:
             fem.petsc.assemble_matrix(self.Ka1, c_form)
             self.Ka1.assemble()
         self.U, self.W = self.K.createVecs()
-        self.KU = self.U.duplicate()
-        self.KV = self.U.duplicate()
-        self.VH = self.U.duplicate()
+        self.KU, self.KV, self.VH = (self.U.duplicate() for _ in range(3))
 
     def _setup_footprints(self):
         index = footprints.surface_node_index(self.V, self.nodes)
@@ -134,8 +137,7 @@ class FESoil:
             self.fp_share.append(0.5 if on_axis else 1.0)
         # All footprints' (DOF, value) pairs in flat arrays: a load vector and
         # the footprint averages are then one bincount each, not a loop.
-        cat = lambda a, t: np.concatenate(a).astype(t) if a else np.zeros(0, t)
-        self.fp_idx, self.fp_val, self.fp_of = cat(idx, np.int64), cat(val, float), cat(of, np.int64)
+        self.fp_idx, self.fp_val, self.fp_of = _cat(idx, np.int64), _cat(val, float), _cat(of, np.int64)
         self.fp_area = np.array(self.fp_area)
         self.fp_share = np.array(self.fp_share)
 
@@ -160,8 +162,7 @@ class FESoil:
                 idx.append(3 * on[keep] + c)
                 w.append(vals[keep])
                 of.append(np.full(int(keep.sum()), 3 * k + c))
-        cat = lambda a, t: np.concatenate(a).astype(t) if a else np.zeros(0, t)
-        self.rec_idx, self.rec_w, self.rec_of = cat(idx, np.int64), cat(w, float), cat(of, np.int64)
+        self.rec_idx, self.rec_w, self.rec_of = _cat(idx, np.int64), _cat(w, float), _cat(of, np.int64)
 
     def _stable_step(self, iterations=40):
         """dt = safety * 2/w_max * (sqrt(1 + xi^2) - xi), w_max by power
@@ -257,12 +258,12 @@ class FESoil:
         Forces asked for before get that solution back bitwise, so the
         iteration sees the change stop instead of the solver's round-off.
         With `static_reach` the outer soil's correction is added
-        (far_field.StaticExtension)."""
+        (far_field.StaticExtension); to the outputs, c_loc F (`_own`)."""
         forces = np.asarray(forces, dtype=float)
         for f_old, _, x_old, c_old in self._static_basis:
             if np.array_equal(f_old, forces):
                 self._set_static(x_old, c_old)
-                return self.footprint_average(self.u)
+                return self._own(self.footprint_average(self.u), forces)
         x_block = self._block_statics(forces, rtol)
         x = x_block + self._far_field(forces)
         # The force the soil outside the block exerts beyond the boundary
@@ -273,7 +274,7 @@ class FESoil:
         self._static_basis.append((forces.copy(), x_block, x.copy(), corr))
         del self._static_basis[: -self.STATIC_BASIS]
         self._set_static(x, corr)
-        return self.footprint_average(self.u)
+        return self._own(self.footprint_average(self.u), forces)
 
     def _far_field(self, forces):
         """The outer soil's change to the block's static displacement (zero
@@ -309,7 +310,9 @@ class FESoil:
     def advance(self, t, H, forces_start, forces_end):
         """From t to t + H with forces varying linearly between the given
         values. Returns (downward displacement, downward velocity) per
-        footprint at t + H."""
+        footprint at t + H, the displacement plus c_loc F (`_own`; not the
+        velocity: c_loc dF/dt with the ballast's damper d_b is a loop of gain
+        d_b c_loc / H, which diverged on the CI scene with ramped inputs)."""
         f0 = self.load_vector(forces_start)
         df = self.load_vector(forces_end) - f0
         f0 = f0 + self.f_static
@@ -320,7 +323,11 @@ class FESoil:
         su, sv, rec = self._reduce(self._local_sums(self.u, self.v) + [self._local_receivers()])
         if len(self.rec_points):
             self.history.append((self.t, rec.reshape(-1, 3)))
-        return su / self.fp_area, sv / self.fp_area
+        return self._own(su / self.fp_area, np.asarray(forces_end, dtype=float)), sv / self.fp_area
+
+    def _own(self, values, forces):
+        """values + c_loc forces (c_loc: near_field); the values alone when off."""
+        return values if self.fp_compliance is None else values + self.fp_compliance * forces
 
     def run(self, dt, n, f0, df):
         """n steps of dt; the load is f0 + (k/n) df at the end of step k.
@@ -367,8 +374,7 @@ class FESoil:
         return t, v
 
     def open_xdmf(self, path):
-        """An XDMF file (ParaView opens it) with the mesh; `write_snapshot`
-        adds the velocity field at the current time."""
+        """An XDMF file with the mesh; `write_snapshot` adds the velocity."""
         import dolfinx.io
 
         xdmf = dolfinx.io.XDMFFile(self.comm, path, "w")
@@ -376,15 +382,13 @@ class FESoil:
         self.vfun.name = "velocity"
         return xdmf
 
-    def write_snapshot(self, xdmf):
+    def write_snapshot(self, xdmf):  # at the current time
         self.vfun.x.array[: self.n_owned] = self.v
         self.vfun.x.scatter_forward()
         xdmf.write_function(self.vfun, self.t)
 
     def kinetic_energy(self, dofs_weight=None):
-        e = 0.5 * self.m * self.v**2
-        if dofs_weight is not None:
-            e = e * dofs_weight
+        e = 0.5 * self.m * self.v**2 * (1.0 if dofs_weight is None else dofs_weight)
         return self.comm.allreduce(float(e.sum()), op=MPI.SUM)
 
     def dof_coordinates(self):

@@ -73,6 +73,9 @@ class SoilParams:
     # there to the block's sides and bottom. None: no layers.
     absorbing: Tuple[float, float, float, float] | None = None
     absorbing_reflection: float = 1e-3  # the layers' nominal reflection
+    # The static compliance the mesh cannot hold under each footprint, added
+    # to its outputs (fe_soil/near_field.py); off: the FE alone.
+    footprint_compliance: bool = False
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
     x_nodes: Sequence[float] | None = None

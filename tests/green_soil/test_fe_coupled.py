@@ -18,15 +18,17 @@ alone (static_reach 0) its footprints' static displacements run from
 0.50 to 1.26 of the far field's along this short block, and the
 comparison below is further apart (the wheel 1.2 %, the footprints 6.5 %).
 
-Measured (elastic): ballast forces within 0.70 % of their peak, the
-wheel's displacement within 0.79 %, the rail's deflection 0.74 %, the
-footprints 3.4 % of their peak. What remains: the FE block's far field,
+Measured (elastic): ballast forces within 0.15 % of their peak, the
+wheel's displacement within 0.77 %, the rail's deflection 0.80 %, the
+footprints 2.7 % of their peak (the FE soil's footprints with their own
+compliance, `footprint_compliance`; the FE alone: 0.70 %, 0.79 %, 0.74 %,
+3.4 %). What remains: the FE block's far field,
 solved for the load's first position and held while the wheel moves (the
 FE soil's footprints at t_end are 0.91 to 1.06 of its own static state
 with the wheel there; the Green's soil's are 0.99 to 1.04 of that static
-state), and the FE mesh's footprint (h = 0.5 m, about one element along
-it; statics with one footprint loaded: the FE block's own displacement
-0.866 of the Green's soil's, its neighbours' 1.07 and 1.06, so the load
+state), and, for the FE alone, the FE mesh's footprint (h = 0.5 m, about
+one element along it; statics with one footprint loaded: the FE block's
+own displacement 0.866 of the Green's soil's, its neighbours' 1.07 and 1.06, so the load
 spread over the sleepers under a wheel comes out 1.04 of the FE's; all
 footprints loaded alike: 0.985). The comparison does not resolve a
 footprint's own flexibility finer than that: the Green's soil's own
