@@ -13,12 +13,15 @@
 #include <vector>
 
 #include "cosim_case.hpp"
+#include "cosim_support.hpp"
 #include "process_support.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "scene.hpp"
+#include "statics.hpp"
 #include "test_support.hpp"
+#include "track_model.hpp"
 
 namespace railcosim {
 namespace train_run_test {
@@ -152,6 +155,51 @@ TEST(TrainCosim, EveryWheelConvergesToTheMonolithicSolutionAsTheMacroStepShrinks
           << name << " step " << i << ": " << errs[i - 1] << " then " << errs[i];
   }
 }
+
+// The coupled static state found through the interfaces (eight coupling
+// points at the wheel/rail cut, or the track's cuts under eight wheels)
+// equals the global static solution, as for the car.
+class TrainInterfaceStatics : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(TrainInterfaceStatics, EqualsTheGlobalStaticSolution) {
+  const Scene s = load_scene(scene_path());
+  test::InprocCase c = test::inproc_case_at_statics(s, GetParam());
+  for (std::size_t p = 0; p < c.ps.size(); ++p) c.ps[p]->initialize(c.statics.inputs[p]);
+  ParticipantSpec whole;
+  whole.parts = Parts::all(s);
+  const Structure st = assemble(s, whole);
+  const Vector u = solve_static(st, Vector::Zero(st.layout.size));
+  std::vector<double> want, got;
+  for (const auto* dofs : {&st.layout.vehicle, &st.layout.rail_w, &st.layout.sleeper})
+    for (int d : *dofs) want.push_back(u[d]);
+  std::vector<double> rail, sleepers;
+  for (const auto& sub : c.subs) {
+    const DofLayout& l = sub->structure().layout;
+    const Vector& v = sub->integrator_state().u;
+    for (int d : l.vehicle) got.push_back(v[d]);
+    for (int d : l.rail_w) rail.push_back(v[d]);
+    for (int d : l.sleeper) sleepers.push_back(v[d]);
+  }
+  got.insert(got.end(), rail.begin(), rail.end());
+  got.insert(got.end(), sleepers.begin(), sleepers.end());
+  ASSERT_EQ(got.size(), want.size());
+  double scale = 0, diff = 0;
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    scale = std::max(scale, std::abs(want[k]));
+    diff = std::max(diff, std::abs(got[k] - want[k]));
+  }
+  // The interface iteration stops at a relative change of 1e-13; 1e-9 as for the car.
+  EXPECT_LT(diff, 1e-9 * scale) << GetParam() << " after " << c.statics.iterations << " iterations";
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryCut, TrainInterfaceStatics,
+                         ::testing::Values("wr-xx-jacobi", "wr-xt-jacobi", "rs-xx-jacobi"),
+                         [](const auto& param_info) {
+                           std::string n = param_info.param;
+                           for (char& ch : n)
+                             if (ch == '-') ch = '_';
+                           return n;
+                         });
 
 }  // namespace train_run_test
 }  // namespace railcosim
