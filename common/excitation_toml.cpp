@@ -7,6 +7,64 @@
 
 namespace railcosim {
 
+namespace {
+
+// The keys of the quarter (`pitch` false: the seven shared ones) or of a car
+// ([vehicle] or an entry of [[vehicle.cars]]), in the order they are reported.
+CarParams read_car(SectionReader& r, bool pitch) {
+  CarParams c;
+  c.wheelset_mass = r.number("wheelset_mass");
+  c.bogie_mass = r.number("bogie_mass");
+  c.body_mass = r.number("body_mass");
+  c.primary_stiffness = r.number("primary_stiffness");
+  c.primary_damping = r.number("primary_damping");
+  c.secondary_stiffness = r.number("secondary_stiffness");
+  c.secondary_damping = r.number("secondary_damping");
+  if (!pitch) return c;
+  c.body_pitch_inertia = r.number("body_pitch_inertia");
+  c.bogie_pitch_inertia = r.number("bogie_pitch_inertia");
+  c.bogie_semi_spacing = r.number("bogie_semi_spacing");
+  c.wheelset_semi_base = r.number("wheelset_semi_base");
+  if (!(c.wheelset_semi_base < c.bogie_semi_spacing))
+    r.fail("wheelset_semi_base",
+           "must be less than bogie_semi_spacing (the bogies' wheels "
+           "would overlap)");
+  return c;
+}
+
+// [[vehicle.cars]]: each entry's car, written out `count` times. The number
+// of entries and the running total of cars are checked before anything is
+// added.
+std::vector<CarParams> read_cars(SectionReader& vehicle, const std::string& source) {
+  const toml::array& entries = vehicle.tables("cars", kMaxTrainCars);
+  std::vector<CarParams> cars;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    SectionReader r(*entries[i].as_table(), "vehicle.cars", source,
+                    "vehicle.cars[" + std::to_string(i + 1) + "]");
+    r.set_unknown_hint("in an entry of [[vehicle.cars]] (see docs/vehicles.md)");
+    CarParams c = read_car(r, true);
+    c.front_overhang = r.number("front_overhang");
+    c.rear_overhang = r.number("rear_overhang");
+    for (const auto& [key, overhang] :
+         {std::pair{"front_overhang", c.front_overhang}, {"rear_overhang", c.rear_overhang}})
+      if (!(overhang >= c.wheelset_semi_base))
+        r.fail(key,
+               "must be at least wheelset_semi_base = " + SectionReader::str(c.wheelset_semi_base) +
+                   " m (got " + SectionReader::str(overhang) +
+                   " m): the outer wheelset would stand beyond the car's end");
+    const long count = r.integer("count");
+    if (static_cast<long>(cars.size()) + count > kMaxTrainCars)
+      r.fail("count", "brings the train to " +
+                          std::to_string(cars.size() + static_cast<std::size_t>(count)) +
+                          " cars, more than the " + std::to_string(kMaxTrainCars) + " allowed");
+    r.reject_unknown();
+    cars.insert(cars.end(), static_cast<std::size_t>(count), c);
+  }
+  return cars;
+}
+
+}  // namespace
+
 VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   SectionReader r(t, "vehicle", source);
   VehicleParams p;
@@ -15,8 +73,10 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
     p.type = VehicleType::wheel;
   } else if (model == "quarter") {
     p.type = VehicleType::quarter;
-  } else {
+  } else if (model == "car") {
     p.type = VehicleType::car;
+  } else {
+    p.type = VehicleType::train;
   }
   r.set_unknown_hint("for model = \"" + model + "\" (see docs/vehicles.md)");
   p.hertz_constant = r.number("hertz_constant");
@@ -24,24 +84,21 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   p.initial_position = r.number("initial_position");
   if (p.type == VehicleType::wheel) {
     p.wheel_mass = r.number("mass");
+  } else if (p.type == VehicleType::train) {
+    p.cars = read_cars(r, source);
   } else {
-    p.wheelset_mass = r.number("wheelset_mass");
-    p.bogie_mass = r.number("bogie_mass");
-    p.body_mass = r.number("body_mass");
-    p.primary_stiffness = r.number("primary_stiffness");
-    p.primary_damping = r.number("primary_damping");
-    p.secondary_stiffness = r.number("secondary_stiffness");
-    p.secondary_damping = r.number("secondary_damping");
-  }
-  if (p.type == VehicleType::car) {
-    p.body_pitch_inertia = r.number("body_pitch_inertia");
-    p.bogie_pitch_inertia = r.number("bogie_pitch_inertia");
-    p.bogie_semi_spacing = r.number("bogie_semi_spacing");
-    p.wheelset_semi_base = r.number("wheelset_semi_base");
-    if (!(p.wheelset_semi_base < p.bogie_semi_spacing))
-      r.fail("wheelset_semi_base",
-             "must be less than bogie_semi_spacing (the bogies' wheels "
-             "would overlap)");
+    const CarParams c = read_car(r, p.type == VehicleType::car);
+    p.wheelset_mass = c.wheelset_mass;
+    p.bogie_mass = c.bogie_mass;
+    p.body_mass = c.body_mass;
+    p.primary_stiffness = c.primary_stiffness;
+    p.primary_damping = c.primary_damping;
+    p.secondary_stiffness = c.secondary_stiffness;
+    p.secondary_damping = c.secondary_damping;
+    p.body_pitch_inertia = c.body_pitch_inertia;
+    p.bogie_pitch_inertia = c.bogie_pitch_inertia;
+    p.bogie_semi_spacing = c.bogie_semi_spacing;
+    p.wheelset_semi_base = c.wheelset_semi_base;
   }
   r.reject_unknown();
   return p;

@@ -25,22 +25,11 @@ VehicleModel Scene::vehicle_model() const {
 }
 
 int Scene::wheel_count() const {
-  switch (vehicle.type) {
-    case VehicleType::wheel:
-    case VehicleType::quarter:
-      return 1;
-    case VehicleType::car:
-      return 4;
-  }
-  return 1;
+  return static_cast<int>(wheel_offsets().size());
 }
 
 std::vector<double> Scene::wheel_offsets() const {
-  if (vehicle.type != VehicleType::car) return {0.0};
-  std::vector<double> x;
-  const VehicleModel model = vehicle_model();
-  for (const WheelDof& w : model.wheels()) x.push_back(w.offset);
-  return x;
+  return railcosim::wheel_offsets(vehicle);
 }
 
 std::pair<double, double> Scene::wheel_path() const {

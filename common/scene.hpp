@@ -58,7 +58,7 @@ struct Scene {
   std::string name;
 
   // [vehicle]: model = "wheel" (one wheel carrying the static load m_tot g,
-  // the paper), "quarter" or "car" (see vehicle_model.hpp). The four fields
+  // the paper), "quarter", "car" or "train" (see vehicle_model.hpp). The four fields
   // below hold for every model; `vehicle` holds the rest.
   double vehicle_mass = 0;      // m_tot, kg: the whole mass one rail carries
   double hertz_constant = 0;    // K_H per wheel, N/m^1.5

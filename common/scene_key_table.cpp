@@ -7,6 +7,7 @@
 #include "scene_checks.hpp"
 #include "scene_key_entry.hpp"
 #include "scene_keys.hpp"
+#include "vehicle_model.hpp"
 
 namespace railcosim {
 namespace key_table {
@@ -15,11 +16,57 @@ namespace {
 const char* const kWheel = "model = \"wheel\"";
 const char* const kSprung = "model = \"quarter\" or \"car\"";
 const char* const kCar = "model = \"car\"";
+const char* const kTrain = "model = \"train\"";
+
+// The keys of the quarter and the car ([vehicle]), or of one car of a train
+// (an entry of [[vehicle.cars]]: `train` true; every key applies there).
+void sprung_keys(std::vector<Entry>& v, const std::string& table, bool train) {
+  const std::string sprung = train ? "" : kSprung, car = train ? "" : kCar;
+  auto text = [train](const char* both, const char* car_only) { return train ? car_only : both; };
+  v.push_back(number(table, "wheelset_mass", "kg", "one wheelset").range(positive()).when(sprung));
+  v.push_back(number(table, "bogie_mass", "kg",
+                     text("the bogie share (quarter) or one bogie (car)", "one bogie"))
+                  .range(positive())
+                  .when(sprung));
+  v.push_back(number(table, "body_mass", "kg",
+                     text("the body share (quarter) or the body (car)", "the body"))
+                  .range(positive())
+                  .when(sprung));
+  v.push_back(number(table, "primary_stiffness", "N/m",
+                     "the primary suspension, between bogie and wheelset (per wheelset)")
+                  .range(positive())
+                  .when(sprung));
+  v.push_back(number(table, "primary_damping", "N s/m", "the primary suspension's damping")
+                  .range(non_negative())
+                  .when(sprung));
+  v.push_back(number(table, "secondary_stiffness", "N/m",
+                     "the secondary suspension, between body and bogie (per bogie)")
+                  .range(positive())
+                  .when(sprung));
+  v.push_back(number(table, "secondary_damping", "N s/m", "the secondary suspension's damping")
+                  .range(non_negative())
+                  .when(sprung));
+  v.push_back(number(table, "body_pitch_inertia", "kg m²", "the body's pitch inertia")
+                  .range(positive())
+                  .when(car));
+  v.push_back(number(table, "bogie_pitch_inertia", "kg m²", "one bogie's pitch inertia")
+                  .range(positive())
+                  .when(car));
+  v.push_back(
+      number(table, "bogie_semi_spacing", "m", "l_c: half the distance between the bogie centres")
+          .range(positive())
+          .when(car));
+  v.push_back(number(table, "wheelset_semi_base", "m", "l_t: half a bogie's wheelbase")
+                  .range(positive())
+                  .note("< bogie_semi_spacing")
+                  .when(car));
+}
 
 void vehicle_keys(std::vector<Entry>& v) {
-  v.push_back(choice("vehicle", "model", {"wheel", "quarter", "car"}, "vehicle model",
+  v.push_back(choice("vehicle", "model", {"wheel", "quarter", "car", "train"}, "vehicle model",
                      "the vehicle: one wheel carrying the static load (the paper), a quarter car "
-                     "(3 DOFs) or a car on two bogies (10 DOFs)"));
+                     "(3 DOFs), a car on two bogies (10 DOFs) or a train of such cars (10 DOFs "
+                     "each, no couplers)"));
   v.push_back(number("vehicle", "hertz_constant", "N/m^1.5", "K_H of every wheel's Hertz contact")
                   .range(positive()));
   v.push_back(
@@ -30,42 +77,32 @@ void vehicle_keys(std::vector<Entry>& v) {
   v.push_back(number("vehicle", "mass", "kg", "the wheel's mass, which carries the static load")
                   .range(positive())
                   .when(kWheel));
-  v.push_back(
-      number("vehicle", "wheelset_mass", "kg", "one wheelset").range(positive()).when(kSprung));
-  v.push_back(number("vehicle", "bogie_mass", "kg", "the bogie share (quarter) or one bogie (car)")
+  sprung_keys(v, "vehicle", false);
+  v.push_back(key("vehicle", "cars", KeyType::tables, "",
+                  "the train's cars, front to back: one [[vehicle.cars]] table per car (or per "
+                  "run of identical cars, with count)")
+                  .note("1 … " + std::to_string(kMaxTrainCars) + " cars in all")
+                  .when(kTrain));
+}
+
+// An entry of [[vehicle.cars]]: the car model's keys and where its ends are.
+void train_car_keys(std::vector<Entry>& v) {
+  const std::string cars = "vehicle.cars";
+  sprung_keys(v, cars, true);
+  v.push_back(number(cars, "front_overhang", "m",
+                     "from the front bogie's centre to the car's front end, where the car "
+                     "ahead ends")
                   .range(positive())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "body_mass", "kg", "the body share (quarter) or the body (car)")
+                  .note("≥ wheelset_semi_base"));
+  v.push_back(number(cars, "rear_overhang", "m",
+                     "from the rear bogie's centre to the car's rear end, where the car "
+                     "behind begins")
                   .range(positive())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "primary_stiffness", "N/m",
-                     "the primary suspension, between bogie and wheelset (per wheelset)")
-                  .range(positive())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "primary_damping", "N s/m", "the primary suspension's damping")
-                  .range(non_negative())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "secondary_stiffness", "N/m",
-                     "the secondary suspension, between body and bogie (per bogie)")
-                  .range(positive())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "secondary_damping", "N s/m", "the secondary suspension's damping")
-                  .range(non_negative())
-                  .when(kSprung));
-  v.push_back(number("vehicle", "body_pitch_inertia", "kg m²", "the body's pitch inertia")
-                  .range(positive())
-                  .when(kCar));
-  v.push_back(number("vehicle", "bogie_pitch_inertia", "kg m²", "one bogie's pitch inertia")
-                  .range(positive())
-                  .when(kCar));
-  v.push_back(number("vehicle", "bogie_semi_spacing", "m",
-                     "l_c: half the distance between the bogie centres")
-                  .range(positive())
-                  .when(kCar));
-  v.push_back(number("vehicle", "wheelset_semi_base", "m", "l_t: half a bogie's wheelbase")
-                  .range(positive())
-                  .note("< bogie_semi_spacing")
-                  .when(kCar));
+                  .note("≥ wheelset_semi_base"));
+  v.push_back(integer(cars, "count", "this many identical cars, one after the other")
+                  .range(closed(1, kMaxTrainCars,
+                                "must be 1 to " + std::to_string(kMaxTrainCars) + " cars"))
+                  .fallback(1));
 }
 
 void irregularity_keys(std::vector<Entry>& v) {
@@ -326,6 +363,7 @@ const std::vector<SceneKey>& scene_keys() {
     v.push_back(key("scene", "name", KeyType::string, "", "the scene's name, in reports")
                     .fallback_text("unnamed"));
     vehicle_keys(v);
+    train_car_keys(v);
     irregularity_keys(v);
     wheel_flat_keys(v);
     track_keys(v);

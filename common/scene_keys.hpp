@@ -21,6 +21,7 @@ enum class KeyType {
   boolean,
   choice,  // a string among `choices`
   table,   // the rest of the table, handed whole to a participant
+  tables,  // an array of tables: entries [[table.key]], whose keys are the table "table.key"
 };
 
 // A plain range: the value lies between lo and hi (each end open or closed).

@@ -1,10 +1,12 @@
 // Strict reading of the keys of a scene: every key through its entry of the
 // scene key table (scene_keys.hpp) for its type, default and plain range.
 // `key_value` and friends read one present key; SectionReader reads one
-// table ([vehicle], [irregularity], [wheel_flat]), each key remembered when
-// read, so that any key left over is reported as unknown. Errors are
-// SceneError naming the file and the key ("scenes/car.toml: key
-// 'vehicle.body_mass': must be positive").
+// table ([vehicle], [irregularity], [wheel_flat], an entry of
+// [[vehicle.cars]]), each key remembered when read, so that any key left
+// over is reported as unknown. Errors are SceneError naming the file and the
+// key ("scenes/car.toml: key 'vehicle.body_mass': must be positive"; in the
+// second entry of an array of tables, counted from 1: "key
+// 'vehicle.cars[2].body_mass'").
 #pragma once
 
 #include <toml++/toml.h>
@@ -62,11 +64,17 @@ inline double key_in_range(const SceneKey& k, double v, const KeyFail& fail) {
 
 class SectionReader {
  public:
-  SectionReader(const toml::table& table, std::string table_name, std::string source)
-      : table_(table), name_(std::move(table_name)), source_(std::move(source)) {}
+  // `shown`: the table's name in errors, when not `table_name` (the name of
+  // its entries in the key table), e.g. "vehicle.cars[2]".
+  SectionReader(const toml::table& table, std::string table_name, std::string source,
+                std::string shown = "")
+      : table_(table),
+        name_(std::move(table_name)),
+        shown_(shown.empty() ? name_ : std::move(shown)),
+        source_(std::move(source)) {}
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw SceneError(source_ + ": key '" + name_ + "." + key + "': " + what);
+    throw SceneError(source_ + ": key '" + shown_ + "." + key + "': " + what);
   }
 
   bool has(const std::string& key) const {
@@ -106,6 +114,22 @@ class SectionReader {
     return n ? key_string(k, *n, failer(key)) : k.default_text;
   }
 
+  // A required array of tables ([[table.key]]): its entries, at most
+  // `max_entries` of them and at least one, counted before any is read.
+  const toml::array& tables(const std::string& key, std::size_t max_entries) {
+    const SceneKey& k = scene_key(name_, key);
+    const toml::node* n = find(k);
+    const toml::array* a = n ? n->as_array() : nullptr;
+    const std::string header = "[[" + name_ + "." + key + "]]";
+    if (a && a->empty()) fail(key, "has no entries (give at least one " + header + ")");
+    if (!a || !a->is_array_of_tables())
+      fail(key, "must be an array of tables, each entry under a " + header + " header");
+    if (a->size() > max_entries)
+      fail(key, std::to_string(a->size()) + " entries, more than the " +
+                    std::to_string(max_entries) + " allowed");
+    return *a;
+  }
+
   // Every key of the table must have been read.
   void reject_unknown() const {
     for (const auto& [k, v] : table_) {
@@ -123,7 +147,7 @@ class SectionReader {
   }
 
  private:
-  KeyFail failer(const std::string& key) const { return {source_, name_ + "." + key}; }
+  KeyFail failer(const std::string& key) const { return {source_, shown_ + "." + key}; }
   const toml::node* find(const SceneKey& k) {
     used_.insert(k.key);
     const toml::node* n = table_.get(k.key);
@@ -133,6 +157,7 @@ class SectionReader {
 
   const toml::table& table_;
   std::string name_;
+  std::string shown_;
   std::string source_;
   std::set<std::string> used_;
   std::string unknown_hint_ = "unknown key";

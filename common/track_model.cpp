@@ -17,14 +17,17 @@ DofLayout make_layout(const Scene& scene, const Parts& parts) {
   if (parts.has(Component::kVehicle)) {
     // The vehicle first, numbered so that its band stays narrow: the car
     // as front wheelsets, front bogie, body, rear bogie, rear wheelsets
-    // (half-bandwidth 3); the other models in their own order.
+    // (half-bandwidth 3), a train's cars so one after the other (no term
+    // couples two cars); the other models in their own order.
     const VehicleModel v = scene.vehicle_model();
     l.vehicle.resize(static_cast<std::size_t>(v.dofs()));
-    if (scene.vehicle.type == VehicleType::car) {
+    const VehicleType type = scene.vehicle.type;
+    if (type == VehicleType::car || type == VehicleType::train) {
       // Model order: body z, phi, bogie 1 z, phi, bogie 2 z, phi, wheelsets 1-4.
       static constexpr int kCarOrder[10] = {4, 5, 2, 3, 6, 7, 0, 1, 8, 9};
-      for (int i = 0; i < 10; ++i) l.vehicle[static_cast<std::size_t>(i)] = kCarOrder[i];
-      next = 10;
+      for (int i = 0; i < v.dofs(); ++i)
+        l.vehicle[static_cast<std::size_t>(i)] = i - i % 10 + kCarOrder[i % 10];
+      next = v.dofs();
     } else {
       for (auto& d : l.vehicle) d = next++;
     }

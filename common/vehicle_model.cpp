@@ -7,6 +7,69 @@
 
 namespace railcosim {
 
+namespace {
+
+// The car's wheels relative to its leading wheel: bogie b (front, rear) at
+// s_b = +-l_c from the body's centre, its wheelsets at s_w = +-l_t from the
+// bogie's.
+std::vector<double> car_wheel_offsets(double lc, double lt) {
+  std::vector<double> x;
+  for (int b = 0; b < 2; ++b)
+    for (int w = 0; w < 2; ++w) {
+      const double s_b = b == 0 ? lc : -lc, s_w = w == 0 ? lt : -lt;
+      x.push_back((s_b + s_w) - (lc + lt));
+    }
+  return x;
+}
+
+}  // namespace
+
+VehicleParams car_of_train(const VehicleParams& train, const CarParams& c) {
+  VehicleParams p;
+  p.type = VehicleType::car;
+  p.hertz_constant = train.hertz_constant;
+  p.speed = train.speed;
+  p.initial_position = train.initial_position;
+  p.wheelset_mass = c.wheelset_mass;
+  p.bogie_mass = c.bogie_mass;
+  p.body_mass = c.body_mass;
+  p.primary_stiffness = c.primary_stiffness;
+  p.primary_damping = c.primary_damping;
+  p.secondary_stiffness = c.secondary_stiffness;
+  p.secondary_damping = c.secondary_damping;
+  p.body_pitch_inertia = c.body_pitch_inertia;
+  p.bogie_pitch_inertia = c.bogie_pitch_inertia;
+  p.bogie_semi_spacing = c.bogie_semi_spacing;
+  p.wheelset_semi_base = c.wheelset_semi_base;
+  return p;
+}
+
+std::vector<double> wheel_offsets(const VehicleParams& p) {
+  switch (p.type) {
+    case VehicleType::wheel:
+    case VehicleType::quarter:
+      return {0.0};
+    case VehicleType::car:
+      return car_wheel_offsets(p.bogie_semi_spacing, p.wheelset_semi_base);
+    case VehicleType::train:
+      break;
+  }
+  // Car k's front end at e_k (e_1 = 0; each car's length behind the one
+  // before), its leading wheel at e_k - f_k + l_t,k; every offset relative
+  // to the first car's leading wheel.
+  std::vector<double> x;
+  if (p.cars.empty()) return x;
+  const double lead = -p.cars.front().front_overhang + p.cars.front().wheelset_semi_base;
+  double front_end = 0;
+  for (const CarParams& c : p.cars) {
+    const double car_lead = (front_end - c.front_overhang + c.wheelset_semi_base) - lead;
+    for (double w : car_wheel_offsets(c.bogie_semi_spacing, c.wheelset_semi_base))
+      x.push_back(car_lead + w);
+    front_end -= c.front_overhang + 2 * c.bogie_semi_spacing + c.rear_overhang;
+  }
+  return x;
+}
+
 const char* to_string(VehicleType t) {
   switch (t) {
     case VehicleType::wheel:
@@ -15,13 +78,21 @@ const char* to_string(VehicleType t) {
       return "quarter";
     case VehicleType::car:
       return "car";
+    case VehicleType::train:
+      return "train";
   }
   return "?";
 }
 
 VehicleModel::VehicleModel(const VehicleParams& p) : p_(p) {
+  if (p.type == VehicleType::train) {
+    build_train();
+    return;
+  }
   std::vector<double> masses;
   switch (p.type) {
+    case VehicleType::train:  // built above
+      break;
     case VehicleType::wheel:
       names_ = {"wheel"};
       masses = {p.wheel_mass};
@@ -44,6 +115,8 @@ VehicleModel::VehicleModel(const VehicleParams& p) : p_(p) {
   K_ = Eigen::MatrixXd::Zero(n, n);
 
   switch (p.type) {
+    case VehicleType::train:  // built above
+      break;
     case VehicleType::wheel:
       wheels_ = {{0, 0.0}};
       break;
@@ -55,6 +128,7 @@ VehicleModel::VehicleModel(const VehicleParams& p) : p_(p) {
       break;
     case VehicleType::car: {
       const double lc = p.bogie_semi_spacing, lt = p.wheelset_semi_base;
+      const std::vector<double> offsets = car_wheel_offsets(lc, lt);
       // Bogie b (0 front, 1 rear) sits at s = +-l_c under the body; its
       // wheelsets at +-l_t from its centre.
       for (int b = 0; b < 2; ++b) {
@@ -69,11 +143,40 @@ VehicleModel::VehicleModel(const VehicleParams& p) : p_(p) {
           add_suspension("primary " + std::to_string(wi + 1),
                          {{zb, 1.0}, {pb, s_w}, {6 + wi, -1.0}}, p.primary_stiffness,
                          p.primary_damping);
-          wheels_.push_back({6 + wi, (s_b + s_w) - (lc + lt)});
+          wheels_.push_back({6 + wi, offsets[static_cast<std::size_t>(wi)]});
         }
       }
       break;
     }
+  }
+}
+
+void VehicleModel::build_train() {
+  if (p_.cars.empty() || p_.cars.size() > static_cast<std::size_t>(kMaxTrainCars))
+    throw std::invalid_argument("a train has 1 to " + std::to_string(kMaxTrainCars) +
+                                " cars, not " + std::to_string(p_.cars.size()));
+  const std::vector<double> offsets = wheel_offsets(p_);
+  const int cars = static_cast<int>(p_.cars.size()), n = 10 * cars;
+  M_ = Eigen::MatrixXd::Zero(n, n);
+  C_ = Eigen::MatrixXd::Zero(n, n);
+  K_ = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 0; k < cars; ++k) {
+    // The car model's own matrices, copied whole onto the diagonal: no
+    // term couples two cars.
+    const VehicleModel car(car_of_train(p_, p_.cars[static_cast<std::size_t>(k)]));
+    const int o = 10 * k;
+    M_.block(o, o, 10, 10) = car.mass();
+    C_.block(o, o, 10, 10) = car.damping();
+    K_.block(o, o, 10, 10) = car.stiffness();
+    const std::string prefix = "car " + std::to_string(k + 1) + " ";
+    for (const std::string& name : car.dof_names()) names_.push_back(prefix + name);
+    for (const Suspension& s : car.suspensions()) {
+      Eigen::VectorXd a = Eigen::VectorXd::Zero(n);
+      a.segment(o, 10) = s.a;
+      susp_.push_back({prefix + s.name, std::move(a), s.stiffness, s.damping});
+    }
+    for (std::size_t w = 0; w < car.wheels().size(); ++w)
+      wheels_.push_back({o + car.wheels()[w].dof, offsets[4 * static_cast<std::size_t>(k) + w]});
   }
 }
 

@@ -5,7 +5,7 @@
 // with u the vehicle's DOFs (vertical displacements positive DOWN, pitch
 // angles positive when the front goes down: a point at s metres ahead of a
 // body's centre moves by z + s * phi), f_g the gravity load and F_i >= 0 the
-// Hertz force of wheel i (it pushes the wheel up). Three models a scene picks
+// Hertz force of wheel i (it pushes the wheel up). Four models a scene picks
 // with [vehicle] model = ...:
 //
 //   wheel    1 DOF:  the wheel mass carries the whole load (the paper's scene).
@@ -14,11 +14,18 @@
 //   car     10 DOF:  [body z, body phi, front bogie z, phi, rear bogie z, phi,
 //                    wheelsets 1..4 z], 2D on one rail. Bogies at +-l_c from
 //                    the body centre, wheelsets at +-l_t from their bogie's.
+//   train   10 DOF per car: cars as above, front to back, each car's DOFs in
+//                    the car's order and named "car K ..." (K from 1). The
+//                    cars touch end to end and do not act on one another
+//                    (no couplers): each is the car model on its own wheels.
 //
-// Wheels are numbered from the front (the direction of travel, +x). Each
-// wheel's x offset is measured from the leading wheel: 0, -2 l_t, -2 l_c,
-// -2 l_c - 2 l_t for the car, so the leading wheel is at the vehicle's
-// reference position x_0 + v t and the others trail it.
+// Wheels are numbered from the front (the direction of travel, +x), over the
+// whole train. Each wheel's x offset is measured from the leading wheel: 0,
+// -2 l_t, -2 l_c, -2 l_c - 2 l_t for the car, so the leading wheel is at the
+// vehicle's reference position x_0 + v t and the others trail it. In a train
+// car K+1's front end meets car K's rear end, a_K behind its rear bogie's
+// centre (rear_overhang), and car K+1's front bogie's centre is f_(K+1)
+// behind that front end (front_overhang).
 #pragma once
 
 #include <Eigen/Dense>
@@ -28,7 +35,26 @@
 
 namespace railcosim {
 
-enum class VehicleType { wheel, quarter, car };
+enum class VehicleType { wheel, quarter, car, train };
+
+// The most cars a train may have (all its [[vehicle.cars]] entries with
+// their counts): 640 DOFs and 256 wheels.
+inline constexpr int kMaxTrainCars = 64;
+
+// One car of a train: the car model's keys (one rail's half, as for
+// model = "car") and where its ends are.
+struct CarParams {
+  double wheelset_mass = 0, bogie_mass = 0, body_mass = 0;  // kg
+  double primary_stiffness = 0, primary_damping = 0;        // N/m, N s/m
+  double secondary_stiffness = 0, secondary_damping = 0;    // N/m, N s/m
+  double body_pitch_inertia = 0, bogie_pitch_inertia = 0;   // kg m^2
+  double bogie_semi_spacing = 0;                            // l_c, m
+  double wheelset_semi_base = 0;                            // l_t, m
+  double front_overhang = 0;  // from the front bogie's centre to the front end, m
+  double rear_overhang = 0;   // from the rear bogie's centre to the rear end, m
+
+  bool operator==(const CarParams&) const = default;
+};
 
 // Everything [vehicle] gives. Masses, stiffnesses and dampings are those
 // carried by ONE rail (the track model is one rail): half the vehicle.
@@ -48,11 +74,22 @@ struct VehicleParams {
   double body_pitch_inertia = 0, bogie_pitch_inertia = 0;  // kg m^2
   double bogie_semi_spacing = 0;                           // l_c, m
   double wheelset_semi_base = 0;                           // l_t, m
+  // train only: the cars, front to back, one per car (an entry's count
+  // written out); their overhangs place them, the keys above stay zero.
+  std::vector<CarParams> cars;
 
   bool operator==(const VehicleParams&) const = default;
 };
 
 const char* to_string(VehicleType t);
+
+// The car model (type car) of one car of a train: the train's contact and
+// speed, the car's masses, springs and geometry.
+VehicleParams car_of_train(const VehicleParams& train, const CarParams& car);
+
+// Each wheel's x relative to the leading wheel (0, then <= 0), front to
+// back, from the geometry alone: what VehicleModel::wheels() gives.
+std::vector<double> wheel_offsets(const VehicleParams& p);
 
 struct WheelDof {
   int dof;        // index into u
@@ -101,6 +138,8 @@ class VehicleModel {
   VehicleStatic solve_statics(const std::vector<double>& rail_top, double g) const;
 
  private:
+  // model = "train": each car's model on the diagonal, car after car.
+  void build_train();
   // A suspension whose compression is sum coef * u[dof] over the terms.
   void add_suspension(std::string name, std::vector<std::pair<int, double>> terms, double k,
                       double c);

@@ -18,14 +18,16 @@ def keys(bin_dir: pathlib.Path, *flags: str) -> str:
 
 def text_matches_markdown(text: str, markdown: str) -> bool:
     """The text reference has the Markdown's tables and, in each, its keys."""
-    tables = re.findall(r"^## `\[(\w+)\]`$", markdown, re.M)
-    sections = dict(re.findall(r"^\[(\w+)\]\n((?:  .*\n?)*)", text, re.M))
+    # "[table]", or "[[table.key]]" for the entries of an array of tables.
+    header = r"\[\[?[\w.]+\]\]?"
+    tables = re.findall(rf"^## `({header})`$", markdown, re.M)
+    sections = dict(re.findall(rf"^({header})\n((?:  .*\n?)*)", text, re.M))
     ok = bool(tables) and list(sections) == tables
     for table in tables:
-        part = markdown.split(f"## `[{table}]`")[1].split("\n## ")[0]
+        part = markdown.split(f"## `{table}`")[1].split("\n## ")[0]
         for key in re.findall(r"^\| `([^`]+)` \|", part, re.M):
             if not re.search(rf"^  {re.escape(key)}: ", sections.get(table, ""), re.M):
-                print(f"master keys: [{table}] {key} is missing from the text reference")
+                print(f"master keys: {table} {key} is missing from the text reference")
                 ok = False
     return ok
 

@@ -40,7 +40,8 @@ std::string replace_line(std::string text, const std::string& prefix, const std:
 
 // Scenes that reach the keys the shipped scenes leave out: every model of
 // [irregularity], a flat on the car's third wheel, the optional keys of
-// [sleepers] and [simulation], an outside soil, every key of [coupling].
+// [sleepers] and [simulation], an outside soil, every key of [coupling], a
+// train (every key of [[vehicle.cars]]).
 std::vector<std::pair<std::string, std::string>> variants() {
   const std::string paper = read_text(test::source_path("scenes/paper.toml"));
   const std::string car = read_text(test::source_path("scenes/car_irregular.toml"));
@@ -62,6 +63,7 @@ std::vector<std::pair<std::string, std::string>> variants() {
                            "accelerator = \"aitken\"\nrelaxation = 0.25\nmax_iterations = 12\n"
                            "convergence = 1e-6\nreused_windows = 3\nfeedthrough = \"lagged\"\n"
                            "data_plane = \"relay\"\nwindow_steps = 40\n"},
+      {"train", read_text(test::source_path("tests/train_scene.toml"))},
       {"car_flat", car + "\n[wheel_flat]\nlength = 0.05\nwheel_diameter = 0.92\nwheel = 3\n"
                          "shape = \"rounded\"\nangle_deg = 10\n"},
   };
@@ -102,7 +104,7 @@ TEST_F(SceneKeysTest, EveryEntryIsReachedAndEveryKeyReadHasOne) {
     reached.insert(keys.begin(), keys.end());
   }
   std::set<std::string> tables;
-  for (const std::string& k : reached) tables.insert(k.substr(0, k.find('.')));
+  for (const std::string& k : reached) tables.insert(k.substr(0, k.rfind('.')));
   for (const SceneKey& k : scene_keys()) {
     if (!tables.count(k.table)) continue;
     EXPECT_TRUE(reached.count(k.table + "." + k.key))
@@ -190,7 +192,7 @@ TEST(SceneKeys, RangesAndChoicesGiveTheParsersErrors) {
   EXPECT_EQ(scene_key("railpad", "damping").range.text(), "≥ 0");
   EXPECT_EQ(scene_key("irregularity", "fra_class").range.text(), "1 … 6");
   EXPECT_EQ(choice_error(scene_key("vehicle", "model"), "tram"),
-            "unknown vehicle model 'tram' (known: wheel, quarter, car)");
+            "unknown vehicle model 'tram' (known: wheel, quarter, car, train)");
   EXPECT_EQ(choice_error(scene_key("simulation", "restart"), "keep"),
             "must be \"consistent\" or \"carry\" (got \"keep\")");
   EXPECT_EQ(choice_error(scene_key("soil", "model"), "fe"), "");

@@ -41,6 +41,8 @@ std::string type_of(const SceneKey& k, const char* quote) {
       return "one of " + quoted_list(k.choices, quote);
     case KeyType::table:
       return "any (the table is read whole)";
+    case KeyType::tables:
+      return "array of tables (one [[" + k.table + "." + k.key + "]] per entry)";
   }
   return "";
 }
@@ -59,6 +61,13 @@ std::string range_of(const SceneKey& k) {
   std::string r = k.range.text();
   if (!k.range_note.empty()) r += (r.empty() ? "" : "; ") + k.range_note;
   return r;
+}
+
+// "[table]", or "[[table]]" for the entries of an array of tables.
+std::string header_of(const std::string& table) {
+  for (const SceneKey& k : scene_keys())
+    if (k.type == KeyType::tables && k.table + "." + k.key == table) return "[[" + table + "]]";
+  return "[" + table + "]";
 }
 
 std::string name_of(const SceneKey& k) {
@@ -89,7 +98,7 @@ std::string scene_keys_text() {
       << shortest(kSmallestMagnitude) << " and " << shortest(kLargestMagnitude)
       << " in magnitude)\n";
   for (const std::string& table : scene_key_tables()) {
-    out << "\n[" << table << "]\n";
+    out << "\n" << header_of(table) << "\n";
     for (const SceneKey& k : scene_keys()) {
       if (k.table != table) continue;
       out << "  " << name_of(k) << ": " << type_of(k, "");
@@ -116,7 +125,7 @@ std::string scene_keys_markdown() {
       << " in magnitude, and the checks across keys (the static load, the spread of "
          "stiffnesses and masses, the nodes' limits) are in [Scenes](scenes.md).\n";
   for (const std::string& table : scene_key_tables()) {
-    out << "\n## `[" << table << "]`\n\n"
+    out << "\n## `" << header_of(table) << "`\n\n"
         << "| key | type | default | range | unit | meaning |\n"
         << "|---|---|---|---|---|---|\n";
     for (const SceneKey& k : scene_keys()) {
