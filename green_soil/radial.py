@@ -132,9 +132,7 @@ def point_means(layers, fp, offsets, omegas, d: Discretisation = Discretisation(
     from a loaded footprint's centre, at complex circular frequencies;
     `workers` processes take blocks of frequencies (greens' radial grid
     and wavenumber grid of the highest frequency for every block)."""
-    import multiprocessing
-
-    from .responses import usable_cores
+    from .responses import usable_cores, worker_pool
 
     omegas = np.asarray(omegas, dtype=complex)
     if not len(offsets) or not len(omegas):
@@ -144,7 +142,7 @@ def point_means(layers, fp, offsets, omegas, d: Discretisation = Discretisation(
     blocks = [blk for blk in np.array_split(np.arange(len(omegas)), max(1, workers)) if len(blk)]
     jobs = [(layers, fp, list(offsets), omegas[blk], d, f_grid) for blk in blocks]
     if len(jobs) > 1:
-        with multiprocessing.get_context("fork").Pool(len(jobs)) as pool:
+        with worker_pool(len(jobs)) as pool:
             parts = pool.map(_means, jobs, chunksize=1)
     else:
         parts = [_means(job) for job in jobs]

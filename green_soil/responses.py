@@ -44,6 +44,28 @@ def usable_cores():
         return max(1, os.cpu_count() or 1)
 
 
+def end_with_parent(parent):
+    """A worker pool's initializer: the worker is sent SIGTERM when the
+    process that started it ends (Linux prctl PR_SET_PDEATHSIG), so that a
+    soil ended mid-build (a run that failed or was stopped) leaves no
+    worker computing its block of frequencies; one whose parent is
+    already gone exits at once."""
+    try:
+        import ctypes
+        import signal
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGTERM), 0, 0, 0)
+    except (OSError, AttributeError):  # pragma: no cover (not Linux)
+        pass
+    if os.getppid() != parent:
+        os._exit(1)
+
+
+def worker_pool(n):
+    """n worker processes (forked) that end with this process."""
+    return multiprocessing.get_context("fork").Pool(n, end_with_parent, (os.getpid(),))
+
+
 def _smooth_means(args):
     """The spline part of spectra() for one block of frequencies: the means
     of g - g_s over the footprint pairs and at the points (no Boussinesq
@@ -87,8 +109,7 @@ def spectra(layers, fp: Footprint, pair_offsets, point_offsets, omegas,
     jobs = [(layers, fp, list(pair_offsets), list(point_offsets), omegas[blk], d, f_grid)
             for blk in blocks]
     if len(jobs) > 1:
-        ctx = multiprocessing.get_context("fork")
-        with ctx.Pool(len(jobs)) as pool:
+        with worker_pool(len(jobs)) as pool:
             parts = pool.map(_smooth_means, jobs, chunksize=1)
     else:
         parts = [_smooth_means(job) for job in jobs]

@@ -38,7 +38,7 @@ from fe_soil import study as fe_study
 from fe_soil.config import channel_names
 
 from . import config as green_config
-from . import outputs
+from . import outputs, resolution
 from . import soil_choice
 from .track import TrackSoil
 
@@ -101,7 +101,7 @@ def track_soil(scene, cfg, xs):
     spacing = scene["sleepers"]["spacing"]
     length = scene["sleepers"].get("length", 2.6)
     fps = [(x, length / 4.0, spacing, length / 2.0) for x in xs]
-    H = scene["simulation"]["macro_step"]
+    H = soil_window(scene)
     rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
     memory = min(cfg["memory"], scene["simulation"]["end_time"] + H)
     r_memory = min(cfg["receiver_memory"], scene["simulation"]["end_time"] + H)
@@ -109,6 +109,19 @@ def track_soil(scene, cfg, xs):
                      cfg["f_max"], workers=cfg["workers"], horizontal=True,
                      receiver_memory=r_memory)
     return soil, rx
+
+
+def soil_window(scene):
+    """The soil's macro step: the scene's [coupling] ss_macro_step, else H."""
+    H = scene["simulation"]["macro_step"]
+    return float(scene.get("coupling", {}).get("ss_macro_step", H))
+
+
+def at_window(scene, rows):
+    """The rows of a record written every H (its first row at t = 0) at
+    the soil's window only: every k-th, k = window / H."""
+    k = int(round(soil_window(scene) / scene["simulation"]["macro_step"]))
+    return rows[::k]
 
 
 def fit_lumped(soil):
@@ -188,13 +201,13 @@ def lumped_two_step(a, scene, cfg, out):
     mono = run("lumped soil, monolithic", clock, a.master, lumped,
                os.path.join(out, "runs", "lumped"), "monolithic")
     _, forces = two_step.read_csv(os.path.join(mono, "soil_forces.csv"))
-    H = scene["simulation"]["macro_step"]
-    vz = clock("one way through the Green's functions", one_way, soil, forces[:, 1:])
+    vz = clock("one way through the Green's functions", one_way, soil,
+               at_window(scene, forces[:, 1:]))
     folder = os.path.join(out, "runs", "two-step")
-    write_receivers(folder, cfg, rx, vz, H)
+    write_receivers(folder, cfg, rx, vz, soil_window(scene))
     # The check: the two-way run's own forces, held, give its receivers back.
     _, rec = two_step.read_csv(os.path.join(out, "runs", "green", CASE, "receivers.csv"))
-    again = outputs.components(one_way(soil, green_forces[:, 1:], hold=True),
+    again = outputs.components(one_way(soil, at_window(scene, green_forces[:, 1:]), hold=True),
                                    len(cfg["receivers"])).reshape(len(rec), -1)
     ref = rec[:, 1:]
     err = float(np.abs(again - ref).max() / np.abs(ref).max())
@@ -257,9 +270,11 @@ def parse_args(argv):
         sys.exit('%s: [soil] model must be "green" (got %r); a scene on the FE soil is studied '
                  "by `python3 -m fe_soil.study`, one on the lumped soil by `master study`"
                  % (a.scene, scene.get("soil", {}).get("model")))
-    if "coupling" in scene:
-        sys.exit("%s: the scene has a [coupling] table; this study runs its own couplings: "
-                 "study a copy of the scene without it" % a.scene)
+    other = sorted(set(scene.get("coupling", {})) - {"ss_macro_step"})
+    if other:
+        sys.exit("%s: [coupling] %s: this study runs its own couplings and takes only the "
+                 "soil's window (ss_macro_step) from the scene: study a copy of the scene "
+                 "without the other keys" % (a.scene, other[0]))
     if not os.access(a.master, os.X_OK):
         sys.exit("--master %s: not an executable (scripts/build.sh builds build/bin/master)"
                  % a.master)
@@ -293,11 +308,14 @@ def main(argv=None):
                                             resolved)
     except ValueError as e:
         sys.exit("%s: %s" % (a.scene, e))
+    res = [resolution.resolved(cfg, scene["simulation"]["end_time"], soil_window(scene), d)
+           for d in cfg["receivers"]]
+    summary["green_resolved_Hz"] = [[r["lo_Hz"], r["hi_Hz"]] for r in res]
     soil_choice.write_data(out, rows, summary)
     soil_choice.chart(os.path.join(out, "figures", "soil_choice.png"), summary)
     from . import study_report
 
-    study_report.write(out, a, scene, soils, rows, summary, fit)
+    study_report.write(out, a, scene, soils, rows, summary, fit, res)
     print("study: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)
 
 

@@ -4,7 +4,7 @@ receiver (the reference run's vibration.csv), which soil the scene needs
 import math
 import os
 
-from . import soil_choice
+from . import resolution, soil_choice
 
 # Relative to the peak: the same convolution, read back from receivers.csv,
 # which holds 9 significant digits (5e-10 of a value).
@@ -14,7 +14,7 @@ DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
 TESTS_HEADING = "### The soil from Green's functions"
 
 
-def levels(soils, summary):
+def levels(soils, summary, resolved):
     key = summary.get("reference_above", summary["reference"])
     ref = next(s for s in soils if s["key"] == key)
     d = summary["receivers_m"]
@@ -24,11 +24,16 @@ def levels(soils, summary):
     L = ["## Levels at the receivers (%s)" % ref["label"], "",
          "Vertical velocity on the surface beside the middle of the track. PPV_z (m/s), "
          "KB_Fmax,z (DIN 4150-2) and the one-third-octave levels (dB re 1e-9 m/s) of "
-         "`%s/vibration.csv`.%s" % (ref["folder"], why), "",
-         "| distance | PPV_z (m/s) | KB_Fmax,z |", "|---:|---:|---:|"]
-    for x in d:
+         "`%s/vibration.csv`.%s Resolved: the one-third-octave bands (their centres, Hz) "
+         "the Green's-function soil resolves at the receiver (green_soil/resolution.py)."
+         % (ref["folder"], why), "",
+         "| distance | PPV_z (m/s) | KB_Fmax,z | resolved (Hz) | resolved from / to: limited by |",
+         "|---:|---:|---:|---:|---|"]
+    for x, res in zip(d, resolved):
         r = ref["vibration"][x]
-        L.append("| %g m | %.4e | %.4g |" % (x, r["ppv_z_mps"], r["kb_fmax_z"]))
+        L.append("| %g m | %.4e | %.4g | %s | %s / %s |" % (
+            x, r["ppv_z_mps"], r["kb_fmax_z"], resolution.cell(res), res["lo_why"],
+            res["hi_why"]))
     empty = [f for c, f in soil_choice.band_columns(ref["vibration"][d[0]])
              if any(not math.isfinite(ref["vibration"][x][c]) for x in d)]
     if empty:
@@ -66,18 +71,18 @@ def tests_table():
             "tests/green_soil (`ctest -L green_soil`) check against the bounds.", ""] + rows
 
 
-def write(out, a, scene, soils, rows, summary, fit):
+def write(out, a, scene, soils, rows, summary, fit, resolved):
     name = scene.get("scene", {}).get("name", a.scene)
     L = ["# Which soil a scene needs: %s" % name, "",
          "Scene `%s`. Written by `python3 -m green_soil.study`. Record %.4g s, sampled every "
-         "macro step (%.3g s). Soils run: %s. The lumped soil is fitted to the layered "
+         "macro step of the soil (%.3g s). Soils run: %s. The lumped soil is fitted to the layered "
          "ground's static flexibility under the footprints (k_f = %.4g N/m, k_c = %.4g N/m); "
          "its ballast forces reach the receivers one way through the Green's functions.%s" % (
              os.path.basename(a.scene), scene["simulation"]["end_time"],
-             scene["simulation"]["macro_step"], ", ".join(s["label"] for s in soils),
+             scene.get("coupling", {}).get("ss_macro_step", scene["simulation"]["macro_step"]), ", ".join(s["label"] for s in soils),
              fit["kf"], fit["kc"],
              "" if a.fe else " The FE soil was not run (`--fe` not given)."), ""]
-    L += levels(soils, summary) + [""] + soil_choice.section(rows, summary) + [""]
+    L += levels(soils, summary, resolved) + [""] + soil_choice.section(rows, summary) + [""]
     L += ["## Figures", "",
           "- `figures/soil_choice.png`: each soil's cost (wall s) against its largest "
           "|difference| from the reference over the receivers and bands", ""]

@@ -45,13 +45,17 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
 LaunchCommand soil_check_command(const FeSoilLaunch& fe);
 // A started soil may take this long to print its address (Python and dolfinx
 // load; the first run on a machine also compiles its forms), and to answer
-// Configure and Statics (a mesh is built, the static solver set up).
+// Configure and Statics (a mesh is built, the static solver set up; or the
+// Green's functions computed: those of scenes/ground_vibration_train.toml
+// took over 300 s on a loaded two-core machine).
 inline constexpr std::chrono::seconds kFeSoilStart{120};
-inline constexpr std::chrono::seconds kFeSoilReply{300};
+inline constexpr std::chrono::seconds kFeSoilReply{900};
 // Meanwhile the other nodes hear nothing from the master: those it starts
 // beside the FE soil wait this long before they close a silent session
 // (--idle-timeout; 60 s by default).
-inline constexpr std::chrono::seconds kIdleBesideFeSoil{360};
+inline constexpr std::chrono::seconds kIdleBesideFeSoil{960};
+static_assert(kIdleBesideFeSoil > kFeSoilReply,
+              "the nodes beside a started soil must outwait its Configure and Statics");
 
 // Nodes started on loopback on demand, one per role, kept for the runs that
 // follow (each node serves its sessions one after another).

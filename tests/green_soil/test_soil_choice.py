@@ -159,6 +159,16 @@ class SoilChoice(unittest.TestCase):
         for got, band in zip(self.summary["bands_Hz"], (17, 20)):
             self.assertAlmostEqual(got, 10 ** (band / 10), delta=1e-4)
 
+    def test_resolved_bands_per_receiver(self):
+        # 0.02 s: spectral lines 50 Hz apart, wider than any band to 100 Hz
+        # (the 100 Hz band is 23 Hz wide): no band is resolved at any receiver.
+        rows = report_rows(self.report, "## Levels at the receivers")
+        self.assertEqual([float(r[0].split()[0]) for r in rows], DISTANCES)
+        for r in rows:
+            self.assertEqual(r[3], "none", r)
+            self.assertEqual(r[4], "the 0.02 s record / the taper from 120 Hz (0.8 f_max)", r)
+        self.assertEqual(self.summary["green_resolved_Hz"], [[None, None]] * len(DISTANCES))
+
     def test_numbers_follow_from_the_records(self):
         summary = verify(self.out)
         ref = next(s for s in summary["soils"] if s["key"] == "green")

@@ -5,9 +5,15 @@ the radial grid and the footprint quadrature. Checked for 2 and 3 workers
 (3 does not divide the frequencies evenly, so the blocks differ in size),
 footprint pairs on both rails and receiver points, on the ground-vibration
 scene's layers with their damping; and the cache key does not depend on
-the number of workers (a cache filled by one serves the other)."""
+the number of workers (a cache filled by one serves the other). Workers
+end with the process that started them: a soil killed mid-build leaves
+none computing."""
 import os
+import signal
+import subprocess
+import sys
 import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -61,6 +67,68 @@ class WorkersTest(unittest.TestCase):
             self.assertTrue(np.array_equal(p1, self.serial[0]))
             self.assertTrue(np.array_equal(q1, self.serial[1]))
             self.assertTrue(np.array_equal(p2, p1))
+
+
+
+def children(pid):
+    """The live (not zombie) processes whose parent is pid."""
+    out = []
+    for name in os.listdir("/proc"):
+        try:
+            with open("/proc/%s/stat" % name) as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[1]) == pid and fields[0] != "Z":
+            out.append(int(name))
+    return out
+
+
+def alive(pid):
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+# A build of minutes in two workers (footprint pairs to 120 m, 0 to 100 Hz).
+LONG_BUILD = """
+import sys
+sys.path.insert(0, sys.argv[1])
+import support
+from green_soil import responses as R
+rec = R.Record(dt=1e-3, duration=4.0, f_max=100.0)
+pairs = [(0.6 * k, 0.0) for k in range(200)]
+R.spectra(support.LAYERED, R.Footprint(0.6, 1.3), pairs, [], rec.frequencies()[1], workers=2)
+"""
+
+
+class WorkersEndWithTheirParent(unittest.TestCase):
+    def test_killed_mid_build(self):
+        here = os.path.dirname(os.path.abspath(__file__))
+        p = subprocess.Popen([sys.executable, "-c", LONG_BUILD, here], cwd=here)
+        workers = []
+        try:
+            deadline = time.monotonic() + 60.0
+            while len(workers) < 2 and time.monotonic() < deadline and p.poll() is None:
+                time.sleep(0.1)
+                workers = children(p.pid)
+            self.assertEqual(len(workers), 2, "the build did not start two workers")
+            time.sleep(1.0)  # at work on their blocks
+            p.send_signal(signal.SIGKILL)
+            p.wait(timeout=10)
+            deadline = time.monotonic() + 10.0
+            while any(alive(w) for w in workers) and time.monotonic() < deadline:
+                time.sleep(0.1)
+            left = [w for w in workers if alive(w)]
+            self.assertEqual(left, [], "workers still computing 10 s after their parent was killed")
+        finally:
+            for w in workers:
+                if alive(w):
+                    os.kill(w, signal.SIGKILL)
+            if p.poll() is None:
+                p.kill()
 
 
 if __name__ == "__main__":
