@@ -35,6 +35,7 @@ def _merge_counts(dicts):
 
 
 class FESoil:
+    static_iterations = 0  # CG iterations of the static solves so far (their progress)
     def __init__(self, params: SoilParams, comm=MPI.COMM_WORLD):
         self.p = params
         self.comm = comm
@@ -295,7 +296,7 @@ class FESoil:
             # 145 CG iterations to 1e-12 against 253 without.
             self.K_static.setNearNullSpace(forms.rigid_body_modes(
                 self.U, self.dof_coordinates(), self.mask, self.comm))
-            self.ksp = far_field.cg_gamg(self.K_static, self.comm)
+            self.ksp = far_field.cg_gamg(self.K_static, self.comm, counter=self)
         x = self.U.duplicate()
         x.array[:] = far_field.start_from(self._static_basis, forces)
         far_field.solve(self.ksp, b, x, rtol, "")
