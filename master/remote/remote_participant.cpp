@@ -222,11 +222,13 @@ CouplingData RemoteParticipant::statics(const CouplingData& inputs) {
   CouplingData out = from_wire(
       await(wire::Envelope::kOutputs, "statics", timeouts_.reply, &watch).outputs().data());
   check(check_outputs(out, shape_));
+  const auto end = std::chrono::steady_clock::now();
+  using Seconds = std::chrono::duration<double>;
   if (watch.counted() > 0)
     logger("master")->debug(
-        "{}: static state in {:.1f} s, {} progress frame(s) counted", name(),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-        watch.counted());
+        "{}: static state in {:.1f} s, {} progress frame(s) counted, the longest quiet {:.1f} s",
+        name(), Seconds(end - start).count(), watch.counted(),
+        Seconds(watch.longest_quiet(end)).count());
   return out;
 }
 

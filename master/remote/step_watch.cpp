@@ -31,6 +31,7 @@ std::string StepWatch::take(const wire::Progress& p, long step, Clock::time_poin
            std::to_string(step);
   if (p.micro_steps() > micro_) {
     micro_ = p.micro_steps();
+    longest_ = std::max(longest_, now - last_);
     last_ = now;
     ++counted_;
     stale_ = 0;

@@ -8,6 +8,7 @@
 // budget the statics budget (RemoteTimeouts::statics_budget()).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -37,12 +38,17 @@ class StepWatch {
   std::string why(Clock::time_point now) const;
   // Progress frames counted so far.
   long counted() const { return counted_; }
+  // The longest wait so far without a counted frame, until `now`.
+  Clock::duration longest_quiet(Clock::time_point now) const {
+    return std::max(longest_, now - last_);
+  }
 
  private:
   std::chrono::milliseconds quiet_;
   std::chrono::milliseconds budget_;
   Clock::time_point start_;
-  Clock::time_point last_;  // the start, or the last progress frame counted
+  Clock::time_point last_;      // the start, or the last progress frame counted
+  Clock::duration longest_{0};  // the longest wait between counted frames
   std::uint64_t micro_ = 0;
   long counted_ = 0;
   long stale_ = 0;  // frames since the last counted that did not advance
