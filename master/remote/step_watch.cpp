@@ -50,9 +50,11 @@ std::chrono::milliseconds StepWatch::left(Clock::time_point now) const {
 std::string StepWatch::why(Clock::time_point now) const {
   std::ostringstream s;
   if (statics_) s << "static state: ";
+  // What the frames count: micro steps, or a Statics' own units of work.
+  const char* at = statics_ ? "count" : "micro step";
   if (now >= start_ + budget_) {
     s << (statics_ ? statics_budget_text(budget_) : budget_text(budget_)) << "; " << counted_
-      << " progress frame(s) counted, the last at micro step " << micro_;
+      << " progress frame(s) counted, the last at " << at << " " << micro_;
     return s.str();
   }
   if (counted_ == 0 && stale_ == 0) {
@@ -64,9 +66,9 @@ std::string StepWatch::why(Clock::time_point now) const {
   }
   s << "no progress for " << quiet_.count() << " ms (";
   if (counted_ > 0)
-    s << "its last progress frame that counted was at micro step " << micro_;
+    s << "its last progress frame that counted was at " << at << " " << micro_;
   else
-    s << "no progress frame advanced past micro step 0";
+    s << "no progress frame advanced past " << at << " 0";
   if (stale_ > 0) s << "; " << stale_ << " progress frame(s) since then did not advance";
   s << ")";
   return s.str();
