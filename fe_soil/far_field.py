@@ -118,7 +118,7 @@ def cg_gamg(K, comm, counter=None):
     ksp.setInitialGuessNonzero(True)
     if counter is not None:
         def monitor(_ksp, _iteration, _residual):
-            counter.static_iterations += 1
+            counter.static_iterations = getattr(counter, "static_iterations", 0) + 1
         ksp.setMonitor(monitor)
     return ksp
 

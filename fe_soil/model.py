@@ -35,7 +35,6 @@ def _merge_counts(dicts):
 
 
 class FESoil:
-    static_iterations = 0  # CG iterations of the static solves so far (their progress)
     def __init__(self, params: SoilParams, comm=MPI.COMM_WORLD):
         self.p = params
         self.comm = comm

@@ -179,7 +179,7 @@ class FESoilParticipant(rc.Participant):
         """The soil's CG iterations in static solves so far: the SDK's
         progress frames while a static solve outlasts the reply limit."""
         soil = self.core.soil
-        return int(soil.static_iterations) if soil is not None else 0
+        return int(getattr(soil, "static_iterations", 0))
 
     def statics(self, inputs):
         f = np.array(inputs[0].force.start, dtype=float)
