@@ -105,13 +105,21 @@ def coarse_nodes(params, nodes):
             coarse_planes(nodes[2], h, keep=list(tops)))
 
 
-def cg_gamg(K, comm):
-    """CG with algebraic multigrid, started from the given vector."""
+def cg_gamg(K, comm, counter=None):
+    """CG with algebraic multigrid, started from the given vector. With a
+    `counter`, a monitor adds each iteration to its static_iterations: the
+    progress the participant shows while a long static solve runs (the
+    monitor, Python code, also lets the SDK's progress thread take the GIL
+    between iterations)."""
     ksp = PETSc.KSP().create(comm)
     ksp.setOperators(K)
     ksp.setType("cg")
     ksp.getPC().setType("gamg")
     ksp.setInitialGuessNonzero(True)
+    if counter is not None:
+        def monitor(_ksp, _iteration, _residual):
+            counter.static_iterations = getattr(counter, "static_iterations", 0) + 1
+        ksp.setMonitor(monitor)
     return ksp
 
 

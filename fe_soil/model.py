@@ -295,7 +295,7 @@ class FESoil:
             # 145 CG iterations to 1e-12 against 253 without.
             self.K_static.setNearNullSpace(forms.rigid_body_modes(
                 self.U, self.dof_coordinates(), self.mask, self.comm))
-            self.ksp = far_field.cg_gamg(self.K_static, self.comm)
+            self.ksp = far_field.cg_gamg(self.K_static, self.comm, counter=self)
         x = self.U.duplicate()
         x.array[:] = far_field.start_from(self._static_basis, forces)
         far_field.solve(self.ksp, b, x, rtol, "")

@@ -174,6 +174,13 @@ class FESoilParticipant(rc.Participant):
                     pass
 
     # ---- the steps ----------------------------------------------------
+    @property
+    def static_iterations(self):
+        """The soil's CG iterations in static solves so far: the SDK's
+        progress frames while a static solve outlasts the reply limit."""
+        soil = self.core.soil
+        return int(getattr(soil, "static_iterations", 0))
+
     def statics(self, inputs):
         f = np.array(inputs[0].force.start, dtype=float)
         start = time.perf_counter()

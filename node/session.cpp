@@ -157,8 +157,13 @@ wire::Envelope NodeSession::dispatch(const wire::Envelope& req, bool& close) {
   }
   const std::string what = body_name(req);
   switch (req.body_case()) {
-    case E::kStatics:
+    case E::kStatics: {
+      // A participant's statics() that calls work_progress() shows progress
+      // (step -1: before the run), as a step's integrator does.
+      std::optional<ScopedWorkProgress> progress;
+      watch_progress(progress, req.id(), [] { return -1L; });
       return on_statics(req);
+    }
     case E::kInitialize:
       return on_initialize(req);
     case E::kSetInputs:

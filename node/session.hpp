@@ -142,7 +142,7 @@ class NodeSession {
   // step's inputs as waveforms; a participant that refuses is BAD_REQUEST.
   wire::Envelope record_samples(const wire::Envelope& request);
   void take_waveforms(long n, const wire::InputWaveforms& waveforms, bool with_inputs);
-  // While a step or a window works: progress frames to the master, if its
+  // While a step, a window or a statics works: progress frames to the master, if its
   // configure asked for them (session_handlers.cpp). `step`: the macro step
   // being worked on.
   void watch_progress(std::optional<ScopedWorkProgress>& scope, std::uint64_t id,

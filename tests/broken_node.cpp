@@ -8,6 +8,8 @@
 //                    progress: one more micro step every 20 ms
 //   stuck-progress   on its macro step 300 shows "progress" every 20 ms that
 //                    never advances, until its budget ends or it is stopped
+//   slow-statics     works 4 s on its first Statics, showing progress: one
+//                    more unit of work every 20 ms (frames with step -1)
 // Usage: broken_node MODE [node options]
 #include <chrono>
 #include <cmath>
@@ -30,7 +32,11 @@ class Broken final : public Participant {
       : mode_(std::move(mode)), inner_(scene, config) {}
   std::string name() const override { return inner_.name() + " (broken: " + mode_ + ")"; }
   Channels channels() const override { return inner_.channels(); }
-  CouplingData statics(const CouplingData& in) override { return inner_.statics(in); }
+  CouplingData statics(const CouplingData& in) override {
+    if (mode_ == "slow-statics" && !statics_done_) work_long();
+    statics_done_ = true;
+    return inner_.statics(in);
+  }
   StepResult initialize(const CouplingData& in) override { return inner_.initialize(in); }
   void set_inputs(long n, const CouplingData& in) override { inner_.set_inputs(n, clean(in)); }
   void set_inputs(long n, const CouplingData& a, const CouplingData& b) override {
@@ -61,7 +67,7 @@ class Broken final : public Participant {
     while (mode_ == "stuck-progress" || std::chrono::steady_clock::now() < until) {
       if (const std::string why = work_budget_exceeded(); !why.empty()) throw StepFailure(why);
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      work_progress(mode_ == "slow-working" ? 1 : 0);
+      work_progress(mode_ == "stuck-progress" ? 0 : 1);
     }
   }
   CouplingData clean(CouplingData in) const {
@@ -74,6 +80,7 @@ class Broken final : public Participant {
   }
   std::string mode_;
   Subsystem inner_;
+  bool statics_done_ = false;
 };
 
 }  // namespace
@@ -83,7 +90,8 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: broken_node "
-                 "ignores-restore|late|wrong-count|accepts-nan|slow-working|stuck-progress ...\n");
+                 "ignores-restore|late|wrong-count|accepts-nan|slow-working|stuck-progress|"
+                 "slow-statics ...\n");
     return 2;
   }
   const std::string mode = argv[1];

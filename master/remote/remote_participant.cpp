@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "auth.hpp"
+#include "log.hpp"
 #include "wire.hpp"
 
 namespace railcosim::remote {
@@ -212,8 +213,22 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
 CouplingData RemoteParticipant::statics(const CouplingData& inputs) {
   wire::Envelope e;
   *e.mutable_statics()->mutable_inputs() = to_wire(inputs);
-  CouplingData out = from_wire(request(std::move(e), wire::Envelope::kOutputs).outputs().data());
+  flush_inputs();
+  send(std::move(e), false);
+  // A static solve may take longer than the reply limit while it shows
+  // progress (frames with step -1), within the statics budget.
+  const auto start = std::chrono::steady_clock::now();
+  StepWatch watch(timeouts_.reply, timeouts_.statics_budget(), start, true);
+  CouplingData out = from_wire(
+      await(wire::Envelope::kOutputs, "statics", timeouts_.reply, &watch).outputs().data());
   check(check_outputs(out, shape_));
+  const auto end = std::chrono::steady_clock::now();
+  using Seconds = std::chrono::duration<double>;
+  if (watch.counted() > 0)
+    logger("master")->debug(
+        "{}: static state in {:.1f} s, {} progress frame(s) counted, the longest quiet {:.1f} s",
+        name(), Seconds(end - start).count(), watch.counted(),
+        Seconds(watch.longest_quiet(end)).count());
   return out;
 }
 

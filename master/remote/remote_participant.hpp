@@ -38,6 +38,10 @@ struct RemoteTimeouts {
   // Nodes send progress frames at most this often (Configure.progress_ms).
   std::chrono::milliseconds progress{100};
   static constexpr std::chrono::milliseconds kDefaultStepBudget{120000};
+  // A Statics request must show progress within `reply` and end within
+  // this many step budgets, however much progress it shows.
+  static constexpr int kStaticsBudgetSteps = 10;
+  std::chrono::milliseconds statics_budget() const { return step_budget * kStaticsBudgetSteps; }
 };
 
 // A failure of a remote node, with its name, address, macro step and time.

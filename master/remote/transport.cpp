@@ -1,7 +1,7 @@
 #include "remote/transport.hpp"
 
+#include <algorithm>
 #include <cmath>
-
 #include <cstdlib>
 #include <iterator>
 #include <stdexcept>
@@ -55,6 +55,17 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
            // other participants run beside them).
            "OMPI_MCA_mpi_yield_when_idle=1"};
   return c;
+}
+
+std::optional<std::chrono::milliseconds> reply_limit_override() {
+  const char* text = std::getenv("RAILCOSIM_REPLY_SECONDS");
+  if (text == nullptr || *text == '\0') return std::nullopt;
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (*end != '\0' || !(seconds > 0.0 && seconds <= 86400.0))
+    throw std::invalid_argument("RAILCOSIM_REPLY_SECONDS=" + std::string(text) +
+                                ": expected the reply limit in seconds, in (0, 86400]");
+  return std::chrono::milliseconds(std::lround(std::max(seconds * 1000.0, 1.0)));
 }
 
 LaunchCommand soil_check_command(const FeSoilLaunch& fe) {
@@ -123,13 +134,15 @@ class TcpTransport final : public Transport {
       base.step_budget = setup.step_budget;
     else if (scene.coupling.step_budget)
       base.step_budget = std::chrono::milliseconds(std::lround(*scene.coupling.step_budget * 1000));
-    return [scene, given = setup.given, pool = setup.pool, token = setup.token,
-            base](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    const auto reply = reply_limit_override();
+    return [scene, given = setup.given, pool = setup.pool, token = setup.token, base,
+            reply](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
       const auto it = given.find(c.participant.role);
       const Address address = it != given.end() ? it->second : pool->address(c.participant.role);
       RemoteTimeouts timeouts = base;
       if (scene.started_soil() != nullptr && c.participant.parts.has(Component::kSoil))
         timeouts.reply = kFeSoilReply;  // a mesh or Green's functions to build
+      if (reply) timeouts.reply = *reply;
       return std::make_unique<RemoteParticipant>(address, scene, c, timeouts, token);
     };
   }

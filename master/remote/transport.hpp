@@ -50,6 +50,11 @@ LaunchCommand soil_check_command(const FeSoilLaunch& fe);
 // took over 300 s on a loaded two-core machine).
 inline constexpr std::chrono::seconds kFeSoilStart{120};
 inline constexpr std::chrono::seconds kFeSoilReply{900};
+// RAILCOSIM_REPLY_SECONDS, when set: the master's limit on every reply other
+// than a step's (hello, configure, each statics, ...), for every participant
+// over TCP, the soils it starts included; unset: nullopt (10 s, or
+// kFeSoilReply). Throws std::invalid_argument for a value not in (0, 86400].
+std::optional<std::chrono::milliseconds> reply_limit_override();
 // Meanwhile the other nodes hear nothing from the master: those it starts
 // beside the FE soil wait this long before they close a silent session
 // (--idle-timeout; 60 s by default).

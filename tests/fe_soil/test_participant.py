@@ -18,6 +18,7 @@ import support  # noqa: F401  (skips without dolfinx; puts the checkout on the p
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "sdk", "python"))
 from mpi4py import MPI  # noqa: E402
+from railcosim_sdk import progress  # noqa: E402
 from railcosim_sdk.session import Session  # noqa: E402
 from railcosim_sdk.wire import E, PROTOCOL_VERSION, ProtocolError, pb  # noqa: E402
 
@@ -139,6 +140,37 @@ class Participant(unittest.TestCase):
             self.assertGreater(ppv[0], ppv[1])  # nearer, stronger
             with open(os.path.join(tmp, "receivers.csv")) as f:
                 self.assertEqual(len(f.read().split("\n")), 1 + 12 + 1)
+
+    def test_statics_shows_its_cg_iterations_as_progress(self):
+        """static_iterations counts every CG iteration (the monitor is
+        called at iterations 0 to n of each solve), and the SDK's progress
+        thread gets the GIL while a solve runs: frames go out, step -1,
+        their counts growing. Asked every millisecond here, so that the
+        small block's solve gives several (the master asks every 100 ms)."""
+        p, s, _ = session(self.core)
+        sent = []
+        s.master = type("Master", (), {"send": lambda _self, frame: sent.append(frame)})()
+        s.progress_ms = 1
+        interval = progress.MIN_INTERVAL_MS
+        progress.MIN_INTERVAL_MS = 1
+        self.addCleanup(setattr, progress, "MIN_INTERVAL_MS", interval)
+        # The GIL changes hands at the monitor's Python code no sooner than
+        # the switch interval (5 ms): shorter here, for a short solve.
+        self.addCleanup(sys.setswitchinterval, sys.getswitchinterval())
+        sys.setswitchinterval(1e-4)
+        s.request_id = 3
+        s.handle(pb.Envelope(id=3, statics=pb.Statics(inputs=forces([5e4] * N))))
+        first = p.soil.ksp.getIterationNumber() + 1
+        self.assertEqual(p.static_iterations, first)
+        s.request_id = 4
+        s.handle(pb.Envelope(id=4, statics=pb.Statics(inputs=forces([6e4] * N))))
+        self.assertEqual(p.static_iterations, first + p.soil.ksp.getIterationNumber() + 1)
+        self.assertGreater(len(sent), 0, "no progress frame while the static solves ran")
+        self.assertTrue(all(f.progress.step == -1 for f in sent))
+        self.assertTrue(all(f.id in (3, 4) for f in sent))
+        counts = [f.progress.micro_steps for f in sent]
+        self.assertEqual(counts, sorted(set(counts)))
+        self.assertLessEqual(counts[-1], p.static_iterations)
 
     def test_two_ranks_agree_with_one(self):
         one = drive(self.core)[2]

@@ -169,7 +169,11 @@ class Participant:
 
     Attributes the SDK sets before configure(): self.run (a `Run`).
     Attribute the author keeps up to date: self.micro_steps (int, the micro
-    steps taken in the whole run, reported with the results).
+    steps taken in the whole run, reported with the results). A participant
+    whose statics() may take long advances self.static_iterations (int, any
+    count of its own that grows while statics() works: solver iterations,
+    say) as it goes: the SDK sends it in progress frames, and the master
+    then waits past its reply limit.
     """
 
     name = "participant"
@@ -177,6 +181,7 @@ class Participant:
     results_fields = ()
     takes_waveforms = False
     micro_steps = 0
+    static_iterations = 0
     run = None
     _recorder = None  # the SDK's, while the master asks for samples
 

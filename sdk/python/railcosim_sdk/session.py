@@ -16,6 +16,7 @@ from .auth import auth_answer, auth_proof  # noqa: F401  (auth_answer: the SDK's
 from .progress import Ticker
 from .wire import E, PROTOCOL_VERSION, ProtocolError, pb
 
+STATICS_STEP = -1  # the step of a Statics request's progress frames (before the run)
 _sum = np.add.reduce  # ndarray.sum without its Python wrapper
 
 
@@ -322,7 +323,11 @@ class Session(waveforms.Handlers, state.Handlers):
     def on_statics(self, req, out):
         if self.step >= 0:
             raise ProtocolError(E.OUT_OF_ORDER, "statics after initialize")
-        outputs = self.p.statics(self.inputs(req.statics.inputs.interfaces))
+        inputs = self.inputs(req.statics.inputs.interfaces)
+        # A static solve may outlast the master's reply limit: progress
+        # frames (step -1) of static_iterations while it works.
+        with Ticker(self, STATICS_STEP, "static_iterations"):
+            outputs = self.p.statics(inputs)
         out.outputs.SetInParent()
         self.coupling(outputs, out.outputs.data)
         return out
