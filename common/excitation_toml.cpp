@@ -87,18 +87,7 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
   } else if (p.type == VehicleType::train) {
     p.cars = read_cars(r, source);
   } else {
-    const CarParams c = read_car(r, p.type == VehicleType::car);
-    p.wheelset_mass = c.wheelset_mass;
-    p.bogie_mass = c.bogie_mass;
-    p.body_mass = c.body_mass;
-    p.primary_stiffness = c.primary_stiffness;
-    p.primary_damping = c.primary_damping;
-    p.secondary_stiffness = c.secondary_stiffness;
-    p.secondary_damping = c.secondary_damping;
-    p.body_pitch_inertia = c.body_pitch_inertia;
-    p.bogie_pitch_inertia = c.bogie_pitch_inertia;
-    p.bogie_semi_spacing = c.bogie_semi_spacing;
-    p.wheelset_semi_base = c.wheelset_semi_base;
+    set_car_keys(p, read_car(r, p.type == VehicleType::car));
   }
   r.reject_unknown();
   return p;

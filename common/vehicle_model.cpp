@@ -24,12 +24,7 @@ std::vector<double> car_wheel_offsets(double lc, double lt) {
 
 }  // namespace
 
-VehicleParams car_of_train(const VehicleParams& train, const CarParams& c) {
-  VehicleParams p;
-  p.type = VehicleType::car;
-  p.hertz_constant = train.hertz_constant;
-  p.speed = train.speed;
-  p.initial_position = train.initial_position;
+void set_car_keys(VehicleParams& p, const CarParams& c) {
   p.wheelset_mass = c.wheelset_mass;
   p.bogie_mass = c.bogie_mass;
   p.body_mass = c.body_mass;
@@ -41,6 +36,15 @@ VehicleParams car_of_train(const VehicleParams& train, const CarParams& c) {
   p.bogie_pitch_inertia = c.bogie_pitch_inertia;
   p.bogie_semi_spacing = c.bogie_semi_spacing;
   p.wheelset_semi_base = c.wheelset_semi_base;
+}
+
+VehicleParams car_of_train(const VehicleParams& train, const CarParams& c) {
+  VehicleParams p;
+  p.type = VehicleType::car;
+  p.hertz_constant = train.hertz_constant;
+  p.speed = train.speed;
+  p.initial_position = train.initial_position;
+  set_car_keys(p, c);
   return p;
 }
 

@@ -86,6 +86,9 @@ const char* to_string(VehicleType t);
 // The car model (type car) of one car of a train: the train's contact and
 // speed, the car's masses, springs and geometry.
 VehicleParams car_of_train(const VehicleParams& train, const CarParams& car);
+// Copies a car's model keys (masses, suspensions, l_c, l_t) into p; the
+// overhangs stay with the car.
+void set_car_keys(VehicleParams& p, const CarParams& car);
 
 // Each wheel's x relative to the leading wheel (0, then <= 0), front to
 // back, from the geometry alone: what VehicleModel::wheels() gives.
