@@ -60,6 +60,15 @@ class StaticsProgress(unittest.TestCase):
         with open(self.scene, "w") as f:
             f.write(text)
 
+    def start_node(self, argv):
+        """Starts a node that prints its address first; returns HOST:PORT.
+        It is killed and waited for when the test ends."""
+        node = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        self.addCleanup(node.stdout.close)
+        self.addCleanup(node.wait)
+        self.addCleanup(node.kill)
+        return node.stdout.readline().split()[-1]
+
     def run_case(self, seconds, advancing, *flags):
         """The run with a soil whose first statics takes `seconds`, its
         count advancing for the first `advancing` of them."""
@@ -68,12 +77,7 @@ class StaticsProgress(unittest.TestCase):
             f.write(SOIL % {"example": os.path.join(SRC, "examples", "python_soil"),
                             "sdk": os.path.join(SRC, "sdk", "python"), "seconds": seconds,
                             "advancing": advancing})
-        soil = subprocess.Popen(["/usr/bin/python3", script, "--config", self.scene],
-                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        self.addCleanup(soil.stdout.close)
-        self.addCleanup(soil.wait)
-        self.addCleanup(soil.kill)
-        address = soil.stdout.readline().split()[-1]
+        address = self.start_node(["/usr/bin/python3", script, "--config", self.scene])
         out = os.path.join(self.work, "out")
         env = dict(os.environ, RAILCOSIM_REPLY_SECONDS=str(REPLY_SECONDS))
         start = time.monotonic()
@@ -127,13 +131,8 @@ class StaticsProgress(unittest.TestCase):
         scene = os.path.join(self.work, "paper.toml")
         with open(scene, "w") as f:
             f.write(text)
-        track = subprocess.Popen([os.path.join(BIN, "broken_node"), "slow-statics", "--listen",
-                                  "127.0.0.1:0", "--role", "track"],
-                                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        self.addCleanup(track.stdout.close)
-        self.addCleanup(track.wait)
-        self.addCleanup(track.kill)
-        address = track.stdout.readline().split()[-1]
+        address = self.start_node([os.path.join(BIN, "broken_node"), "slow-statics", "--listen",
+                                   "127.0.0.1:0", "--role", "track"])
         out = os.path.join(self.work, "out")
         env = dict(os.environ, RAILCOSIM_REPLY_SECONDS=str(REPLY_SECONDS))
         start = time.monotonic()
