@@ -23,7 +23,9 @@ the checks run without dolfinx.
                                  # (0 < R <= 1; 1: no layers), fe_soil/absorbing.py
     receivers = [4.0, 8.0, 16.0, 32.0]   # m from the track axis
     receiver_x = 15.0            # optional, m along the rail (default: its middle)
-    damping_band = [5.0, 50.0]   # Hz, the Rayleigh damping fit
+    damping_band = [5.0, 50.0]   # Hz, the damping fit: each layer's ratio matched at both
+    damping_cutoff = 100.0       # Hz, >= the band's top: the stiffness-proportional part acts on
+                                 # the velocity filtered above it (0: Rayleigh damping as before)
     [[soil.layers]]              # top down; the last reaches the bottom
     thickness = 2.0              # m
     density = 1800.0             # kg/m^3
@@ -45,10 +47,11 @@ from .soil_table import ConfigError
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
             "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
-            "footprint_compliance"}
+            "footprint_compliance", "damping_cutoff"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
-            "static_reach": 5.0, "absorbing_reflection": 0.01}
+            "static_reach": 5.0, "absorbing_reflection": 0.01,
+            "damping_cutoff": 100.0}
 MAX_RANKS = 256
 # What one configuration may ask of the machine, derived from its keys before
 # anything is meshed. Memory: measured on one rank (scenes/ground_vibration_ci
@@ -114,6 +117,12 @@ def parse(table):
     if not 0.0 < band[0] < band[1]:
         raise ConfigError("[soil] damping_band must be two frequencies 0 < f1 < f2 (got %r)" % band)
     out["damping_band"] = tuple(band)
+    out["damping_cutoff"] = soil_table.number(table, "damping_cutoff", "", lo=0.0, lo_open=False,
+                                              default=DEFAULTS["damping_cutoff"])
+    if 0.0 < out["damping_cutoff"] < band[1]:
+        raise ConfigError("[soil] damping_cutoff %g Hz lies below the damping band's top (%g Hz): "
+                          "give at least %g, or 0 for Rayleigh damping"
+                          % (out["damping_cutoff"], band[1], band[1]))
     out["resolve_to"] = (soil_table.number(table, "resolve_to", "", lo=0.0) if "resolve_to" in table
                          else max(out["receivers"]))
     out["layers"] = soil_table.layers(table, damping_hi=1.0)
@@ -192,6 +201,7 @@ def block_params(cfg, footprints):
                    receivers=[(rx - x0 + along, d) for d in cfg["receivers"]],
                    f_max=cfg["f_max"], elements_per_wavelength=cfg["elements_per_wavelength"],
                    symmetric=True, damping_band=cfg["damping_band"],
+                   damping_cutoff=cfg["damping_cutoff"],
                    static_reach=cfg["static_reach"],
                    footprint_compliance=cfg["footprint_compliance"])
     if cfg["mesh_size"] is not None:

@@ -5,9 +5,11 @@ Time integration: central differences in velocity-Verlet form with the
 lumped mass (one matrix-vector product per step, no solve). The diagonal
 damping (mass-proportional Rayleigh part, Lysmer-Kuhlemeyer dashpots) is
 taken at the end of the step, which keeps the step explicit; the
-stiffness-proportional Rayleigh part uses the half-step velocity. The step
-is the largest stable one (from the highest eigenfrequency of M^-1 K by
-power iteration) times a safety factor; a macro step H is cut into
+stiffness-proportional part uses the half-step velocity, low-pass filtered
+at [soil] damping_cutoff (an exact exponential update of the filter over
+each step; params.damping_law), or the velocity itself with the cutoff 0.
+The step is the largest stable one (from the highest eigenfrequency of
+M^-1 K by power iteration) times a safety factor; a macro step H is cut into
 ceil(H/dt) equal steps, the footprint forces varying linearly over it.
 """
 from __future__ import annotations
@@ -17,21 +19,15 @@ import math
 import numpy as np
 from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
-import dolfinx.mesh
 from mpi4py import MPI
 
-from . import absorbing, far_field, footprints, forms, near_field
+from . import damping, far_field, footprints, forms, near_field
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
-from .params import SoilParams, rayleigh_coefficients
+from .params import SoilParams, stable_step
 
 
 def _cat(arrays, dtype):
     return np.concatenate(arrays).astype(dtype) if arrays else np.zeros(0, dtype)
-
-
-def _merge_counts(dicts):
-    """The sum of {value: count} dicts (one per rank)."""
-    return {v: sum(d.get(v, 0) for d in dicts) for v in set().union(*dicts)}
 
 
 class FESoil:
@@ -85,36 +81,7 @@ class FESoil:
         self.K_static.zeroRowsColumns(rows, 1.0)
         self.K = K
         self.m = forms.lumped_mass(V, f)
-        xi = f["xi"]
-        w1, w2 = (2.0 * math.pi * fr for fr in p.damping_band)
-        a0 = fem.Constant(self.mesh, 2.0 * w1 * w2 / (w1 + w2)) * xi
-        if p.absorbing is not None:
-            a0 = a0 + absorbing.damping_field(self.mesh, p, self.nodes, f["cs"])
-        self.c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
-        xis = {layer.damping for layer in p.layers}
-        self.a1_max = rayleigh_coefficients(max(xis), *p.damping_band)[1]
-        # The stiffness-proportional part a1 K: the a1 of the most common
-        # damping ratio (by cells) is folded into the product K (u + a1 v);
-        # the other layers' excess, (a1 - a1_ref) K, is a second matrix
-        # assembled over their cells only. On a graded block the half-space
-        # holds most cells, so the second product covers the top layers'
-        # rows only (measured in docs/ground-vibration.md).
-        n_cells = self.mesh.topology.index_map(3).size_local
-        cell_xi = xi.x.array[xi.function_space.dofmap.list.array.reshape(-1)[:n_cells]]
-        values, counts = np.unique(cell_xi, return_counts=True)
-        counts = _merge_counts(self.comm.allgather(
-            {float(v): int(c) for v, c in zip(values, counts)}))
-        xi_ref = max(sorted(counts), key=lambda v: counts[v])
-        self.a1 = rayleigh_coefficients(xi_ref, *p.damping_band)[1]
-        self.Ka1 = None  # the excess over a1 K, when the layers' ratios differ
-        if len(xis) > 1:
-            other = np.flatnonzero(cell_xi != xi_ref).astype(np.int32)
-            cells = dolfinx.mesh.meshtags(self.mesh, 3, other, np.ones(len(other), dtype=np.int32))
-            excess = fem.Constant(self.mesh, 2.0 / (w1 + w2)) * (xi - fem.Constant(self.mesh, xi_ref))
-            c_form = forms.damping_stiffness_form(V, f, excess, cells)
-            self.Ka1 = fem.petsc.create_matrix(c_form, "baij")
-            fem.petsc.assemble_matrix(self.Ka1, c_form)
-            self.Ka1.assemble()
+        self.c, self.tau, self.a1_max, self.a1, self.Ka1 = damping.operators(self, f, ds)
         self.U, self.W = self.K.createVecs()
         self.KU, self.KV, self.VH = (self.U.duplicate() for _ in range(3))
 
@@ -167,7 +134,7 @@ class FESoil:
     def _stable_step(self, iterations=40):
         """dt = safety * 2/w_max * (sqrt(1 + xi^2) - xi), w_max by power
         iteration on M^-1/2 K M^-1/2 (converges from below; the safety
-        factor covers the gap)."""
+        factor covers the gap); stable_step has the damping's share."""
         x, y = self.K.createVecs()
         # A start vector from the DOFs' coordinates: the same on any number
         # of ranks, so dt does not depend on the partition.
@@ -183,9 +150,8 @@ class FESoil:
             self.K.mult(x, y)
             x.array[:] = y.array * s * self.mask
             lam = self.comm.allreduce(float(z @ x.array))
-        w_max = math.sqrt(lam)
-        xi = 0.5 * self.a1_max * w_max  # the stiffness-proportional damping ratio at w_max
-        return self.p.cfl_safety * 2.0 / w_max * (math.sqrt(1.0 + xi * xi) - xi)
+        self.w_max = math.sqrt(lam)
+        return self.p.cfl_safety * stable_step(self.w_max, self.a1_max, self.tau)
 
     # ---- state --------------------------------------------------------
     def reset(self):
@@ -194,18 +160,20 @@ class FESoil:
         self.u[:] = 0.0
         self.v = np.zeros(self.n_owned)
         self.a = np.zeros(self.n_owned)
+        self.z = np.zeros(self.n_owned)  # the filtered velocity (damping_cutoff)
         self.f_static = np.zeros(self.n_owned)  # see statics()
         self.history = []  # (t, vertical velocity per receiver)
 
     def save(self):
         return {"t": self.t, "u": self.u.copy(), "v": self.v.copy(), "a": self.a.copy(),
-                "f_static": self.f_static, "n_history": len(self.history)}
+                "z": self.z.copy(), "f_static": self.f_static, "n_history": len(self.history)}
 
     def restore(self, state):
         self.t = state["t"]
         self.u[:] = state["u"]
         self.v[:] = state["v"]
         self.a[:] = state["a"]
+        self.z[:] = state["z"]
         self.f_static = state["f_static"]
         del self.history[state["n_history"] :]
 
@@ -306,6 +274,7 @@ class FESoil:
         self.f_static = corr
         self.v[:] = 0.0
         self.a[:] = 0.0
+        self.z[:] = 0.0
 
     def advance(self, t, H, forces_start, forces_end):
         """From t to t + H with forces varying linearly between the given
@@ -332,7 +301,8 @@ class FESoil:
     def run(self, dt, n, f0, df):
         """n steps of dt; the load is f0 + (k/n) df at the end of step k.
         In-place numpy on the owned DOFs (one K product per step)."""
-        u, v, a, m = self.u, self.v, self.a, self.m
+        u, v, a, m, z = self.u, self.v, self.a, self.m, self.z
+        decay = math.exp(-dt / self.tau) if self.tau > 0.0 else 0.0
         if self._inv is None or self._inv[0] != dt:
             self._inv = (dt, self.mask / (m + 0.5 * dt * self.c))
         inv = self._inv[1]
@@ -344,11 +314,17 @@ class FESoil:
             vh += v  # v(n + 1/2)
             np.multiply(vh, dt, out=r)
             u += r  # u(n + 1)
-            np.multiply(vh, self.a1, out=w)
+            dv = vh
+            if decay:  # z(n + 1/2): the filter's exact update with v(n + 1/2) held
+                z -= vh
+                z *= decay
+                z += vh
+                dv = z
+            np.multiply(dv, self.a1, out=w)
             w += u
             self.K.mult(W, KU)  # K (u + a1_ref v)
             if self.Ka1 is not None:
-                self.VH.array[:] = vh
+                self.VH.array[:] = dv
                 self.Ka1.mult(self.VH, self.KV)  # (a1 - a1_ref) K v, other layers' cells
                 ku += self.KV.array
             np.multiply(df, k / n, out=r)

@@ -61,6 +61,10 @@ class SoilParams:
     elements_per_wavelength: float = 10.0  # Q1, lumped mass (see mesh_size)
     symmetric: bool = True  # model y >= 0 with u_y = 0 on y = 0
     damping_band: Tuple[float, float] = (5.0, 50.0)  # Rayleigh fit, Hz
+    # The stiffness-proportional damping acts on the velocity low-pass
+    # filtered at this frequency (Hz; damping_law); 0: on the velocity itself
+    # (the default is config.DEFAULTS' too).
+    damping_cutoff: float = 100.0
     spring_alpha: Tuple[float, float] = (4.0 / 3.0, 2.0 / 3.0)  # (normal, tangential)
     dashpots: bool = True  # False: springs alone (a reflecting boundary, for comparison)
     cfl_safety: float = 0.8
@@ -134,13 +138,54 @@ def axis_nodes(params: SoilParams) -> Tuple[List[float], List[float], List[float
     return xs, ys, zs
 
 
-def rayleigh_coefficients(xi: float, f1: float, f2: float) -> Tuple[float, float]:
-    """(a0, a1) of C = a0 M + a1 K with damping ratio xi at f1 and f2
-    (xi(f) = a0/(2 w) + a1 w/2, below xi between f1 and f2)."""
+def damping_law(f1: float, f2: float, cutoff: float = 0.0) -> Tuple[float, float]:
+    """(A0, A1): the damping C = xi (A0 M + A1 K) of a layer of damping ratio
+    xi, matched at f1 and f2 (Hz). With cutoff = 0 it is Rayleigh damping,
+    xi(w) = (A0/w + A1 w) xi / 2. With a cutoff f_c (>= f2) the stiffness
+    part acts on the velocity low-pass filtered at f_c (first order, time
+    constant tau = 1/(2 pi f_c)): its damping ratio is A1 g(w) xi / 2 with
+    g(w) = w / (1 + (w tau)^2), which stops growing at f_c and falls above
+    it, so it no longer bounds the explicit step (the filtered term adds at
+    most A1 xi / tau to the stiffness there: docs/ground-vibration.md,
+    "Damping"). Solving the two matching conditions:
+    A1 = 2 (w2 - w1) / (g2 w2 - g1 w1), A0 = A1 w1 w2 (g2 - g1) / (w2 - w1),
+    Rayleigh's 2 / (w1 + w2) and 2 w1 w2 / (w1 + w2) at tau = 0."""
     w1, w2 = 2.0 * math.pi * f1, 2.0 * math.pi * f2
-    a0 = 2.0 * xi * w1 * w2 / (w1 + w2)
-    a1 = 2.0 * xi / (w1 + w2)
-    return a0, a1
+    if cutoff <= 0.0:
+        return 2.0 * w1 * w2 / (w1 + w2), 2.0 / (w1 + w2)
+    tau = 1.0 / (2.0 * math.pi * cutoff)
+    g1, g2 = (w / (1.0 + (w * tau) ** 2) for w in (w1, w2))
+    a1 = 2.0 * (w2 - w1) / (g2 * w2 - g1 * w1)
+    return a1 * w1 * w2 * (g2 - g1) / (w2 - w1), a1
+
+
+def rayleigh_coefficients(xi: float, f1: float, f2: float, cutoff: float = 0.0) -> Tuple[float, float]:
+    """(a0, a1) of C = a0 M + a1 K with damping ratio xi at f1 and f2
+    (xi(f) = a0/(2 w) + a1 w/2, below xi between f1 and f2); with a cutoff,
+    the filtered law of damping_law."""
+    if cutoff <= 0.0:  # Rayleigh's, in the form (and the rounding) of earlier versions
+        w1, w2 = 2.0 * math.pi * f1, 2.0 * math.pi * f2
+        return 2.0 * xi * w1 * w2 / (w1 + w2), 2.0 * xi / (w1 + w2)
+    A0, A1 = damping_law(f1, f2, cutoff)
+    return xi * A0, xi * A1
+
+
+def stable_step(w_max, a1, tau):
+    """The largest stable step of the scheme of run() for modes up to w_max
+    (rad/s) under the stiffness-proportional damping a1 K, on the velocity
+    (tau = 0) or filtered with time constant tau. Unfiltered: 2/w_max
+    (sqrt(1 + xi^2) - xi), xi = a1 w_max / 2 the damping ratio at w_max.
+    Filtered: the term adds up to a1/tau to the stiffness and keeps the
+    ratio a1 w_max / (2 (1 + (w_max tau)^2)) at w_max, so w_max grows to
+    w_max sqrt(1 + a1/tau) with that ratio. Both are checked against the
+    spectral radius of the scheme's one-mode update (tests/fe_soil/
+    test_damping_law.py): below it by at most 4 %."""
+    if tau > 0.0:
+        xi = 0.5 * a1 * w_max / (1.0 + (w_max * tau) ** 2)
+        w_max *= math.sqrt(1.0 + a1 / tau)
+    else:
+        xi = 0.5 * a1 * w_max
+    return 2.0 / w_max * (math.sqrt(1.0 + xi * xi) - xi)
 
 
 def graded_nodes(a: float, b: float, centre: float, h_fine: float, fine_half: float,

@@ -38,10 +38,12 @@ For a comparison with the FE soil, whose material is damped the Rayleigh
 way (C = a0 M + a1 K, the layer's xi matched at the two frequencies of its
 damping band: fe_soil/params.py), a layer given as `RayleighLayer` takes
 that law instead. In the frequency domain the FE soil's equation of motion
-(-w^2 + i w a0) rho u + (1 + i w a1) K u = f is that of an elastic medium
-with the complex density rho (1 - i a0 / w) and the complex moduli
-mu (1 + i w a1), lambda (1 + i w a1), the traction on the surface
-unchanged: exactly the FE soil's material, causal by itself (no onset).
+(-w^2 + i w a0) rho u + (1 + i w a1 / (1 + i w tau)) K u = f (tau the time
+constant of the filter on the velocity above its damping cutoff, 0 without
+one) is that of an elastic medium with the complex density
+rho (1 - i a0 / w) and the complex moduli mu s, lambda s with
+s = 1 + i w a1 / (1 + i w tau), the traction on the surface unchanged:
+exactly the FE soil's material, causal by itself (no onset).
 """
 from __future__ import annotations
 
@@ -59,15 +61,18 @@ LOSS_ONSET = 0.25  # Hz: below it the loss factor fades (see the module's text)
 @dataclass
 class RayleighLayer(Layer):
     """A layer damped as the FE soil damps it: `damping` matched at the two
-    frequencies of `rayleigh_band` (Hz) by C = a0 M + a1 K."""
+    frequencies of `rayleigh_band` (Hz) by C = a0 M + a1 K, the stiffness
+    part filtered above `damping_cutoff` (Hz; 0: not filtered)."""
 
     rayleigh_band: Tuple[float, float] = (5.0, 50.0)
+    damping_cutoff: float = 0.0
 
 
-def rayleigh_layers(layers, band):
-    """The layers with the FE soil's Rayleigh damping fitted over band (Hz)."""
+def rayleigh_layers(layers, band, cutoff=0.0):
+    """The layers with the FE soil's damping law fitted over band (Hz),
+    filtered above cutoff (Hz; 0: Rayleigh damping)."""
     return [RayleighLayer(l.thickness, l.density, l.shear_speed, l.poisson, l.damping,
-                          (float(band[0]), float(band[1]))) for l in layers]
+                          (float(band[0]), float(band[1])), float(cutoff)) for l in layers]
 
 
 def moduli(layer, w):
@@ -82,8 +87,10 @@ def moduli(layer, w):
     if band is not None:
         if w == 0:
             return mu + 0j, lam + 0j, layer.density
-        a0, a1 = rayleigh_coefficients(layer.damping, *band)
-        stiff = 1.0 + 1j * w * a1
+        cutoff = layer.damping_cutoff
+        a0, a1 = rayleigh_coefficients(layer.damping, *band, cutoff)
+        tau = 1.0 / (2.0 * np.pi * cutoff) if cutoff > 0.0 else 0.0
+        stiff = 1.0 + 1j * w * a1 / (1.0 + 1j * w * tau)
         return mu * stiff, lam * stiff, layer.density * (1.0 - 1j * a0 / w)
     x = np.real(w) / (2.0 * np.pi * LOSS_ONSET)
     loss = 1.0 + 2.0j * layer.damping * x / np.sqrt(1.0 + x * x)

@@ -71,13 +71,15 @@ ACROSS = 2.6  # m: the sleeper's length (the FE soil's default)
 
 
 def scene_ground():
-    """(layers, damping band, footprint along the track) of the scene."""
+    """(layers, damping law (f1, f2, cutoff), footprint along the track) of
+    the scene."""
     with open(SCENE, "rb") as f:
         scene = tomllib.load(f)
     soil = scene["soil"]
     cfg = fe_config.parse({"layers": soil["layers"], "damping_band": soil["damping_band"],
                            "receivers": list(DISTANCES)})
-    return cfg["layers"], cfg["damping_band"], float(scene["sleepers"]["spacing"])
+    law = (*cfg["damping_band"], cfg["damping_cutoff"])
+    return cfg["layers"], law, float(scene["sleepers"]["spacing"])
 
 
 def pulse(t, f_mesh=F_MESH):
@@ -93,7 +95,8 @@ def fe_params(layers, band, along, f_mesh, fine=FINE):
     return SoilParams(
         length=2.0 * REACH, half_width=REACH, depth=REACH, layers=layers,
         footprints=[Footprint(REACH, along, ACROSS, 0.0)],
-        receivers=[(REACH, d) for d in DISTANCES], f_max=f_mesh, damping_band=tuple(band),
+        receivers=[(REACH, d) for d in DISTANCES], f_max=f_mesh, damping_band=tuple(band[:2]),
+        damping_cutoff=band[2],
         x_nodes=graded_nodes(0.0, 2.0 * REACH, REACH, h, fine, GROWTH),
         y_nodes=graded_nodes(0.0, REACH, 0.0, h, fine, GROWTH),
         z_nodes=fe_config.graded_layer_nodes(layers, REACH, f_mesh, 10.0, GROWTH))
@@ -152,7 +155,7 @@ class FELayered(unittest.TestCase):
         cls.layers, cls.band, cls.along = scene_ground()
         cls.fe, cls.resolved, cls.dofs, cls.seconds = fe_run(cls.layers, cls.band, cls.along,
                                                              F_MESH)
-        cls.green = green_run(spectral.rayleigh_layers(cls.layers, cls.band), cls.along)
+        cls.green = green_run(spectral.rayleigh_layers(cls.layers, cls.band[:2], cls.band[2]), cls.along)
         cls.diffs = differences(cls.fe, cls.green, cls.resolved)
 
     def test_resolution_and_load(self):
@@ -187,7 +190,7 @@ class FELayered(unittest.TestCase):
         # Green's side only.
         layers = [Layer(l.thickness, l.density, l.shear_speed * (1.1 if k == 1 else 1.0),
                         l.poisson, l.damping) for k, l in enumerate(self.layers)]
-        off = green_run(spectral.rayleigh_layers(layers, self.band), self.along)
+        off = green_run(spectral.rayleigh_layers(layers, self.band[:2], self.band[2]), self.along)
         self.assertGreater(worst(differences(self.fe, off, self.resolved)), BOUND_DB)
 
 
@@ -213,7 +216,7 @@ def measure(argv):
     fe, resolved, dofs, seconds = fe_run(layers, band, along, a.f_mesh, a.fine)
     print("FE: %d DOFs, %.1f s" % (dofs, seconds))
     start = time.time()
-    rayleigh = green_run(spectral.rayleigh_layers(layers, band), along, a.f_mesh)
+    rayleigh = green_run(spectral.rayleigh_layers(layers, band[:2], band[2]), along, a.f_mesh)
     print("Green's functions: %.1f s" % (time.time() - start))
     report("FE against the Green's functions, the FE soil's Rayleigh law",
            differences(fe, rayleigh, resolved), resolved)
