@@ -6,8 +6,10 @@ static_iterations count advances, the SDK sends progress frames with step -1
 and the run ends `ok`; a soil that stays silent is named with "static
 state" and the reply limit; one whose count stops is named "no progress";
 one that keeps advancing past the statics budget (10 x the step budget) is
-stopped there. The C++ SDK the same: a track node (tests/broken_node
-slow-statics) whose statics() calls work_progress() for 4 s.
+stopped there; one whose frames carry another step than -1 (macro step 0)
+is refused at the first, a bad reply naming the soil, the step and -1. The
+C++ SDK the same: a track node (tests/broken_node slow-statics) whose
+statics() calls work_progress() for 4 s.
 Usage: python_statics_progress_test.py BIN_DIR SOURCE_DIR"""
 import json
 import os
@@ -26,7 +28,12 @@ import sys, time
 sys.path.insert(0, %(example)r)
 sys.path.insert(0, %(sdk)r)
 import railcosim_sdk as rc
+import railcosim_sdk.session
 from soil_participant import LumpedSoil
+
+# The step the SDK puts in a Statics' progress frames (-1 unless the test
+# plants another).
+railcosim_sdk.session.STATICS_STEP = %(statics_step)d
 
 class SlowStatics(LumpedSoil):
     first = True
@@ -69,14 +76,15 @@ class StaticsProgress(unittest.TestCase):
         self.addCleanup(node.kill)
         return node.stdout.readline().split()[-1]
 
-    def run_case(self, seconds, advancing, *flags):
+    def run_case(self, seconds, advancing, *flags, statics_step=-1):
         """The run with a soil whose first statics takes `seconds`, its
-        count advancing for the first `advancing` of them."""
+        count advancing for the first `advancing` of them, its progress
+        frames carrying `statics_step`."""
         script = os.path.join(self.work, "soil.py")
         with open(script, "w") as f:
             f.write(SOIL % {"example": os.path.join(SRC, "examples", "python_soil"),
                             "sdk": os.path.join(SRC, "sdk", "python"), "seconds": seconds,
-                            "advancing": advancing})
+                            "advancing": advancing, "statics_step": statics_step})
         address = self.start_node(["/usr/bin/python3", script, "--config", self.scene])
         out = os.path.join(self.work, "out")
         env = dict(os.environ, RAILCOSIM_REPLY_SECONDS=str(REPLY_SECONDS))
@@ -124,6 +132,16 @@ class StaticsProgress(unittest.TestCase):
         self.assertIn("static state: budget of 5 s exhausted", message)
         self.assertIn("--step-budget", message)
         self.assertLess(seconds, 10.0)
+
+    def test_a_progress_frame_for_another_step_is_refused(self):
+        # Frames for macro step 0 while the Statics works: the first one
+        # ends the run, long before the 2 s solve would.
+        p, summary, seconds, address = self.run_case(2.0, 2.0, statics_step=0)
+        self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
+        self.assertEqual(summary["status"], "failed")
+        self.assertIn("soil node at " + address + ": bad reply: a progress frame for macro step 0 "
+                      "during the static state (expected step -1) before the run", summary["message"])
+        self.assertLess(seconds, 2.0)
 
     def test_a_cpp_node_static_solve_showing_progress_ends_ok(self):
         with open(os.path.join(SRC, "scenes", "paper.toml")) as f:
