@@ -4,7 +4,7 @@ the block's boundary and its graded mesh.
 
 The homogeneous half-space (c_S = 100 m/s, rho = 2000, nu = 1/4, no
 damping) under the ground-vibration scene's [soil] keys (the graded rule:
-f_max, 10 elements per Rayleigh wavelength, growth, resolve_to, margin,
+f_max, elements_per_wavelength (default 12), growth, resolve_to, margin,
 depth, receivers), 21 sleepers' 0.25 x 2.5 m footprints 0.6 m apart, a
 Ricker force on the middle one. Each receiver's vertical velocity over the
 whole record (from the load's start to --t-end) against the closed form of

@@ -7,7 +7,7 @@ the checks run without dolfinx.
     model = "fe"
     ranks = 1                    # MPI ranks the master starts it on
     f_max = 20.0                 # Hz, highest frequency of interest (mesh-size rule)
-    elements_per_wavelength = 10.0
+    elements_per_wavelength = 12.0
     mesh_size = 0.5              # optional, m: overrides the rule
     depth = 20.0                 # m
     margin = 8.0                 # m beyond the track's ends and the farthest receiver
@@ -48,7 +48,7 @@ TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
             "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
             "footprint_compliance", "damping_cutoff"}
-DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 10.0, "depth": 20.0,
+DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 12.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01,
             "damping_cutoff": 100.0}

@@ -58,7 +58,7 @@ class SoilParams:
     footprints: List[Footprint] = field(default_factory=list)
     receivers: Sequence[Tuple[float, float]] = ()  # (x, y) surface points
     f_max: float = 20.0  # highest frequency of interest, Hz
-    elements_per_wavelength: float = 10.0  # Q1, lumped mass (see mesh_size)
+    elements_per_wavelength: float = 12.0  # Q1, lumped mass (see mesh_size)
     symmetric: bool = True  # model y >= 0 with u_y = 0 on y = 0
     damping_band: Tuple[float, float] = (5.0, 50.0)  # Rayleigh fit, Hz
     # The stiffness-proportional damping acts on the velocity low-pass

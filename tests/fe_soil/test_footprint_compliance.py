@@ -68,7 +68,8 @@ class ClosedForm(unittest.TestCase):
 
 
 class Homogeneous(unittest.TestCase):
-    """c_S = 100 m/s, rho 2000, nu 1/4; 0.25 x 2.5 m footprints; h = 0.46 m."""
+    """c_S = 100 m/s, rho 2000, nu 1/4; 0.25 x 2.5 m footprints; h = 0.383 m
+    (12 elements per wavelength, 149,940 DOFs)."""
 
     @classmethod
     def setUpClass(cls):
@@ -80,9 +81,10 @@ class Homogeneous(unittest.TestCase):
         cls.receivers = [surface_uz(cls.soil, x, y) for x, y in cls.soil.p.receivers]
 
     def test_the_loaded_footprint_within_5_percent_of_the_closed_form(self):
-        # Measured: 0.989 (the FE alone 0.827) on the middle footprint, whose
-        # centre is a node plane; 0.990 (the FE alone 0.728) on its
-        # neighbour, whose planes lie elsewhere under it.
+        # Measured: 0.990 (the FE alone 0.854) on the middle footprint, whose
+        # centre is a node plane; 0.989 (the FE alone 0.740) on its
+        # neighbour, whose planes lie elsewhere under it (at 10 elements per
+        # wavelength, h = 0.46 m: 0.989 / 0.990, the FE alone 0.827 / 0.728).
         self.assertAlmostEqual(self.middle / self.closed, 1.0, delta=0.05)
         self.assertAlmostEqual(loaded(self.soil, 9) / self.closed, 1.0, delta=0.05)
 
@@ -96,14 +98,17 @@ class Homogeneous(unittest.TestCase):
 
 class Layered(unittest.TestCase):
     """The layers of scenes/ground_vibration.toml (1.4 m at 128 m/s, nu
-    0.375; 2.7 m at 176 m/s; 355 m/s), 0.25 x 2.6 m footprints, h = 0.6 m
-    along the track, 0.47 m in depth. The reference: the same block with its
-    planes refined under the loaded footprint (elements of 0.03 m along the
-    track and at the surface, 0.06 m at its long edge, growing by 1.25),
-    the correction off; bench/fe_footprint_bench.py --soil layered."""
+    0.375; 2.7 m at 176 m/s; 355 m/s), 0.25 x 2.6 m footprints, h = 0.5 m
+    along the track, 0.47 m in depth. The reference: the block of 10
+    elements per wavelength (h = 0.6 m) with its planes refined under the
+    loaded footprint (elements of 0.03 m along the track and at the
+    surface, 0.06 m at its long edge, growing by 1.25), the correction off;
+    bench/fe_footprint_bench.py --soil layered."""
 
-    # m/N, 10 kN on the middle footprint (169k DOFs). Measured: 1.000 (the
-    # FE alone 0.759).
+    # m/N, 10 kN on the middle footprint (169k DOFs; the block of 10
+    # elements per wavelength refined). Measured on the default block (12
+    # elements per wavelength, 50,544 DOFs): 1.001 (the FE alone 0.792); on
+    # the block of 10: 1.000 (0.759).
     REFINED = {10: 7.4919436e-09}
 
     def test_the_loaded_footprint_within_5_percent_of_the_refined_block(self):

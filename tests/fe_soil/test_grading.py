@@ -31,7 +31,7 @@ def steps(nodes):
     return [b - a for a, b in zip(nodes, nodes[1:])]
 
 
-def h_rule(layer, f_max=20.0, n=10.0):
+def h_rule(layer, f_max=20.0, n=config.DEFAULTS["elements_per_wavelength"]):
     return rayleigh_speed(layer.shear_speed, layer.poisson) / (n * f_max)
 
 
@@ -78,11 +78,17 @@ class Grading(unittest.TestCase):
         for nodes in (xs, ys):
             s = steps(nodes)
             self.assertTrue(all(v > 0.0 for v in s))
-            # Neighbouring elements differ by at most the growth factor (the
-            # block's last element by at most 1.3 x more).
+            # Neighbouring elements differ by at most the growth factor.
             ratios = [max(a / b, b / a) for a, b in zip(s, s[1:])]
             self.assertLessEqual(max(ratios[1:-1]), 1.25 + 1e-6)
-            self.assertLessEqual(max(ratios), 1.3 * 1.25 + 1e-6)
+            # The block's last element is what is left of the side
+            # (graded_nodes): at most 1.3 x the next step, and at least 0.3
+            # of the step before it (x at the default rule: 0.608 m after
+            # 1.910, 0.32 of it; at 10 elements per wavelength all within
+            # 1.25).
+            for last, before in ((s[0], s[1]), (s[-1], s[-2])):
+                self.assertLessEqual(last / before, 1.3 * 1.25 + 1e-6)
+                self.assertGreaterEqual(last / before, 0.3 - 1e-9)
         # The 32 m receiver lies in the graded zone: coarser than the rule.
         self.assertGreater(max(steps(ys)), 2.0 * self.h)
 

@@ -24,8 +24,8 @@ class Params(unittest.TestCase):
         self.assertEqual(len(p.footprints), 51)
         self.assertAlmostEqual(p.footprints[-1].x, 36.0)
         self.assertEqual(p.receivers, [(21.0, 4.0), (21.0, 8.0), (21.0, 16.0), (21.0, 32.0)])
-        # h = c_R(soft) / f_max / 10 elements per wavelength.
-        self.assertAlmostEqual(mesh_size(p), rayleigh_speed(120.0, 1.0 / 3.0) / 25.0 / 10.0, delta=1e-12)
+        # h = c_R(soft) / f_max / 12 elements per wavelength (the default).
+        self.assertAlmostEqual(mesh_size(p), rayleigh_speed(120.0, 1.0 / 3.0) / 25.0 / 12.0, delta=1e-12)
         self.assertIs(p.layer_at(-2.9), SOFT)
         self.assertIs(p.layer_at(-3.1), STIFF)
 
