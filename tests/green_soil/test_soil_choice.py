@@ -22,7 +22,7 @@ import tempfile
 import tomllib
 import unittest
 
-import support  # noqa: F401  (skips without scipy; puts the checkout on the path)
+import support  # skips without scipy; puts the checkout on the path
 
 SRC = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BIN = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(SRC, "build", "bin")
@@ -44,18 +44,6 @@ def records(out, summary):
             got[s["key"]] = {float(r["y_m"]): {k: float(v) for k, v in r.items() if k != "receiver"}
                              for r in csv.DictReader(f)}
     return got
-
-
-def report_rows(report, heading):
-    lines = report.splitlines()
-    start = next(i for i, x in enumerate(lines) if x.startswith(heading))
-    rows = []
-    for x in lines[start + 1:]:
-        if x.startswith("#"):
-            break
-        if x.startswith("|"):
-            rows.append([c.strip() for c in x.strip().strip("|").split("|")])
-    return rows[2:]
 
 
 def verify(out):
@@ -92,13 +80,13 @@ def verify(out):
         rms = math.sqrt(sum(x * x for x in dd) / len(dd))
         assert abs(s["rms_difference_dB"] - rms) <= 1e-9, s
     labels = {s["label"]: s for s in summary["soils"]}
-    for cells in report_rows(report, "### Cost and largest difference"):
+    for cells in support.report_rows(report, "### Cost and largest difference"):
         s = labels[cells[0]]
         assert abs(float(cells[4]) - s["max_abs_difference_dB"]) <= 0.0051, cells
         assert abs(float(cells[5]) - s["rms_difference_dB"]) <= 0.0051, cells
     keys = [s["key"] for s in summary["soils"]]
     for d in summary["receivers_m"]:
-        table = report_rows(report, "### %g m: level minus" % d)
+        table = support.report_rows(report, "### %g m: level minus" % d)
         assert len(table) == len(col), (d, table)
         for cells, band in zip(table, summary["bands_Hz"]):
             ref = rec[ref_key(d, band)][d]
@@ -162,7 +150,7 @@ class SoilChoice(unittest.TestCase):
     def test_resolved_bands_per_receiver(self):
         # 0.02 s: spectral lines 50 Hz apart, wider than any band to 100 Hz
         # (the 100 Hz band is 23 Hz wide): no band is resolved at any receiver.
-        rows = report_rows(self.report, "## Levels at the receivers")
+        rows = support.report_rows(self.report, "## Levels at the receivers")
         self.assertEqual([float(r[0].split()[0]) for r in rows], DISTANCES)
         for r in rows:
             self.assertEqual(r[3], "none", r)
@@ -193,7 +181,7 @@ class SoilChoice(unittest.TestCase):
             verify(copy)
 
     def test_cost(self):
-        rows = {r[0]: r for r in report_rows(self.report, "### Cost and largest difference")}
+        rows = {r[0]: r for r in support.report_rows(self.report, "### Cost and largest difference")}
         self.assertEqual(sorted(rows), ["FE", "Green's functions", "lumped (two-step)"][
             0 if self.fe else 1:])
         for s in self.summary["soils"]:
@@ -212,10 +200,10 @@ class SoilChoice(unittest.TestCase):
         w, h = struct.unpack(">II", head[16:24])
         self.assertGreater(w * h, 100000)
         self.assertGreater(os.path.getsize(path), 10000)
-        check = report_rows(self.report, "### Checks run by this study")
+        check = support.report_rows(self.report, "### Checks run by this study")
         self.assertEqual(len(check), 1)
         self.assertEqual(check[0][-1], "pass", check)
-        tests = [r[0] for r in report_rows(self.report, "### The Green's-function soil's tests")]
+        tests = [r[0] for r in support.report_rows(self.report, "### The Green's-function soil's tests")]
         for name in ("lamb", "static", "causality", "convergence", "participant", "cosim",
                      "radial", "soil_choice"):
             self.assertIn("`green_soil_%s`" % name, tests)

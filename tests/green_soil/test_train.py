@@ -19,7 +19,7 @@ import tempfile
 import tomllib
 import unittest
 
-import support  # noqa: F401  (skips without scipy; puts the checkout on the path)
+import support  # skips without scipy; puts the checkout on the path
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 import soil_scene_text  # noqa: E402
@@ -35,18 +35,6 @@ def cars(scene):
     for c in scene["vehicle"]["cars"]:
         out += [c] * c.get("count", 1)
     return out
-
-
-def report_rows(report, heading):
-    lines = report.splitlines()
-    start = next(i for i, x in enumerate(lines) if x.startswith(heading))
-    rows = []
-    for x in lines[start + 1:]:
-        if x.startswith("#"):
-            break
-        if x.startswith("|"):
-            rows.append([c.strip() for c in x.strip().strip("|").split("|")])
-    return rows[2:]
 
 
 def auto_count(scene, wheel_span):
@@ -118,12 +106,12 @@ class TrainScene(unittest.TestCase):
             report = f.read()
         # 0.1 s: lines 10 Hz apart; the 50 Hz band is 11.5 Hz wide, the 40 Hz
         # band 9.2 Hz; the taper from 96 Hz ends the bands at 80 Hz (upper edge 89 Hz).
-        levels = report_rows(report, "## Levels at the receivers")
+        levels = support.report_rows(report, "## Levels at the receivers")
         self.assertEqual([r[0] for r in levels], ["8 m", "16 m"])
         for r in levels:
             self.assertEqual(r[3], "50.1-79.4", r)
             self.assertEqual(r[4], "the 0.1 s record / the taper from 96 Hz (0.8 f_max)", r)
-        check = report_rows(report, "### Checks run by this study")
+        check = support.report_rows(report, "### Checks run by this study")
         self.assertEqual(check[0][-1], "pass", check)
 
 
