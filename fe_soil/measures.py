@@ -123,6 +123,18 @@ def vibration_csv(names, xs, ys, summaries):
     return "\n".join(rows) + "\n"
 
 
+def with_resolved(text, bands):
+    """vibration.csv's text with two columns after the others: resolved_from_hz
+    and resolved_to_hz, the centres of the lowest and highest one-third-octave
+    band the soil resolves at each receiver (bands: a (low, high) pair per
+    row; nan when none is)."""
+    lines = text.rstrip("\n").split("\n")
+    lines[0] += ",resolved_from_hz,resolved_to_hz"
+    for k, (lo, hi) in enumerate(bands):
+        lines[k + 1] += ",%.9g,%.9g" % (lo, hi)
+    return "\n".join(lines) + "\n"
+
+
 def receivers_csv(names, t, v):
     """The text of receivers.csv: t and (vx, vy, vz) of each receiver
     (v[time, receiver, component]), one row per sample."""

@@ -36,7 +36,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import railcosim_sdk as rc  # noqa: E402
 
 from . import config as fe_config  # noqa: E402
-from . import measures  # noqa: E402
+from . import measures, resolution  # noqa: E402
 
 OPS = 7  # the message tag of an operation for the followers
 KEEP_SAVES = 8  # states held for restore (implicit coupling restores the latest)
@@ -157,6 +157,7 @@ class FESoilParticipant(rc.Participant):
         self.results_fields = ("soil_m", "receiver_distance_m", "ppv_mps", "kb_fmax_z")
         start = time.perf_counter()
         self.soil = self.core.call("build", params)
+        self.cfg = cfg
         # Where the time goes, printed on stderr at the end of a run.
         self.clock = {"build": time.perf_counter() - start, "statics": 0.0, "advance": 0.0,
                       "n_statics": 0, "n_advance": 0}
@@ -250,8 +251,11 @@ class FESoilParticipant(rc.Participant):
     def write_output(self, t, v, s):
         """vibration.csv and receivers.csv in the output folder (rank 0)."""
         os.makedirs(self.output_dir, exist_ok=True)
+        record = len(t) * (t[1] - t[0]) if len(t) > 1 else self.run.macro_step
         write(os.path.join(self.output_dir, "vibration.csv"),
-              measures.vibration_csv(self.history, self.receiver_x, self.distances, s))
+              measures.with_resolved(
+                  measures.vibration_csv(self.history, self.receiver_x, self.distances, s),
+                  resolution.receiver_bands(self.soil, self.cfg, record)))
         write(os.path.join(self.output_dir, "receivers.csv"),
               measures.receivers_csv(self.history, t, v))
 

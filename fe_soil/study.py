@@ -32,7 +32,7 @@ import tomllib
 import numpy as np
 
 from . import config as fe_config
-from . import measures, spectrum, two_step
+from . import measures, resolution, spectrum, two_step
 from . import progress as fe_progress
 
 # (key, label, case, extra options of master run)
@@ -160,7 +160,8 @@ def run_two_step(a, scene, out, reference_folder, names, xs, progress):
     snaps.save(os.path.join(folder, "surface.npz"), soil.p.receivers)
     s = two_step.summaries(v, H)
     with open(os.path.join(folder, "vibration.csv"), "w") as f:
-        f.write(measures.vibration_csv(names, xs, cfg["receivers"], s))
+        f.write(measures.with_resolved(measures.vibration_csv(names, xs, cfg["receivers"], s),
+                                       resolution.receiver_bands(soil, cfg, H * len(v))))
     with open(os.path.join(folder, "receivers.csv"), "w") as f:
         f.write(measures.receivers_csv(names, tr, v))
     cost = {"fit": fit, "lumped": lumped_wall, "one_way": one_way, "load": [l0, l1, l2]}
@@ -218,40 +219,6 @@ def checks(runs, ts):
         err = float(np.abs(v - ref).max() / np.abs(ref).max())
         out.append((what, "<= 1e-7 of the peak", "%.1e" % err, err <= 1e-7))
     return out
-
-
-def largest_element_on_path(nodes, x, y):
-    """The largest element edge a wave crosses on the surface from the track
-    axis (y = 0) to the receiver at (x, y): along y over [0, y], along x at
-    x, and the top element's depth (nodes: the x, y, z node coordinates;
-    z = 0 is the surface)."""
-    xs, ys, zs = (np.asarray(n, dtype=float) for n in nodes)
-    hy = np.diff(ys)[ys[:-1] < y].max(initial=0.0)
-    k = min(max(int(np.searchsorted(xs, x)) - 1, 0), len(xs) - 2)
-    hx = xs[k + 1] - xs[k]
-    top = np.sort(zs)
-    return float(max(hx, hy, top[-1] - top[-2]))
-
-
-def resolution(soil, cfg):
-    """(c_R of the softest layer, [per receiver: (the largest element on its
-    path, the frequency with 10 such elements per Rayleigh wavelength, the
-    45-degree phase-error estimate)]). A graded mesh keeps the rule's size
-    out to resolve_to and grows beyond it, so each receiver has its own; a
-    receiver inside its absorbing layers has none (0 Hz: they damp it)."""
-    from .absorbing import inside
-    from .params import rayleigh_speed, resolved_frequency
-
-    soft = min(cfg["layers"], key=lambda l: rayleigh_speed(l.shear_speed, l.poisson))
-    c = rayleigh_speed(soft.shear_speed, soft.poisson)
-    out = []
-    for (x, y), d in zip(soil.p.receivers, cfg["receivers"]):
-        h = largest_element_on_path(soil.nodes, x, y)
-        if inside(soil.p, soil.nodes, (x, y, 0.0)):
-            out.append((h, 0.0, 0.0))
-        else:
-            out.append((h, c / (10.0 * h), resolved_frequency(h, soil.dt, soft, d)))
-    return c, out
 
 
 def main(argv=None):
@@ -332,7 +299,7 @@ def main(argv=None):
             "kc": ts["kc"],
             "checks": found, "total": time.perf_counter() - started, "load": load(),
             "windows": windows}
-    info["resolution"] = resolution(ts["soil"], cfg)
+    info["resolution"] = resolution.resolution(ts["soil"], cfg)
     info["load_content"] = spectrum.load_verdicts(
         ts["forces"][:, 1:], ts["H"], cfg["receivers"],
         [min(f, g) for _, f, g in info["resolution"][1]])

@@ -26,13 +26,14 @@ def components(series, n):
     return v
 
 
-def vibration_csv(names, xs, ys, summaries):
+def vibration_csv(names, xs, ys, summaries, bands):
     """The FE soil's vibration.csv (fe_soil.measures) with the horizontal
     one-third-octave levels after its columns: Lv_x_<f>Hz_dB (along the
-    rail), then Lv_y_<f>Hz_dB (across), per band."""
+    rail), then Lv_y_<f>Hz_dB (across), per band; then the resolved bands
+    (measures.with_resolved; bands: resolution.receiver_bands)."""
     lines = measures.vibration_csv(names, xs, ys, summaries).split("\n")
     centres = summaries[0]["band_centres"] if summaries else []
     lines[0] += "".join(",Lv_%s_%gHz_dB" % (c, f) for c in "xy" for f in centres)
     for k, r in enumerate(summaries):
         lines[k + 1] += "".join(",%.9g" % v for v in r["band_levels"][0] + r["band_levels"][1])
-    return "\n".join(lines)
+    return measures.with_resolved("\n".join(lines), bands)

@@ -32,6 +32,7 @@ from fe_soil.config import channel_names  # noqa: E402
 
 from . import config as green_config  # noqa: E402
 from .outputs import components, vertical_up, vibration_csv  # noqa: E402
+from .resolution import receiver_bands  # noqa: E402
 from .track import TrackSoil  # noqa: E402
 
 KEEP_SAVES = 8  # states held for restore (implicit coupling restores the latest)
@@ -76,6 +77,7 @@ class GreenSoilParticipant(rc.Participant):
 
     def configure(self, config, interfaces):
         cfg, fps, rx = self.settings(config, interfaces)
+        self.cfg = cfg
         H = self.run.macro_step
         memory = min(cfg["memory"], self.run.end_time + H)
         r_memory = min(cfg["receiver_memory"], self.run.end_time + H)
@@ -162,7 +164,8 @@ class GreenSoilParticipant(rc.Participant):
             t = dt * np.arange(1, len(v) + 1)
             os.makedirs(self.output_dir, exist_ok=True)
             write(os.path.join(self.output_dir, "vibration.csv"),
-                  vibration_csv(self.history, self.receiver_x, self.distances, s))
+                  vibration_csv(self.history, self.receiver_x, self.distances, s,
+                                receiver_bands(self.cfg, dt * len(v), dt)))
             write(os.path.join(self.output_dir, "receivers.csv"),
                   measures.receivers_csv(self.history, t, v))
         return (self.last, np.array(self.distances), np.array([r["ppv"] for r in s]),

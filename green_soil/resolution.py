@@ -19,6 +19,8 @@ receiver, and why: what its study's report states per receiver.
 """
 from __future__ import annotations
 
+import math
+
 from fe_soil.measures import third_octave_bands
 from fe_soil.params import rayleigh_speed
 
@@ -56,6 +58,16 @@ def resolved(cfg, record_s, window_s, distance):
                          "%.4g m/s)" % (memory, held, c_r))
         out["lo_Hz"] = float(kept[0]) if kept else None
         out["hi_Hz"] = out["hi_Hz"] if kept else None
+    return out
+
+
+def receiver_bands(cfg, record_s, window_s):
+    """(lowest, highest) resolved band centre at each receiver of cfg (nan
+    for none): vibration.csv's resolved_from_hz, resolved_to_hz."""
+    out = []
+    for d in cfg["receivers"]:
+        r = resolved(cfg, record_s, window_s, d)
+        out.append((math.nan, math.nan) if r["lo_Hz"] is None else (r["lo_Hz"], r["hi_Hz"]))
     return out
 
 

@@ -161,7 +161,8 @@ def write_receivers(folder, cfg, rx, rows, H):
     s = [measures.receiver_summary(v[:, k, :], H) for k in range(v.shape[1])]
     os.makedirs(folder, exist_ok=True)
     with open(os.path.join(folder, "vibration.csv"), "w") as f:
-        f.write(outputs.vibration_csv(names, [rx] * len(names), cfg["receivers"], s))
+        f.write(outputs.vibration_csv(names, [rx] * len(names), cfg["receivers"], s,
+                                      resolution.receiver_bands(cfg, H * len(v), H)))
     with open(os.path.join(folder, "receivers.csv"), "w") as f:
         f.write(measures.receivers_csv(names, H * np.arange(1, len(v) + 1), v))
 

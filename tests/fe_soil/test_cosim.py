@@ -85,6 +85,10 @@ class CoSimulation(unittest.TestCase):
         kb = [float(r[head.index("kb_fmax_z")]) for r in vib]
         self.assertTrue(all(math.isfinite(v) and v > 0 for v in ppv + kb), (ppv, kb))
         self.assertGreater(ppv[0], ppv[1])
+        # Then the bands the soil resolves there: none in 0.02 s (lines 50
+        # Hz apart, wider than any band to 100 Hz).
+        self.assertEqual(head[-2:], ["resolved_from_hz", "resolved_to_hz"])
+        self.assertEqual([r[-2:] for r in vib], [["nan", "nan"]] * 2)
         _, rec = table(os.path.join(direct, "receivers.csv"))
         self.assertEqual(rec.shape, (200, 7))
         # The history's vertical velocity is the receivers.csv series.

@@ -96,7 +96,7 @@ class Grading(unittest.TestCase):
         # fe_soil.study: the element that limits a receiver is the largest on
         # its surface path from the track (along y from 0, along x where it
         # stands, and the top element's depth), not the first of the x axis.
-        from fe_soil.study import largest_element_on_path
+        from fe_soil.resolution import largest_element_on_path
         x = np.concatenate([[0.0, 3.0], np.arange(5.0, 41.0, 0.5)])  # coarse margin first
         y = np.concatenate([np.arange(0.0, 16.01, 0.5), 16.0 + 0.5 * np.cumsum(1.25 ** np.arange(1, 8))])
         z = -np.array([20.0, 10.0, 5.0, 1.4, 0.8, 0.4, 0.0])

@@ -7,7 +7,7 @@ import unittest
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))
-from fe_soil import measures  # noqa: E402
+from fe_soil import measures, resolution  # noqa: E402
 
 
 def sine(amplitude, f, duration, dt):
@@ -85,6 +85,34 @@ class Measures(unittest.TestCase):
         self.assertAlmostEqual(s["band_levels"][0][k] - s["band_levels"][2][k], 20.0 * math.log10(0.5), delta=1e-9)
         self.assertAlmostEqual(s["kb_fmax"][0] / s["kb_fmax"][2], 0.5, delta=1e-9)
         self.assertEqual(s["kb_fmax"][1], 0.0)
+
+    def test_resolved_bands_from_the_band_edges(self):
+        # Band m: centre 10^(m/10), edges 10^((m -+ 1/2)/10), width 0.2308
+        # of the centre. 1 s: the 5 Hz band (1.16 Hz wide) holds a line, the
+        # 4 Hz band (0.92 Hz) may not; 24 Hz: the 20 Hz band ends at 22.4
+        # Hz, the 25 Hz band at 28.2 Hz. 0.1 s: 10 Hz apart, the 50 Hz band
+        # first (11.5 Hz wide).
+        def band(m):
+            return 10.0 ** (m / 10.0)
+
+        for top, record, lo, hi in ((24.0, 1.0, 7, 13), (band(13.5), 1.0, 7, 13),
+                                    (100.0, 0.1, 17, 19), (200.0, 0.1, 17, 20)):
+            np.testing.assert_allclose(resolution.resolved_bands(top, record), (band(lo), band(hi)),
+                                       rtol=1e-14)
+        for top, record in ((24.0, 0.02), (40.0, 0.1), (0.0, 1.0)):
+            self.assertTrue(all(map(math.isnan, resolution.resolved_bands(top, record))))
+
+    def test_vibration_csv_ends_with_the_resolved_bands(self):
+        s = measures.receiver_summary(np.zeros((100, 3)), 1e-2)
+        text = measures.with_resolved(
+            measures.vibration_csv(["a", "b"], [1.0, 1.0], [4.0, 8.0], [s, s]),
+            [(5.0, 20.0), (math.nan, math.nan)])
+        rows = [line.split(",") for line in text.splitlines()]
+        self.assertEqual(rows[0][-3:], ["Lv_z_100Hz_dB", "resolved_from_hz", "resolved_to_hz"])
+        self.assertEqual(rows[1][-2:], ["5", "20"])
+        self.assertEqual(rows[2][-2:], ["nan", "nan"])
+        self.assertEqual(len({len(r) for r in rows}), 1)
+        self.assertTrue(text.endswith("\n") and not text.endswith("\n\n"))
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ resolve_to to the farthest receiver plus margin, are 22 m thick already,
 and margin 12 changes the 16 m band by 0.01 dB). On the scene's block in
 metres the 16 m receiver's lowest band fails (3.6 dB at 3.16 Hz). At full
 size, the scene's block with resolve_to 20 is test_whole_record_full.py."""
+import math
 import unittest
 from types import SimpleNamespace
 
@@ -32,7 +33,7 @@ from support import HALF_SPACE
 from pekeris_record import BOUNDS, F, MIDDLE, block
 from pekeris_record import whole_record as record
 
-from fe_soil import absorbing, config, lamb, spectrum, study
+from fe_soil import absorbing, config, lamb, resolution, spectrum
 
 FC = 7.5
 NEAR, ALL = (4.0, 8.0), (4.0, 8.0, 16.0)
@@ -209,9 +210,18 @@ class Layers(unittest.TestCase):
                                                             "shear_wave_speed": 100.0,
                                                             "poisson": 0.25}]})
         soil = SimpleNamespace(p=p, nodes=(p.x_nodes, p.y_nodes, p.z_nodes), dt=3e-3)
-        rows = study.resolution(soil, cfg)[1]
+        rows = resolution.resolution(soil, cfg)[1]
         self.assertEqual([f > 0.0 for _, f, _ in rows], [True, True, True, False])
         self.assertEqual(rows[3][1:], (0.0, 0.0))
+        # vibration.csv's bands: in a 1 s record from the 5 Hz band (the
+        # lowest 1 Hz wide or more) to the highest whose upper edge, centre
+        # 10^((m + 1/2)/10), lies below the receiver's resolved frequency;
+        # none at 32 m.
+        bands = resolution.receiver_bands(soil, cfg, 1.0)
+        for (_, f, g), (lo, hi) in zip(rows[:3], bands):
+            m = math.floor(10.0 * math.log10(min(f, g)) - 0.5 + 1e-9)
+            np.testing.assert_allclose((lo, hi), (10.0 ** 0.7, 10.0 ** (m / 10.0)), rtol=1e-14)
+        self.assertTrue(all(map(math.isnan, bands[3])))
         text = spectrum.load_verdicts(np.ones((10, 1)), 1e-3, [16.0, 32.0],
                                       [f for _, f, _ in rows[2:]])
         self.assertIn("32 m: the receiver lies in the absorbing layers", text[1][3])

@@ -53,7 +53,7 @@ except ImportError as e:  # pragma: no cover
 
 from fe_soil import config as fe_config, measures, spectrum  # noqa: E402
 from fe_soil.params import Footprint, Layer, SoilParams, graded_nodes, rayleigh_speed  # noqa: E402
-from fe_soil.study import resolution  # noqa: E402
+from fe_soil.resolution import resolution  # noqa: E402
 from green_soil import responses as R, spectral  # noqa: E402
 
 SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "scenes", "ground_vibration.toml")

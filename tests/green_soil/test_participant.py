@@ -126,10 +126,13 @@ class Participant(unittest.TestCase):
             ppv = [float(row[3]) for row in rows[1:]]
             self.assertEqual(ppv, [float("%.9g" % v) for v in res.fields[2].values])
             self.assertGreater(ppv[0], ppv[1])
-            # The horizontal levels follow the vertical ones, band by band.
+            # The horizontal levels follow the vertical ones, band by band;
+            # then the resolved bands: none in 12 ms (lines 83 Hz apart).
             bands = [c[len("Lv_z_"):] for c in rows[0] if c.startswith("Lv_z_")]
-            self.assertEqual(rows[0][-3 * len(bands):],
-                             ["Lv_%s_%s" % (c, b) for c in "zxy" for b in bands])
+            self.assertEqual(rows[0][-3 * len(bands) - 2:],
+                             ["Lv_%s_%s" % (c, b) for c in "zxy" for b in bands] +
+                             ["resolved_from_hz", "resolved_to_hz"])
+            self.assertEqual([row[-2:] for row in rows[1:]], [["nan", "nan"]] * 2)
             with open(os.path.join(tmp, "receivers.csv")) as f:
                 lines = f.read().split("\n")
             self.assertEqual(len(lines), 1 + 12 + 1)

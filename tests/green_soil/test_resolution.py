@@ -78,6 +78,15 @@ class Resolution(unittest.TestCase):
         self.assertEqual(resolution.cell(r), "none")
         self.assertEqual(r["lo_why"], "the 0.02 s record")
 
+    def test_vibration_csv_pairs_per_receiver(self):
+        # What vibration.csv's resolved_from_hz, resolved_to_hz carry: 64 m
+        # as above (the 2.5 Hz band, memory 1 s), 130 m nothing (nan).
+        c = dict(cfg(receiver_memory=1.0), receivers=[8.0, 64.0, 130.0])
+        pairs = resolution.receiver_bands(c, 2.4, 1e-3)
+        np.testing.assert_allclose(pairs[0], (band(3), band(19)), rtol=1e-14)
+        self.assertAlmostEqual(pairs[1][0], band(4), delta=1e-12)
+        self.assertTrue(all(map(math.isnan, pairs[2])))
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -111,6 +111,15 @@ class TrainScene(unittest.TestCase):
         for r in levels:
             self.assertEqual(r[3], "50.1-79.4", r)
             self.assertEqual(r[4], "the 0.1 s record / the taper from 96 Hz (0.8 f_max)", r)
+        # vibration.csv states the same bands, the two-way run's and the
+        # one-way check's.
+        for folder in (run, os.path.join(out, "runs", "two-step")):
+            with open(os.path.join(folder, "vibration.csv")) as f:
+                rows = list(csv.DictReader(f))
+            self.assertEqual(len(rows), 2)
+            for r in rows:
+                self.assertEqual((float(r["resolved_from_hz"]), float(r["resolved_to_hz"])),
+                                 (float("%.9g" % 10 ** 1.7), float("%.9g" % 10 ** 1.9)), folder)
         check = support.report_rows(report, "### Checks run by this study")
         self.assertEqual(check[0][-1], "pass", check)
 
