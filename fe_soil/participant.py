@@ -20,8 +20,9 @@ History channels: the vertical velocity of each receiver (r8m_vz_mps, ...).
 Results: soil_m (the footprints' displacement, -> soil.csv) and per
 receiver its distance, PPV and vertical KB_Fmax. With --output-dir, rank 0
 writes there, at the end of a run, vibration.csv (per receiver: PPV, KB_Fmax
-per component, vertical one-third-octave levels) and receivers.csv (the
-velocity series); the master passes its run folder when it starts the soil.
+per component, vertical one-third-octave levels, the bands resolved there:
+fe_soil/resolution.py) and receivers.csv (the velocity series); the master
+passes its run folder when it starts the soil.
 """
 import argparse
 import os
