@@ -4,13 +4,13 @@ receiver (the reference run's vibration.csv), which soil the scene needs
 import math
 import os
 
+from fe_soil import study_report as fe_report
+
 from . import resolution, soil_choice
 
 # Relative to the peak: the same convolution, read back from receivers.csv,
 # which holds 9 significant digits (5e-10 of a value).
 ONE_WAY_BOUND = 1e-8
-DOCS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs",
-                    "ground-vibration-validation.md")
 TESTS_HEADING = "### The soil from Green's functions"
 
 
@@ -54,23 +54,6 @@ def check(fit):
                                        "pass" if err <= ONE_WAY_BOUND else "**FAIL**")]
 
 
-def tests_table():
-    """The Green's-function soil's rows of docs/ground-vibration-validation.md."""
-    try:
-        with open(DOCS) as f:
-            text = f.read()
-        start = text.index(TESTS_HEADING)
-        end = text.find("\n#", start + 1)
-        rows = [x for x in text[start:end if end > 0 else None].splitlines()
-                if x.startswith("|")]
-    except (OSError, ValueError):
-        return ["docs/ground-vibration-validation.md is not beside this package: run "
-                "`ctest -L green_soil`."]
-    return ["Not run by this study: the validation table of "
-            "docs/ground-vibration-validation.md, whose measured values the tests in "
-            "tests/green_soil (`ctest -L green_soil`) check against the bounds.", ""] + rows
-
-
 def write(out, a, scene, soils, rows, summary, fit, resolved):
     name = scene.get("scene", {}).get("name", a.scene)
     L = ["# Which soil a scene needs: %s" % name, "",
@@ -86,7 +69,7 @@ def write(out, a, scene, soils, rows, summary, fit, resolved):
     L += ["## Figures", "",
           "- `figures/soil_choice.png`: each soil's cost (wall s) against its largest "
           "|difference| from the reference over the receivers and bands", ""]
-    L += check(fit) + ["", "### The Green's-function soil's tests", ""] + tests_table()
+    L += check(fit) + ["", "### The Green's-function soil's tests", ""] + fe_report.tests_table(TESTS_HEADING, "green_soil")
     L += ["", "## Files", "",
           "- `soil_choice.csv`, `soil_choice.json`: the comparison's data "
           "(docs/ground-vibration.md, \"Which soil a scene needs\")",

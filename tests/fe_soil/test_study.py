@@ -159,6 +159,14 @@ class Study(unittest.TestCase):
         for r in rows:
             self.assertEqual(r[-1], "pass", r)
 
+    def test_the_fe_soils_tests_are_the_validation_pages_table(self):
+        # Not a note that the page is missing: it is beside the package.
+        rows = section(self.report, "### The FE soil's tests")
+        names = {r[0] for r in rows}
+        for name in ("statics", "whole_record", "whole_record_full", "damping_law", "cosim"):
+            self.assertIn("`fe_soil_%s`" % name, names)
+        self.assertNotIn("is not beside this package", self.report)
+
     def test_figures_and_snapshots(self):
         figs = [x.split("`")[1] for x in self.report.split("## Figures")[1].split("\n## ")[0]
                 .splitlines() if x.startswith("- `")]
