@@ -131,6 +131,13 @@ class Study(unittest.TestCase):
                 for shown, label in zip(cells[2:], ("Jacobi", "Gauss-Seidel", "implicit")):
                     self.assertAlmostEqual(float(shown), self.vib[label][d][c] - base,
                                            delta=0.0051, msg=(d, c, label))
+                # 0.02 s: lines 50 Hz apart, no band resolved (vibration.csv: nan)
+                self.assertTrue(math.isnan(self.vib["implicit"][d]["resolved_to_hz"]))
+                self.assertEqual(cells[5], "no", (d, c))
+        self.assertIn("Resolved at each receiver (its vibration.csv's resolved_from_hz to "
+                      "resolved_to_hz, band centres): 2 m: none; 4 m: none.", self.report)
+        self.assertIn("over the bands resolved: none resolved at 2 m, none resolved at 4 m; "
+                      "over every band: ", self.report)
 
     def test_decay_exponents(self):
         rows = section(self.report, "## Decay with distance")
@@ -217,6 +224,40 @@ class Study(unittest.TestCase):
         self.assertNotEqual(p.returncode, 0)
         self.assertIn('[soil] model must be "fe"', p.stderr)
         self.assertIn("master study", p.stderr)
+
+
+class ResolvedBands(unittest.TestCase):
+    """The report's resolved bands and its largest difference over them,
+    on rows made here: 4 m resolves 1-20 Hz, 8 m 5-20 Hz, 32 m none."""
+
+    def test_largest_difference_over_the_resolved_bands(self):
+        from fe_soil import study_report
+
+        nan = math.nan
+        # the band centres 10^(m/10) of m = 0, 7, 13, 14; the file's rows
+        # hold them to 9 digits
+        bs = [("Lv_z_%gHz_dB" % f, f) for f in (10.0 ** (m / 10.0) for m in (0, 7, 13, 14))]
+
+        def row(lo, hi, levels):
+            r = {"resolved_from_hz": lo, "resolved_to_hz": hi}
+            r.update({c: v for (c, _), v in zip(bs, levels)})
+            return r
+
+        levels = [60, 70, 80, 90]
+        ref = [row(1.0, 19.9526231, levels), row(5.01187234, 19.9526231, levels),
+               row(nan, nan, levels)]
+        two = [row(nan, nan, [61, 70.5, 80.25, 95]), row(nan, nan, [63, 70.5, 80.25, 95]),
+               row(nan, nan, [61, 70, 80, 90])]
+        runs = {"implicit": {"vibration": ref}, "two-step": {"vibration": two}}
+        d = [4.0, 8.0, 32.0]
+        self.assertEqual(study_report.worst_text(runs, bs, d, True),
+                         "1.00 dB at 4 m, 0.50 dB at 8 m, none resolved at 32 m")
+        self.assertEqual(study_report.worst_text(runs, bs, d, False),
+                         "5.00 dB at 4 m, 5.00 dB at 8 m, 1.00 dB at 32 m")
+        self.assertEqual([study_report.resolved(ref[1], f) for _, f in bs],
+                         [False, True, True, False])
+        self.assertEqual([study_report.span(r) for r in ref], ["1-20 Hz", "5.01-20 Hz", "none"])
+        self.assertFalse(study_report.resolved(ref[1], 10.0 ** 0.6))  # 3.98 Hz
 
 
 if __name__ == "__main__":
