@@ -90,6 +90,7 @@ def answer(runs, info):
             r = runs[m]["vibration"][k]
             L.append("| %g m | %s | %.4e | %.4e | %.4g | %.4g |" % (
                 dist, runs[m]["label"], r["ppv_mps"], r["ppv_z_mps"], kb_max(r), r["kb_fmax_z"]))
+    L += damped(info)
     bs = bands(runs)
     if not bs:
         L += ["", "No one-third-octave band of 1-100 Hz holds a spectral line of a %.4g s "
@@ -170,7 +171,22 @@ def decay(runs, info):
     for k, dist in enumerate(d):
         L.append("| %g m | %.4e | %.3f | %s | %.4g | %s | %.4e | %s |" % (
             dist, p[k], p[k] / p[0], n(p, k), kb[k], n(kb, k), p2[k], n(p2, k)))
-    return L
+    return L + damped(info)
+
+
+def damped(info):
+    """The sentence naming the receivers inside the absorbing layers (no
+    resolved frequency: info["resolution"]), whose measures are the
+    layers' damping, not the ground's; nothing when there are none."""
+    inside = ["%g m" % x for (_, f, _), x in zip(info["resolution"][1], info["distances"])
+              if f <= 0.0]
+    if not inside:
+        return []
+    return ["", "%s: inside the absorbing layers, which damp %s: %s PPV, KB_Fmax, levels "
+            "and decay exponent are the layers', not the ground's (raise [soil] resolve_to "
+            "beyond %s to measure there)." % (
+                ", ".join(inside), "them" if len(inside) > 1 else "it",
+                "their" if len(inside) > 1 else "its", "them" if len(inside) > 1 else "it")]
 
 
 def validation(info):

@@ -259,6 +259,22 @@ class ResolvedBands(unittest.TestCase):
         self.assertEqual([study_report.span(r) for r in ref], ["1-20 Hz", "5.01-20 Hz", "none"])
         self.assertFalse(study_report.resolved(ref[1], 10.0 ** 0.6))  # 3.98 Hz
 
+    def test_receivers_in_the_absorbing_layers_are_named(self):
+        from fe_soil import study_report
+
+        info = {"distances": [4.0, 16.0, 32.0],
+                "resolution": (120.0, [(0.5, 24.0, 47.5), (0.5, 24.0, 31.2), (2.48, 0.0, 0.0)])}
+        self.assertEqual(study_report.damped(info), [
+            "", "32 m: inside the absorbing layers, which damp it: its PPV, KB_Fmax, levels and "
+            "decay exponent are the layers', not the ground's (raise [soil] resolve_to beyond it "
+            "to measure there)."])
+        info["resolution"][1][1] = (2.0, 0.0, 0.0)
+        self.assertIn("16 m, 32 m: inside the absorbing layers, which damp them: their PPV",
+                      study_report.damped(info)[1])
+        info["resolution"] = (120.0, info["resolution"][1][:1])
+        info["distances"] = [4.0]
+        self.assertEqual(study_report.damped(info), [])
+
 
 if __name__ == "__main__":
     unittest.main()
