@@ -16,6 +16,9 @@ import unittest
 
 import support  # noqa: F401  (skips without dolfinx; puts the checkout on the path)
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from report_table import report_rows as section  # noqa: E402
+
 SRC = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BIN = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(SRC, "build", "bin")
 CI_SCENE = os.path.join(SRC, "scenes", "ground_vibration_ci.toml")
@@ -42,20 +45,6 @@ def scene_copy(work, name, extra):
     with open(path, "w") as f:
         f.write(text + extra)
     return path
-
-
-def section(report, heading):
-    """The table rows (cells) under the first line starting with heading, up
-    to the next heading; header and separator rows left out."""
-    lines = report.splitlines()
-    start = next(i for i, x in enumerate(lines) if x.startswith(heading))
-    rows = []
-    for x in lines[start + 1:]:
-        if x.startswith("#"):
-            break
-        if x.startswith("|"):
-            rows.append([c.strip() for c in x.strip().strip("|").split("|")])
-    return rows[2:]
 
 
 def png_size(path):

@@ -17,6 +17,9 @@ except ImportError as e:  # pragma: no cover
 from fe_soil import lamb  # noqa: E402
 from fe_soil.params import Layer  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+from report_table import report_rows  # noqa: E402,F401  (the green tests' support.report_rows)
+
 # nu = 1/4, elastic: Pekeris' closed form (fe_soil/lamb.py) applies.
 HALF_SPACE = [Layer(thickness=1.0, density=1800.0, shear_speed=200.0, poisson=0.25, damping=0.0)]
 
@@ -40,17 +43,3 @@ def pekeris_footprint(t, dx, dy, a, b, layer, f, df, nodes=300, n_gauss=6):
             out += wa * wb * lamb.convolve(t, r, layer.shear_modulus, layer.shear_speed, f, df,
                                            nodes=nodes)
     return out
-
-
-def report_rows(report, heading):
-    """The table rows (cells) of a REPORT.md under the first line starting
-    with heading, up to the next heading; header and separator left out."""
-    lines = report.splitlines()
-    start = next(i for i, x in enumerate(lines) if x.startswith(heading))
-    rows = []
-    for x in lines[start + 1:]:
-        if x.startswith("#"):
-            break
-        if x.startswith("|"):
-            rows.append([c.strip() for c in x.strip().strip("|").split("|")])
-    return rows[2:]
