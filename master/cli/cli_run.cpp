@@ -137,6 +137,8 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
   check(o.coupling);
   o.data_plane = remote::parse_data_plane(a.data_plane);
   o.direct.window_steps = a.window_steps;
+  o.judge.mode = run::parse_judge_mode(a.judge, "--judge");
+  o.judge.budget = a.judge_budget;
   if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(
         "--feedthrough resolved applies to explicit coupling with held inputs only");
@@ -283,6 +285,18 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "tcp: the most one macro step may take, in seconds, while its node shows "
                   "progress (a node silent for the step deadline fails sooner)")
       ->check(CLI::Range(0.1, 86400.0))
+      ->capture_default_str();
+  run->add_option("--judge", a.judge,
+                  "What is judged after the run: full (stability and the errors against the "
+                  "reference), stability (no reference is made), none")
+      ->check(CLI::IsMember({"full", "stability", "none"}))
+      ->capture_default_str();
+  run->add_option("--judge-budget", a.judge_budget,
+                  "Where the stability map is measured by Arnoldi's method (a model of more than "
+                  "2500 coordinates), its products may take this many times the run's macro "
+                  "steps (at least 200 products); past it the stability is \"not judged\" with "
+                  "the reason. A smaller model's map is taken whole. 0: no bound")
+      ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   run->add_option("--node", a.nodes,
                   "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "

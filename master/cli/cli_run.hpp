@@ -35,6 +35,8 @@ struct RunArgs {
   long window_steps = 0;
   double step_budget = 120;   // s
   double reference_step = 0;  // s; 0: half the macro step (run/cosim_reference.hpp)
+  std::string judge = "full";  // what the verdict measures (run::JudgeMode)
+  double judge_budget = 1.0;   // the stability measure's time over the run's
   engine::CouplingOptions c;  // the numbers; the names above are parsed into it
   bool check = false;         // master --check: stop once everything is read and checked
 };

@@ -11,6 +11,7 @@
 
 #include "monolithic.hpp"
 #include "run/spectral.hpp"
+#include "run/stability.hpp"
 #include "track_model.hpp"
 
 namespace railcosim::run {
@@ -238,6 +239,15 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene) {
     why << size.str();
     if (!growth.empty()) why << " (stable: " << growth << ")";
   }
+  // The measure of the map ran out of its budget: the errors were measured,
+  // the stability was not, and the status claims no more.
+  const bool unmeasured = run.stability == kNotJudged && run.stability_basis == "map";
+  if (unmeasured && run.status == "ok") {
+    run.status = size.str().empty() ? "not_judged" : "inaccurate";
+    run.message = (size.str().empty() ? std::string("errors within their bounds") : size.str()) +
+                  "; stability not judged: " + run.spectral_note;
+    return;
+  }
   if (why.str().empty()) return;
   if (run.status == "not_converged") {  // that stays the verdict; the rest is said
     run.message += "; " + why.str();
@@ -258,6 +268,7 @@ void judge_unmeasured(RunRecord& run, const std::string& why) {
   } else {
     run.status = "not_judged";
     run.message = "not judged: " + why;
+    if (run.stability == "stable" && !growth.empty()) run.message += "; stable: " + growth;
   }
 }
 

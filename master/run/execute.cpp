@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "run/cosim_reference.hpp"
+#include "run/evaluation.hpp"
 #include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
 #include "run/stability.hpp"
@@ -29,6 +30,21 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   // judged when a reference step is asked for (the study's runs; it is then
   // started without an output folder).
   const bool started = scene.started_soil() != nullptr;
+  if (o.judge.mode == JudgeMode::kNone) {
+    r.reference_kind = "none";
+    judge_unmeasured(r, "--judge none");
+    return r;
+  }
+  if (o.judge.mode == JudgeMode::kStability) {
+    r.reference_kind = "none";
+    const bool own_model = !given_node && scene.soil_model != "external" && !started;
+    if (own_model)
+      assess_growth(r, scene, job.spec, o);
+    else
+      judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
+    judge_unmeasured(r, "errors not measured (--judge stability)");
+    return r;
+  }
   if (given_node || scene.soil_model == "external" || (started && job.reference_step > 0)) {
     judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
     assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step,

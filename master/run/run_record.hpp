@@ -48,6 +48,11 @@ struct RunRecord {
   // and the seconds it took; or why it was not computed.
   std::optional<double> spectral_radius, spectral_rate, map_seconds;
   std::optional<long> map_dimension;
+  // How the map was measured: "krylov" (Arnoldi, the default) or "dense"
+  // (the test oracle), and the products of the map it took (each two
+  // parked macro steps).
+  std::string map_method;
+  std::optional<long> map_products;
   std::optional<long> map_micro_steps;  // per macro step, the most of a participant
   std::string spectral_note;
   // The growth rate measured through the participants (matrix_free.hpp):

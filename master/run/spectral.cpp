@@ -1,7 +1,5 @@
 #include "run/spectral.hpp"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +12,7 @@
 #include "run/stability.hpp"
 #include "subsystem.hpp"
 #include "subsystem_motion.hpp"
+#include "verdict/spectrum.hpp"
 
 namespace railcosim::run {
 namespace {
@@ -154,34 +153,33 @@ std::vector<double> perturbations(const std::vector<double>& x, const std::vecto
   return e;
 }
 
-// The map's matrix in coordinates scaled by their perturbations, the
-// columns the step ignores dropped (with their rows).
-Eigen::MatrixXd map_matrix(ParkedCoupling& c, double H) {
-  const std::vector<double> x0 = c.rest();
-  const std::vector<double> e = perturbations(x0, c.kinds(), H);
-  const std::size_t N = x0.size();
-  Eigen::MatrixXd A(static_cast<Eigen::Index>(N), static_cast<Eigen::Index>(N));
-  std::vector<Eigen::Index> kept;
-  for (std::size_t j = 0; j < N; ++j) {
-    std::vector<double> x = x0;
-    x[j] = x0[j] + e[j];
-    const std::vector<double> up = c.step(x);
-    x[j] = x0[j] - e[j];
-    const std::vector<double> down = c.step(x);
-    bool any = false;
-    for (std::size_t i = 0; i < N; ++i) {
-      const double a = (up[i] - down[i]) / (2 * e[i]);
-      A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a;
-      any = any || a != 0;
+// The map as a linear operator in coordinates scaled by their
+// perturbations: A v is the central difference of two macro steps from the
+// state at rest moved by +-c e.v, over 2c e (c = 1 / max|v|, so that no
+// coordinate moves by more than its perturbation: the Hertz contact's
+// linear range). For a unit vector this is the dense map's column.
+verdict::LinearOperator map_operator(ParkedCoupling& c, double H) {
+  auto x0 = std::make_shared<const std::vector<double>>(c.rest());
+  auto e = std::make_shared<const std::vector<double>>(perturbations(*x0, c.kinds(), H));
+  verdict::LinearOperator a;
+  a.dimension = static_cast<long>(x0->size());
+  a.apply = [&c, x0, e](const double* v, double* y) {
+    const std::size_t N = x0->size();
+    double largest = 0;
+    for (std::size_t i = 0; i < N; ++i) largest = std::max(largest, std::abs(v[i]));
+    if (!(largest > 0)) {
+      std::fill(y, y + N, 0.0);
+      return;
     }
-    if (any) kept.push_back(static_cast<Eigen::Index>(j));
-  }
-  const auto K = static_cast<Eigen::Index>(kept.size());
-  Eigen::MatrixXd R(K, K);
-  for (Eigen::Index i = 0; i < K; ++i)
-    for (Eigen::Index j = 0; j < K; ++j)
-      R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
-  return R;
+    const double scale = 1 / largest;
+    std::vector<double> x = *x0;
+    for (std::size_t i = 0; i < N; ++i) x[i] = (*x0)[i] + scale * (*e)[i] * v[i];
+    const std::vector<double> up = c.step(x);
+    for (std::size_t i = 0; i < N; ++i) x[i] = (*x0)[i] - scale * (*e)[i] * v[i];
+    const std::vector<double> down = c.step(x);
+    for (std::size_t i = 0; i < N; ++i) y[i] = (up[i] - down[i]) / (2 * scale * (*e)[i]);
+  };
+  return a;
 }
 
 // The options the map steps with: an implicit coupling converged to
@@ -198,9 +196,10 @@ RunOptions map_options(RunOptions o) {
 
 }  // namespace
 
-MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
-                                const RunOptions& options) {
+MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                                const MapSettings& settings) {
   MapSpectrum s;
+  s.method = settings.method == MapMethod::kDense ? "dense" : "krylov";
   const RunOptions o = map_options(options);
   const auto t0 = std::chrono::steady_clock::now();
   // A step of the map: the macro step, or a multirate plan's slow window.
@@ -218,30 +217,37 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
   }
   ParkedCoupling c(parked, spec, o);
   s.states = static_cast<long>(c.state().size());
-  const Eigen::MatrixXd A = map_matrix(c, options.macro_step);
-  s.dimension = static_cast<long>(A.rows());
+  const verdict::LinearOperator a = map_operator(c, options.macro_step);
+  const bool dense = settings.method == MapMethod::kDense ||
+                     (settings.method == MapMethod::kAuto && s.states <= kDenseMapLimit);
+  verdict::Budget whole;  // the dense map: no bound of products, the stop kept
+  whole.stop = settings.budget.stop;
+  const verdict::Spectrum m =
+      dense ? verdict::dense_spectrum(
+                  a, settings.method == MapMethod::kDense ? settings.budget : whole)
+            : verdict::dominant_spectrum(a, settings.budget, settings.krylov);
+  s.dimension = m.dimension;
+  s.products = m.products;
+  s.method = m.method;
   s.micro_steps = c.micro_steps();
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (c.not_converged() > 0) {
     std::ostringstream w;
     w << "the implicit step did not converge to " << kMapConvergence << " within "
       << kMapMaxIterations << " iterations in " << c.not_converged() << " of the map's "
-      << 2 * s.states << " steps";
+      << 2 * m.products << " steps";
     s.why_not = w.str();
     return s;
   }
-  if (A.rows() > 0) {
-    const Eigen::EigenSolver<Eigen::MatrixXd> eig(A, false);
-    if (eig.info() != Eigen::Success) {
-      s.why_not = "the eigenvalue iteration of the map's matrix did not converge";
-      return s;
-    }
-    Eigen::Index at = 0;
-    s.rho = eig.eigenvalues().cwiseAbs().maxCoeff(&at);
-    s.frequency_hz = std::abs(std::arg(eig.eigenvalues()(at))) / (2 * M_PI * window);
+  if (!m.converged) {
+    s.why_not = m.why_not;
+    return s;
   }
+  s.rho = m.rho;
+  s.leading = m.leading;
+  s.frequency_hz = std::abs(std::arg(m.dominant)) / (2 * M_PI * window);
   s.rate_per_s = std::log(std::max(s.rho, 1e-300)) / window;
   s.computed = true;
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

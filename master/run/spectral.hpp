@@ -28,11 +28,14 @@
 // run's own defect check (stability.hpp) complements.
 #pragma once
 
+#include <complex>
 #include <string>
+#include <vector>
 
 #include "cosim_case.hpp"
 #include "run/runner.hpp"
 #include "scene.hpp"
+#include "verdict/spectrum.hpp"
 
 namespace railcosim::run {
 
@@ -41,11 +44,14 @@ struct MapSpectrum {
   double rho = 0;           // the largest modulus of an eigenvalue of the map
   double rate_per_s = 0;    // ln(rho) / H: the growth rate of its mode, 1/s
   double frequency_hz = 0;  // its mode's frequency: |arg(lambda)| / (2 pi H)
-  long dimension = 0;       // the coordinates of the map (after dropping the ignored)
+  long dimension = 0;       // the coordinates of the map (dense: after dropping the ignored)
+  long products = 0;        // products of the map taken (each two parked macro steps)
+  std::string method;       // "krylov" or "dense"
   long states = 0;          // the coupled state's coordinates before that
   long micro_steps = 0;     // the micro steps of its macro step (the most of a participant)
   double seconds = 0;       // the wall time of the computation
   std::string why_not;      // when not computed: why
+  std::vector<std::complex<double>> leading;  // the eigenvalues found, largest first
 };
 
 // The relative size of the perturbations: of the static displacements and
@@ -62,7 +68,28 @@ inline constexpr int kMapMaxIterations = 200;
 // coupling's step is the fixed point its iterations converge to: each of
 // its steps is iterated to kMapConvergence, and the map is not computed
 // where a step does not get there.
-MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
-                                const RunOptions& options);
+enum class MapMethod {
+  // The dense map up to kDenseMapLimit coordinates, Arnoldi above: the default.
+  kAuto,
+  // The dominant eigenvalues by Arnoldi's method (verdict/spectrum.hpp):
+  // O(N k) memory and a number of products that does not grow with N; on a
+  // spectrum crowded along the unit circle (the lightly damped track modes
+  // of the paper scene: moduli 2e-6 apart) it does not converge within any
+  // affordable budget, and the verdict then says "not judged".
+  kKrylov,
+  // Every column and every eigenvalue (LAPACK): exact, O(N^2) memory and
+  // O(N^3) work; the oracle of the tests and the measure of small models.
+  kDense,
+};
+// The largest map the default measures densely: 2500 coordinates, a 50 MB
+// matrix and its working copy.
+inline constexpr long kDenseMapLimit = 2500;
+struct MapSettings {
+  MapMethod method = MapMethod::kAuto;
+  verdict::Budget budget;
+  verdict::KrylovSettings krylov;
+};
+MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                                const MapSettings& settings = {});
 
 }  // namespace railcosim::run

@@ -4,6 +4,9 @@
 #include <cmath>
 
 #include <sstream>
+#include <stdexcept>
+
+#include "connection.hpp"
 
 #include "run/evaluation.hpp"
 #include "run/matrix_free.hpp"
@@ -144,10 +147,58 @@ DefectGrowth defect_growth(const std::vector<double>& defect, double dt) {
 
 namespace {
 
-// The map's verdict, or the probe's where the map cannot be computed.
+// The measure's budget for a run: Arnoldi's products (each two parked macro
+// steps) at most options.judge.budget times half the run's macro steps, and
+// at least kJudgeMinProducts; a count, not a time, so that the verdict does
+// not depend on the machine's load. The dense map of a model of at most
+// kDenseMapLimit coordinates is taken whole. The run's stop flag (and the
+// signal that interrupts a wait) is asked before every product.
+verdict::Budget judge_budget(const RunRecord& run, const RunOptions& options) {
+  verdict::Budget b;
+  if (options.judge.budget > 0)
+    b.max_products =
+        std::max(kJudgeMinProducts,
+                 std::lround(options.judge.budget * static_cast<double>(run.macro_steps) / 2));
+  const std::atomic<int>* stop = options.stop;
+  b.stop = [stop] { return (stop && stop->load() != 0) || interrupt_signal() != 0; };
+  return b;
+}
+
+// The map's verdict, or the probe's where the map's steps cannot be
+// iterated to convergence (implicit coupling); "not judged" with the
+// reason where the measure does not converge within its budget.
 void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
                   const RunOptions& options) {
-  const MapSpectrum m = macro_step_spectrum(scene, spec, options);
+  MapSettings settings;
+  settings.budget = judge_budget(run, options);
+  MapSpectrum m;
+  try {
+    m = macro_step_spectrum(scene, spec, options, settings);
+  } catch (const verdict::Stopped&) {
+    std::ostringstream s;
+    s << "interrupted by signal "
+      << (options.stop && options.stop->load() ? options.stop->load() : interrupt_signal())
+      << " during the stability judgement of " << run.case_name;
+    throw std::runtime_error(s.str());
+  }
+  run.map_method = m.method;
+  if (m.products > 0) run.map_products = m.products;
+  if (m.computed && m.method == "krylov" && m.rate_per_s < unstable_rate(scene.end_time)) {
+    // Arnoldi's converged eigenvalues are eigenvalues, not always the
+    // largest (spectral.hpp): a growing one proves instability, the lack of
+    // one proves nothing.
+    std::ostringstream w;
+    w << "the map's " << m.states << " coordinates are more than the dense measure's "
+      << kDenseMapLimit
+      << ", and the largest eigenvalue Arnoldi's method converged to (ρ = " << rho_words(m.rho)
+      << " after " << m.products
+      << " products) is below the bound, which does not prove that none is above it";
+    run.spectral_note = w.str();
+    run.map_seconds = m.seconds;
+    run.stability = kNotJudged;
+    run.stability_basis = "map";
+    return;
+  }
   if (m.computed) {
     run.stability_basis = "map";
     run.spectral_radius = m.rho;
@@ -159,15 +210,22 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
     return;
   }
   run.spectral_note = m.why_not;
+  run.map_seconds = m.seconds;
+  if (options.coupling.method != engine::CouplingMethod::kImplicit ||
+      m.why_not.find("implicit step did not converge") == std::string::npos) {
+    // Out of budget: nothing measured is claimed.
+    run.stability = kNotJudged;
+    run.stability_basis = "map";
+    return;
+  }
   const Stability s = probe_stability(scene, spec, options);
   run.stability_basis = "probe";
   run.stability = s.unstable ? "unstable" : "stable";
   run.error_growth = s.growth;
   run.error_growth_rate = s.rate_per_s;
   run.probe_time = s.duration_s;
-  // Implicit coupling has no dense map: its rho through the participants.
-  if (options.coupling.method == engine::CouplingMethod::kImplicit)
-    judge_growth_matrix_free(run, scene, spec, options, remote::kInprocTransport, {});
+  // Implicit coupling has no map here: its rho through the participants.
+  judge_growth_matrix_free(run, scene, spec, options, remote::kInprocTransport, {});
 }
 
 }  // namespace
@@ -203,7 +261,9 @@ std::string stability_json(const RunRecord& r) {
     << ", \"basis\": " << json_quoted(r.stability_basis) << ", \"rho\": " << opt(r.spectral_radius)
     << ", \"rho_rate_per_s\": " << opt(r.spectral_rate)
     << ", \"map_dimension\": " << (r.map_dimension ? std::to_string(*r.map_dimension) : "null")
-    << ", \"map_s\": " << opt(r.map_seconds);
+    << ", \"map_s\": " << opt(r.map_seconds)
+    << ", \"map_method\": " << (r.map_method.empty() ? "null" : json_quoted(r.map_method))
+    << ", \"map_products\": " << (r.map_products ? std::to_string(*r.map_products) : "null");
   if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
   if (r.matrix_free_steps)
     s << ", \"rho_matrix_free\": " << opt(r.matrix_free_rho)

@@ -278,6 +278,8 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
   job.options.tolerance = run.tolerance;
   job.options.feedthrough = run.feedthrough;
   job.options.coupling = run.coupling;
+  // A multirate method's cuts at their windows, as its plan line says.
+  job.options.cut_windows = run.cut_windows;
   job.options.stop = opt.stop;
   job.transport = run.transport;
   job.nodes = {given_nodes(plan.nodes), &pool, {}, {}};
