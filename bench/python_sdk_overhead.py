@@ -17,8 +17,15 @@ The SDK's overhead is relayed - physics and direct - physics, and directly
 the relayed and direct times of the same soil with an advance() that
 computes nothing (steadier on a busy machine): everything the
 SDK does but the socket calls, which any participant makes (two per step
-relayed, send and receive; the same direct). Usage:
-  /usr/bin/python3 bench/python_sdk_overhead.py [STEPS]
+relayed, send and receive; the same direct).
+
+Every session runs as the master runs it: Configure.progress_ms = 100 (the
+master's value, which it always sends), a master channel attached and each
+request's id set while it is answered, so that progress frames are due in
+every step (none is sent: no step lasts 100 ms). --no-progress measures
+without them, as this script did before. CPU time of the whole process
+(every thread). Usage:
+  /usr/bin/python3 bench/python_sdk_overhead.py [STEPS] [--no-progress]
 """
 
 import argparse
@@ -41,6 +48,8 @@ SOIL = runpy.run_path(os.path.join(here, "..", "examples", "python_soil", "soil_
 CONFIG = {"mass": 699.6, "stiffness": 121.08e6, "damping": 341.9e3,
           "coupling_stiffness": 43.72e6, "coupling_damping": 0.0}
 N_POINTS, H = 50, 1e-4
+PROGRESS_MS = 100  # what the master asks of every node (RemoteTimeouts::progress)
+progress_ms = PROGRESS_MS
 
 
 class NoPhysics(SOIL["LumpedSoil"]):
@@ -53,8 +62,10 @@ class NoPhysics(SOIL["LumpedSoil"]):
 
 def session(kind=SOIL["LumpedSoil"], make=Session):
     s = make(kind(), None, "bench", CONFIG)
+    s.master = Sink()  # where a server's session sends progress frames
     s.handle(pb.Envelope(id=1, hello=pb.Hello(protocol_version=PROTOCOL_VERSION, participant="soil")))
-    c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10)
+    c = pb.Configure(participant="soil", macro_step=H, end_time=1.0, micro_steps=10,
+                     progress_ms=progress_ms)
     i = c.interfaces.add(cut="ss", peer="track", stiffness=25.5e6, damping=4e4)
     i.x.extend((np.arange(N_POINTS) + 0.5) * 0.6)
     i.receives.extend([1, 2])
@@ -113,7 +124,9 @@ def relayed(steps, kind=SOIL["LumpedSoil"]):
     for f in frames:
         (length,) = struct.unpack_from(">I", f)
         req = pb.Envelope.FromString(f[4:4 + length])
+        s.request_id = req.id  # as the server sets it around handle()
         reply = s.handle(req).SerializeToString()
+        s.request_id = 0
         struct.pack(">I", len(reply)) + reply
     return (time.process_time() - t0) / steps
 
@@ -130,7 +143,9 @@ def lockstep(steps, kind=SOIL["LumpedSoil"], iterations=3):
     for f in frames:
         (length,) = struct.unpack_from(">I", f)
         req = pb.Envelope.FromString(f[4:4 + length])
+        s.request_id = req.id  # as the server sets it around handle()
         reply = s.handle(req).SerializeToString()
+        s.request_id = 0
         struct.pack(">I", len(reply)) + reply
     return (time.process_time() - t0) / steps
 
@@ -163,6 +178,7 @@ def direct(steps, kind=SOIL["LumpedSoil"]):
     plane.links, plane.opened, plane.point, plane.refresh = [link], True, 0, False
     plane.timeout, plane.end, plane.why = 10.0, steps, ""
     plane.begin(1)
+    s.request_id = 2  # the Window request the steps answer
     t0 = time.process_time()
     plane.run(0.0, 64)
     plane.flush()
@@ -173,7 +189,16 @@ def main():
     parser = argparse.ArgumentParser(description="The Python SDK's cost per macro step.")
     parser.add_argument("steps", nargs="?", type=int, default=3000, metavar="STEPS",
                         help="macro steps per measurement (default 3000)")
-    steps = parser.parse_args().steps
+    parser.add_argument("--no-progress", action="store_true",
+                        help="sessions without progress frames (Configure.progress_ms 0), "
+                        "which the master never asks for; default: progress_ms %d, as the "
+                        "master runs them" % PROGRESS_MS)
+    args = parser.parse_args()
+    steps = args.steps
+    global progress_ms
+    progress_ms = 0 if args.no_progress else PROGRESS_MS
+    print("progress frames: %s" % ("off (--no-progress)" if progress_ms == 0 else
+                                   "due every %d ms, as the master asks" % progress_ms))
     best = {}
     for _ in range(3):  # the best of three, against a busy machine
         for name, f in (("physics", physics), ("relayed", relayed), ("direct", direct),

@@ -17,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from figure_text import title_height, wrapped  # noqa: E402
 from speed_accuracy import RAN_TO_END, cut_of, num, read_rows, speed_accuracy  # noqa: E402
 
 STATUS_COLOURS = {"ok": "#4caf50", "inaccurate": "#fff176", "amplified": "#ff9800", "diverged": "#e53935",
@@ -153,9 +154,15 @@ def stability_map(runs, out):
     ax.set_xticks([j + 0.5 for j in range(len(steps))], [f"{h:g}" for h in steps])
     ax.set_yticks([i + 0.5 for i in range(len(methods))], methods, fontsize=8)
     ax.set_xlabel("macro step H (s)")
-    ax.set_title("Stability map (grouped by cut): green ok; yellow inaccurate (stable, error over its bound);\n"
-                 "orange amplified (unstable: a perturbation of the static state grows); red diverged")
-    fig.tight_layout()
+    # The title over the whole canvas, wrapped to its width (an axes title
+    # is centred on the axes, and a long one overflows both sides).
+    title = wrapped("Stability map (grouped by cut): green ok; yellow inaccurate (stable, error over its "
+                    "bound); orange amplified (unstable: a perturbation of the static state grows); red "
+                    "diverged", fig.get_figwidth() - 0.4, 10)
+    top_in = title_height(title, 10)
+    fig.set_figheight(fig.get_figheight() + top_in)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 1 - top_in / fig.get_figheight()))
     fig.savefig(os.path.join(out, "stability_map.png"), dpi=110)
     plt.close(fig)
 

@@ -13,6 +13,9 @@
 # receiver, a lumped soil's two-step run beside it, with --fe KEYS the FE
 # soil too, the differences and costs in OUT/REPORT.md and
 # OUT/soil_choice.csv/.json.
+# It installs only what the study needs: the base packages
+# (scripts/install-deps.sh), and the FE soil's stack (FEniCSx, PETSc, MPI:
+# --fe) or scipy (--green) only when the scene's soil is that soil.
 # Arguments: [OUT_DIR] [SCENE] [options of the study after the scene]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,10 +31,23 @@ try:
 except (OSError, tomllib.TOMLDecodeError):
     print("")  # the study that follows names the problem' "$scene")
 if [ "$soil_model" = "fe" ]; then
+  echo "run-main: $scene asks for the FE soil ([soil] model = \"fe\"): installing its stack" \
+    "(FEniCSx, PETSc, MPI) if it is missing: scripts/install-deps.sh --fe" >&2
+  scripts/install-deps.sh --fe
   OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec /usr/bin/python3 -m fe_soil.study \
     --scene "$scene" --out "$out" --master build/bin/master
 fi
 if [ "$soil_model" = "green" ]; then
+  echo "run-main: $scene asks for the soil from Green's functions ([soil] model = \"green\"):" \
+    "installing scipy if it is missing: scripts/install-deps.sh --green" >&2
+  profiles=(--green)
+  for arg in "$@"; do  # the study's --fe KEYS adds the FE soil beside it
+    if [ "$arg" = "--fe" ]; then
+      echo "run-main: --fe: the FE soil too: scripts/install-deps.sh --fe" >&2
+      profiles+=(--fe)
+    fi
+  done
+  scripts/install-deps.sh "${profiles[@]}"
   OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" exec /usr/bin/python3 -m green_soil.study \
     --scene "$scene" --out "$out" --master build/bin/master "$@"
 fi

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds, and runs the whole test suite:
+# Installs what is missing (every profile of scripts/install-deps.sh), builds,
+# and runs the whole test suite:
 #  1. the Release build (g++, warnings as errors) and every test, the tests
 #     that run a node's threads also against the node library under
 #     ThreadSanitizer (label "tsan");
@@ -14,6 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+scripts/install-deps.sh --all  # every profile: the suite covers the FE and Green's-function soils
 scripts/build.sh -DRAILCOSIM_BUILD_TESTS=ON -DRAILCOSIM_BUILD_BENCH=OFF
 (cd build && ctest --output-on-failure -j "$(nproc)")
 

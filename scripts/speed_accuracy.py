@@ -12,6 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from figure_text import fit_legend, place_labels, title_height, wrapped  # noqa: E402
 
 RAN_TO_END = ("ok", "inaccurate", "amplified")  # judged against the monolithic run
 
@@ -89,8 +90,7 @@ def speed_accuracy(study, runs, out):
     nrows = max(1, math.ceil(len(cuts) / ncols))
     answers = sum(1 for f in front if f["method"] and f["cut"] in cuts)
     table_h = 0.24 * (answers + 1) + 0.2  # inches: a row per answer and the header
-    legend_h = 1.0
-    fig = plt.figure(figsize=(7.5 * ncols, 5.2 * nrows + table_h + legend_h + 0.6))
+    fig = plt.figure(figsize=(7.5 * ncols, 5.2 * nrows + table_h + 0.6))
     grid = fig.add_gridspec(nrows + 1, ncols, height_ratios=[5.2] * nrows + [table_h])
     axes = [[None] * ncols for _ in range(nrows)]
     for k in range(nrows * ncols):
@@ -103,7 +103,7 @@ def speed_accuracy(study, runs, out):
         and num(r["rel_l2_error_converged"]) > 0
     )
     tol = sorted(dict((t[2], t) for t in tol).values(), key=lambda t: -float(t[2]))
-    state = {"drawn": [], "families": set(), "unstable": False, "answers": []}
+    state = {"drawn": [], "families": set(), "unstable": False, "answers": [], "labels": []}
     for k, cut in enumerate(cuts):
         panel(axes[k // ncols][k % ncols], cut, cosim, tol, front, levels, state)
     for k in range(len(cuts), nrows * ncols):
@@ -113,11 +113,17 @@ def speed_accuracy(study, runs, out):
     for ax in axes[-1]:
         ax.set_xlabel("wall time (s)")
     answer_table(fig.add_subplot(grid[nrows, :]), state["answers"])
-    legend(fig, state, cosim, tol)
-    fig.suptitle("Speed against accuracy, per cut: each point a macro step H; "
-                 "a numbered star is the method to use (table below)", fontsize=12)
-    bottom = legend_h / fig.get_figheight()
-    fig.tight_layout(rect=(0, bottom, 1, 0.97))
+    # The legend and the title take what they need of the canvas's height;
+    # the labels are placed once the panels have their size.
+    _, legend_in = legend(fig, state, cosim, tol)
+    title = wrapped("Speed against accuracy, per cut: each point a macro step H; "
+                    "a numbered star is the method to use (table below)", fig.get_figwidth() - 0.4, 12)
+    top_in = title_height(title, 12)
+    fig.set_figheight(fig.get_figheight() + legend_in + top_in)
+    fig.suptitle(title, fontsize=12)
+    h = fig.get_figheight()
+    fig.tight_layout(rect=(0, (legend_in + 0.1) / h, 1, 1 - top_in / h))
+    place_labels(fig, state["labels"])
     fig.savefig(os.path.join(out, "speed_accuracy.png"), dpi=110)
     plt.close(fig)
     return state["drawn"]
@@ -182,9 +188,8 @@ def panel(ax, cut, cosim, tol, front, levels, state):
                 state["unstable"] = True
                 ax.plot(p[0], p[1], mk, ms=11, mfc="none", mec="#d50000", mew=2, zorder=5)
         first = min(line or pts)
-        ax.annotate(short_name(m, cut), (first[0], first[1]), fontsize=6.5, color=colour,
-                    xytext=(4, 2), textcoords="offset points",
-                    fontweight="bold" if bold else "normal")
+        state["labels"].append((ax, short_name(m, cut), first[0], first[1],
+                                dict(fontsize=6.5, color=colour, fontweight="bold" if bold else "normal")))
     # The front: the report's answer, each point where summary.csv puts it.
     labels = {}
     for f in front:
@@ -223,7 +228,9 @@ def panel(ax, cut, cosim, tol, front, levels, state):
 
 def legend(fig, state, cosim, tol):
     """At most 8 entries: the families drawn, the reference, the schedules,
-    the unstable points and the answer; the transports in its title."""
+    the unstable points and the answer; the transports in its title. As
+    many columns (up to 4) as the canvas's width holds; returns the legend
+    and its height in inches."""
     from matplotlib.lines import Line2D
     handles = [Line2D([], [], color=c, lw=2, label=n) for n, c in FAMILIES if n in state["families"]]
     handles += [
@@ -237,7 +244,7 @@ def legend(fig, state, cosim, tol):
     handles.append(Line2D([], [], ls="", marker="*", ms=16, color="gold", mec="k",
                           label="the answer, numbered as in the table: cheapest to reach each error level"))
     transports = sorted({r["transport"] for r in cosim} | {t[3] for t in tol})
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, frameon=False,
+    return fit_legend(fig, 4, handles=handles, loc="lower center", fontsize=8, frameon=False,
                title="markers: " + ", ".join(f"{MARKERS.get(t, 'o').replace('o', 'circle').replace('s', 'square')} "
                                              f"{t}" for t in transports) + "; dotted lines: the error levels",
                title_fontsize=8)

@@ -206,6 +206,31 @@ TEST_F(StudyPlanTest, AMissingRunIsNamedAndTheExitStatusSaysSo) {
     }
 }
 
+// A run's message is one cell of REPORT.md's table, whole: a '|' it holds
+// (a norm) is escaped, not the end of the cell.
+TEST_F(StudyPlanTest, ARunsMessageStaysInOneCellOfTheReport) {
+  ASSERT_EQ(collect_.status, 0) << collect_.output;
+  const fs::path copy = dir_ / "piped";
+  fs::copy(dir_ / "planned", copy, fs::copy_options::recursive);
+  const fs::path json = copy / "sweep" / "H_0.0005" / "rs-xx-jacobi" / "summary.json";
+  std::string text = read_file(json);
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"\"status\": \"ok\"", "\"status\": \"failed\""},
+        {"\"message\": \"\"", "\"message\": \"the residual ||G(x) - x|| grew\""}}) {
+    ASSERT_NE(text.find(from), std::string::npos) << text;
+    text.replace(text.find(from), from.size(), to);
+  }
+  std::ofstream(json) << text;
+  const Result r = sh(dir_, "RAILCOSIM_FIGURES=/nonexistent " + kMaster + " study --collect piped");
+  EXPECT_EQ(r.status, 1) << r.output;
+  const std::string report = read_file(copy / "REPORT.md");
+  EXPECT_NE(
+      report.find("| sweep/H_0.0005/rs-xx-jacobi | failed | the residual \\|\\|G(x) - x\\|\\| "
+                  "grew |\n"),
+      std::string::npos)
+      << report;
+}
+
 TEST(StudySweep, OneSceneVariantPerSpeedAndTheReportGroupsByIt) {
   const fs::path dir =
       fs::temp_directory_path() / ("railcosim_sweep_" + std::to_string(::getpid()));

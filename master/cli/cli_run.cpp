@@ -315,10 +315,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--out", a.out, "Output folder; the run writes OUT/CASE/")->capture_default_str();
   run->add_option("--token-file", a.token_file, "Shared secret of nodes started with --token-file")
       ->check(CLI::ExistingFile);
-  run->footer(
-      "A scene's [coupling] table (docs/scene-keys.md) stands in for --coupling, --inputs, "
-      "--accelerator, --relaxation, --max-iterations, --convergence, --reused-windows, "
-      "--feedthrough, --data-plane and --window-steps; a flag given wins.");
+  run->footer(scene_coupling_help());
   add_check_flag(*run, a.check);
   add_verbose_flag(*run);
   a.command = run;

@@ -142,4 +142,18 @@ std::string cut_windows_note(const RunArgs& a, const Scene& scene) {
   return s.empty() ? "the cuts' windows" : s;
 }
 
+std::string scene_coupling_help() {
+  std::string s =
+      "A scene's [coupling] table (docs/scene-keys.md) stands in for the flags of its keys; a "
+      "flag given wins:";
+  for (const Taken& t : keys_of(SceneCoupling{})) {
+    const std::string flag = t.flag;
+    const std::string key = t.key;
+    const bool per_cut = key.size() > 11 && key.compare(key.size() - 11, 11, "_macro_step") == 0;
+    s += "\n  " + key + " = " + (per_cut ? flag + " " + key.substr(0, 2) + "=H_cut" : flag);
+    if (key == "implicit") s += " implicit (true) or explicit (false)";
+  }
+  return s;
+}
+
 }  // namespace railcosim::cli

@@ -30,4 +30,8 @@ std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& sce
 // Where the cuts' windows came from, for a message ("--macro-step ss=0.001").
 std::string cut_windows_note(const RunArgs& a, const Scene& scene);
 
+// The footer of `master run --help`: every key of [coupling] with the flag
+// it stands in for, from the same table the run takes them by.
+std::string scene_coupling_help();
+
 }  // namespace railcosim::cli

@@ -124,8 +124,8 @@ class TcpTransport final : public Transport {
  public:
   const char* name() const override { return kTcpTransport; }
   bool remote() const override { return true; }
-  // Relayed through the master (the direct data plane runs explicit
-  // coupling with held inputs only).
+  // On either data plane: relayed, or on the direct plane in lock step
+  // (the master sends each Step its waveforms).
   bool carries_waveforms() const override { return true; }
   ParticipantFactory factory(const Scene& scene, const TransportSetup& setup) const override {
     if (setup.pool == nullptr) throw std::logic_error("the tcp transport needs a node pool");

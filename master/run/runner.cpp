@@ -69,7 +69,9 @@ void record_convergence(RunRecord& r, const engine::ConvergenceLog& log, const R
       << " macro steps did not converge within " << o.coupling.max_iterations
       << " iterations (to a relative residual of " << o.coupling.convergence
       << "); the first at macro step " << log.first_not_converged + 1
-      << " (t = " << static_cast<double>(log.first_not_converged + 1) * o.macro_step << " s)";
+      << " (t = " << static_cast<double>(log.first_not_converged + 1) * o.macro_step
+      << " s): raise --max-iterations ([coupling] max_iterations) or loosen --convergence "
+         "([coupling] convergence)";
     r.status = "not_converged";
     r.message = s.str();
   }

@@ -76,7 +76,7 @@ long step_through(RunRecord& r, engine::MacroSteps& steps, const Scene& scene, c
     } catch (const engine::IterationBudgetSpent& e) {
       std::ostringstream why;
       why << e.what() << " before it converged to a relative residual of " << o.coupling.convergence
-          << ": loosen --convergence or raise the budget";
+          << ": loosen --convergence ([coupling] convergence) or raise --iteration-budget";
       diverged(r, o, n, why.str(), "not_converged");
       return n;
     }

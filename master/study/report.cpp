@@ -23,6 +23,17 @@
 namespace railcosim::study {
 namespace {
 
+// A run's message as one Markdown table cell, whole: a '|' it holds (a norm,
+// ||G(x) - x||) would otherwise end the cell there, and a line break the row.
+std::string cell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|') out += '\\';
+    out += c == '\n' ? ' ' : c;
+  }
+  return out;
+}
+
 // Runs a shell command; true on exit status 0.
 bool shell(const std::string& cmd) {
   return std::system(cmd.c_str()) == 0;
@@ -212,7 +223,8 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
     for (const auto& r : runs)
       if (r.record.status == "missing" || r.record.status == "failed" ||
           r.record.status == "not_run")
-        md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
+        md << "| " << r.folder << " | " << r.record.status << " | " << cell(r.record.message)
+           << " |\n";
     md << "\n";
   }
   const std::string other = remote::other_transport(info.transport);
@@ -310,7 +322,7 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
        << run::sci(x.wall_s) << " | " << micro << " | "
        << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
        << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | " << x.status
-       << (x.status == "ok" || x.message.empty() ? "" : " (" + x.message + ")") << " |\n";
+       << (x.status == "ok" || x.message.empty() ? "" : " (" + cell(x.message) + ")") << " |\n";
   }
   run::write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }

@@ -11,7 +11,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))
 try:
     import dolfinx  # noqa: F401
 except ImportError as e:  # pragma: no cover
-    print(f"SKIP: dolfinx is not importable ({e}); scripts/install-deps.sh installs python3-dolfinx")
+    print(f"SKIP: dolfinx is not importable ({e}); scripts/install-deps.sh --fe installs python3-dolfinx")
     sys.exit(77)
 
 from fe_soil.params import Footprint, Layer, SoilParams, graded_nodes, uniform_nodes  # noqa: E402,F401

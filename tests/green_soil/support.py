@@ -11,7 +11,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))
 try:
     import scipy  # noqa: F401
 except ImportError as e:  # pragma: no cover
-    print(f"SKIP: scipy is not importable ({e}); scripts/install-deps.sh installs python3-scipy")
+    print(f"SKIP: scipy is not importable ({e}); scripts/install-deps.sh --green installs python3-scipy")
     sys.exit(77)
 
 from fe_soil import lamb  # noqa: E402

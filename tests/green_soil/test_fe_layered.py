@@ -48,7 +48,7 @@ try:
     import dolfinx  # noqa: F401
 except ImportError as e:  # pragma: no cover
     print(f"SKIP: dolfinx is not importable ({e}); "
-          "scripts/install-deps.sh installs python3-dolfinx")
+          "scripts/install-deps.sh --fe installs python3-dolfinx")
     sys.exit(77)
 
 from fe_soil import config as fe_config, measures, spectrum  # noqa: E402

@@ -201,16 +201,37 @@ def serve(participant, argv=None, parents=()):
                            check it (participant.check) and exit: 0 if it
                            would be accepted, 2 with the reason on stderr
     """
-    p = argparse.ArgumentParser(description="serve the %s participant" % participant.name,
-                                parents=list(parents))
-    p.add_argument("--listen", default="127.0.0.1:0")
-    p.add_argument("--config")
+    p = argparse.ArgumentParser(
+        description="Serve the %s participant to a railcosim master, one session after "
+        "another, until interrupted. Give the master the address it prints: master run "
+        "--node %s=HOST:PORT." % (participant.name, participant.name),
+        parents=list(parents))
+    p.add_argument("--listen", default="127.0.0.1:0", metavar="HOST:PORT",
+                   help="where to listen (default %(default)s: loopback, any free port); "
+                   "prints 'listening on HOST:PORT' once it does. An address other than "
+                   "loopback is reachable from other machines: give it --token-file too")
+    p.add_argument("--config", metavar="FILE",
+                   help="a TOML file whose table --table is the configuration configure() "
+                   "receives (default: the participant's table of the master's scene, which "
+                   "the master sends in Configure.own_config; else an empty one)")
     p.add_argument("--scene", dest="config", help=argparse.SUPPRESS)  # the example's old name
-    p.add_argument("--table", default=participant.name)
-    p.add_argument("--token-file")
-    p.add_argument("--relayed-only", action="store_true")
-    p.add_argument("--name", default="%s (railcosim_sdk)" % type(participant).__name__)
-    p.add_argument("--check-configure", action="store_true")
+    p.add_argument("--table", default=participant.name, metavar="NAME",
+                   help="the table of --config that is this participant's configuration "
+                   "(default: %(default)s, the participant's name)")
+    p.add_argument("--token-file", metavar="FILE",
+                   help="the shared secret the master proves it knows (the master's "
+                   "--token-file): a regular file only its owner may read or write (mode "
+                   "0600 or 0400), at most 4,096 bytes, at least 16 characters")
+    p.add_argument("--relayed-only", action="store_true",
+                   help="do not offer the direct data plane (peer links between the "
+                   "participants): every value goes through the master")
+    p.add_argument("--name", default="%s (railcosim_sdk)" % type(participant).__name__,
+                   metavar="TEXT", help="the name this participant gives in its hello reply, "
+                   "for the master's logs (default: %(default)s)")
+    p.add_argument("--check-configure", action="store_true",
+                   help="read a serialized Configure message from standard input, check it "
+                   "as a session would (participant.check), and exit: 0 if it would be "
+                   "accepted, 2 with the reason on stderr")
     a = p.parse_args(argv)
     if a.check_configure:
         sys.exit(check_configure(participant, sys.stdin.buffer.read(1 << 20)))
