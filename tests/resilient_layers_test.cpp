@@ -221,5 +221,36 @@ TEST(ResilientLayers, MatInsertionLossAmplifiesAtTheNewResonanceAndIsolatesAbove
   check_insertion_loss(plain, mat, closed, "mat");
 }
 
+// ---- 3. The scene's refusals ----------------------------------------------
+
+std::string refusal(const std::vector<SceneEdit>& keys) {
+  try {
+    with_keys(test::paper_scene(), keys);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(ResilientLayers, TheSceneRefusesALayerWithoutItsBallastMassAndAMassWithoutALayer) {
+  std::vector<SceneEdit> no_mass = pad_keys();
+  no_mass.pop_back();
+  EXPECT_NE(refusal(no_mass).find("key 'ballast.mass': missing: a resilient layer needs the "
+                                  "ballast's mass under one sleeper"),
+            std::string::npos)
+      << refusal(no_mass);
+  EXPECT_NE(refusal({{"ballast.mass", 300.0}})
+                .find("key 'ballast.mass': applies only with [under_sleeper_pads] or "
+                      "[under_ballast_mats]"),
+            std::string::npos);
+  std::vector<SceneEdit> no_area = mat_keys();
+  no_area.erase(no_area.begin() + 2);
+  EXPECT_NE(refusal(no_area).find("key 'under_ballast_mats.area': missing"), std::string::npos)
+      << refusal(no_area);
+  EXPECT_NE(refusal(plus(pad_keys(), {{"under_sleeper_pads.loss_factor", -0.1}}))
+                .find("key 'under_sleeper_pads.loss_factor': must lie between 0 and 2"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace railcosim
