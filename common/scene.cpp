@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "excitation_toml.hpp"
+#include "resilient_layers.hpp"
 #include "scene_checks.hpp"
 #include "scene_keys.hpp"
 #include "scene_reader.hpp"
@@ -14,9 +15,16 @@
 
 namespace railcosim {
 
+double Scene::support_stiffness() const {
+  if (!has_layers()) return pad_stiffness * ballast_stiffness / (pad_stiffness + ballast_stiffness);
+  double flexibility = 1.0 / pad_stiffness + 1.0 / ballast_stiffness;
+  if (sleeper_pad) flexibility += 1.0 / sleeper_pad->stiffness();
+  if (ballast_mat) flexibility += 1.0 / ballast_mat->stiffness();
+  return 1.0 / flexibility;
+}
+
 double Scene::winkler_beta() const {
-  const double support = pad_stiffness * ballast_stiffness / (pad_stiffness + ballast_stiffness);
-  const double k = support / sleeper_spacing;
+  const double k = support_stiffness() / sleeper_spacing;
   return std::pow(k / (4.0 * young_modulus * second_moment), 0.25);
 }
 
@@ -110,6 +118,7 @@ void check_track(const Scene& sc, const KeyCheck& c) {
   if (sc.sleeper_count < 1) c.fail("sleepers.count", "must be at least 1");
   c.in_range("ballast", "stiffness", sc.ballast_stiffness);
   c.in_range("ballast", "damping", sc.ballast_damping);
+  check_layers(sc);
 }
 
 void check_soil(const Scene& sc, const KeyCheck& c) {
@@ -227,6 +236,7 @@ void read_track(SceneReader& r, Scene& sc) {
   }
   sc.ballast_stiffness = r.number("ballast", "stiffness");
   sc.ballast_damping = r.number("ballast", "damping");
+  read_layers(r, sc);
 }
 
 void read_soil(SceneReader& r, Scene& sc) {

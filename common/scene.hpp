@@ -46,6 +46,17 @@ struct SceneCoupling {
 // handed over with the scene's text (a node gets them from the master).
 using SceneFiles = std::map<std::string, std::string>;
 
+// A resilient layer of the track: k'' per unit area and a hysteretic loss
+// factor, over one rail's share of the area under one sleeper.
+struct ResilientLayer {
+  double stiffness_per_area = 0;   // k'', N/m^3
+  double loss_factor = 0;          // eta
+  double area = 0;                 // A, m^2
+  double reference_frequency = 0;  // f_ref, Hz: where c = eta k / (2 pi f_ref) holds eta exactly
+  double stiffness() const { return stiffness_per_area * area; }  // k = k'' A, N/m
+  bool operator==(const ResilientLayer&) const = default;
+};
+
 struct Scene {
   std::string source;  // the file it came from, for messages
   // The scene as the parser read it, in canonical form (the TOML document
@@ -108,6 +119,19 @@ struct Scene {
   // [ballast]
   double ballast_stiffness = 0;  // k_b, N/m
   double ballast_damping = 0;    // d_b, N s/m
+  // [ballast] mass (only with a resilient layer): m_b, the ballast's share
+  // under one sleeper, lumped at the interfaces the layers make.
+  double ballast_mass = 0;
+
+  // [under_sleeper_pads] (between sleeper and ballast) and
+  // [under_ballast_mats] (between ballast and ground or soil), each optional:
+  // absent, no layer and no degree of freedom (docs/model.md, "Resilient
+  // layers"; common/resilient_layers.hpp).
+  std::optional<ResilientLayer> sleeper_pad, ballast_mat;
+  bool has_layers() const { return sleeper_pad.has_value() || ballast_mat.has_value(); }
+  // One sleeper's support in series (railpad, pad, ballast, mat), N/m: the
+  // static stiffness under each rail node over a sleeper.
+  double support_stiffness() const;
 
   // [soil] (see the shared model, "Soil"): "fixed" (the ballast rests on the
   // ground), "lumped" (a soil mass under each sleeper), "external" (a

@@ -201,9 +201,7 @@ void check_static_state(const Scene& s) {
     fail(s, "vehicle.hertz_constant",
          "the static contact compression (F / K_H)^(2/3) = " + text(hertz) +
              " m is not a finite positive number");
-  const double support =
-      s.pad_stiffness * s.ballast_stiffness / (s.pad_stiffness + s.ballast_stiffness);
-  const double k_smeared = support / s.sleeper_spacing;
+  const double k_smeared = s.support_stiffness() / s.sleeper_spacing;
   const double beta = s.winkler_beta();
   const double w0 = load * beta / (2.0 * k_smeared);
   if (!(std::isfinite(w0) && w0 > 0 && std::isfinite(beta) && beta > 0))
@@ -245,6 +243,9 @@ void check_matrix_spread(const Scene& s) {
     k.push_back({"soil.stiffness", s.soil_stiffness});
     m.push_back({"soil.mass", s.soil_mass});
   }
+  if (s.sleeper_pad) k.push_back({"under_sleeper_pads.stiffness", s.sleeper_pad->stiffness()});
+  if (s.ballast_mat) k.push_back({"under_ballast_mats.stiffness", s.ballast_mat->stiffness()});
+  if (s.has_layers()) m.push_back({"ballast.mass", s.ballast_mass});
   check_spread(s, k, kMaxSpread, "stiffness");
   check_spread(s, m, kMaxSpread, "mass");
   // A damper acts through c / h on the same matrices: against its layer's

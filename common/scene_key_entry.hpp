@@ -86,4 +86,7 @@ inline Entry choice(std::string table, std::string name, std::vector<std::string
   return e;
 }
 
+// The resilient layers' entries (scene_key_table_layers.cpp), after [ballast].
+void layer_keys(std::vector<Entry>& v);
+
 }  // namespace railcosim::key_table

@@ -350,6 +350,7 @@ void track_keys(std::vector<Entry>& v) {
   v.push_back(number("ballast", "stiffness", "N/m", "k_b, under one sleeper").range(positive()));
   v.push_back(
       number("ballast", "damping", "N s/m", "d_b, under one sleeper").range(non_negative()));
+  layer_keys(v);
   soil_keys(v);
   simulation_keys(v);
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <optional>
 
+#include "resilient_layers.hpp"
+
 namespace railcosim {
 
 DofLayout make_layout(const Scene& scene, const Parts& parts) {
@@ -35,12 +37,19 @@ DofLayout make_layout(const Scene& scene, const Parts& parts) {
       l.wheels.push_back(l.vehicle[static_cast<std::size_t>(w.dof)]);
     l.wheel = l.wheels.front();
   }
-  if (sleepers) l.sleeper.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
-  if (soil) l.soil.assign(static_cast<std::size_t>(scene.sleeper_count), -1);
-  // The sleeper and soil of support i, numbered next to each other.
+  const auto n = static_cast<std::size_t>(scene.sleeper_count);
+  if (sleepers) l.sleeper.assign(n, -1);
+  if (sleepers && scene.sleeper_pad) l.pad_base.assign(n, -1);
+  if (sleepers && scene.ballast_mat) l.mat_top.assign(n, -1);
+  if (soil) l.soil.assign(n, -1);
+  // The sleeper, the layers' interfaces and the soil of support i, numbered
+  // next to each other.
   auto support = [&](int i) {
-    if (sleepers) l.sleeper[static_cast<std::size_t>(i)] = next++;
-    if (soil) l.soil[static_cast<std::size_t>(i)] = next++;
+    const auto s = static_cast<std::size_t>(i);
+    if (sleepers) l.sleeper[s] = next++;
+    if (!l.pad_base.empty()) l.pad_base[s] = next++;
+    if (!l.mat_top.empty()) l.mat_top[s] = next++;
+    if (soil) l.soil[s] = next++;
   };
   if (rail) {
     const int nodes = scene.rail_nodes();
@@ -72,14 +81,16 @@ std::vector<int> layer_dofs(const DofLayout& l, int cut, CutSide side) {
       out.push_back(l.rail_w[static_cast<std::size_t>(l.pad_node(i))]);
     return out;
   }
-  if (name == "ss") return side == CutSide::kUpper ? l.sleeper : l.soil;
+  if (name == "ss") return side == CutSide::kUpper ? l.track_base() : l.soil;
   return out;  // the contact has no fixed DOFs
 }
 
 SpringDamper layer_element(const Scene& scene, int cut) {
   const std::string name = cut_kinds()[static_cast<std::size_t>(cut)].name;
   if (name == "rs") return {scene.pad_stiffness, scene.pad_damping};
-  if (name == "ss") return {scene.ballast_stiffness, scene.ballast_damping};
+  if (name == "ss")
+    return scene.ballast_mat ? layer_spring(*scene.ballast_mat)
+                             : SpringDamper{scene.ballast_stiffness, scene.ballast_damping};
   return {};
 }
 
@@ -150,7 +161,40 @@ void add_rail(const Scene& scene, const DofLayout& l, Triplets& t) {
   }
 }
 
+// A spring and damper between two DOFs.
+void add_element(int upper, int lower, const SpringDamper& e, Triplets& t) {
+  t.push_back({upper, upper, 0, e.c, e.k});
+  t.push_back({lower, lower, 0, e.c, e.k});
+  t.push_back({std::max(upper, lower), std::min(upper, lower), 0, -e.c, -e.k});
+}
+
+// The supports with resilient layers: sleeper, [pad, pad base,] ballast,
+// [mat top, mat,] and the lowest element to the ground with a fixed soil
+// (with a soil, add_layers places it: it is the ss cut's).
+void add_layered_supports(const Scene& scene, const DofLayout& l, Triplets& t) {
+  const SpringDamper ballast{scene.ballast_stiffness, scene.ballast_damping};
+  const double m_i = interface_mass(scene);
+  for (std::size_t i = 0; i < l.sleeper.size(); ++i) {
+    t.push_back({l.sleeper[i], l.sleeper[i], scene.sleeper_mass, 0, 0});
+    int top = l.sleeper[i];  // the DOF over the next element down
+    if (scene.sleeper_pad) {
+      t.push_back({l.pad_base[i], l.pad_base[i], m_i, 0, 0});
+      add_element(top, l.pad_base[i], layer_spring(*scene.sleeper_pad), t);
+      top = l.pad_base[i];
+    }
+    SpringDamper lowest = ballast;
+    if (scene.ballast_mat) {
+      t.push_back({l.mat_top[i], l.mat_top[i], m_i, 0, 0});
+      add_element(top, l.mat_top[i], ballast, t);
+      top = l.mat_top[i];
+      lowest = layer_spring(*scene.ballast_mat);
+    }
+    if (!scene.has_soil()) t.push_back({top, top, 0, lowest.c, lowest.k});
+  }
+}
+
 void add_sleepers(const Scene& scene, const DofLayout& l, Triplets& t) {
+  if (scene.has_layers()) return add_layered_supports(scene, l, t);
   const auto n = static_cast<std::size_t>(scene.sleeper_count);
   // With a fixed soil the ballast ties each sleeper to the ground.
   const SpringDamper ground = scene.has_soil()
@@ -282,9 +326,11 @@ double rail_displacement_at(const ContactPath& path, double t, const std::vector
 std::vector<double> ballast_forces(const Scene& scene, const DofLayout& l, const Vector& u,
                                    const Vector& v, const std::vector<double>* below_u,
                                    const std::vector<double>* below_v) {
-  std::vector<double> f(l.sleeper.size());
+  const std::vector<int>& base = l.track_base();
+  const SpringDamper e = layer_element(scene, find_cut("ss"));
+  std::vector<double> f(base.size());
   for (std::size_t i = 0; i < f.size(); ++i) {
-    double du = u[l.sleeper[i]], dv = v[l.sleeper[i]];
+    double du = u[base[i]], dv = v[base[i]];
     if (!l.soil.empty()) {
       du -= u[l.soil[i]];
       dv -= v[l.soil[i]];
@@ -292,7 +338,7 @@ std::vector<double> ballast_forces(const Scene& scene, const DofLayout& l, const
       du -= (*below_u)[i];
       dv -= (*below_v)[i];
     }
-    f[i] = scene.ballast_stiffness * du + scene.ballast_damping * dv;
+    f[i] = e.k * du + e.c * dv;
   }
   return f;
 }

@@ -27,13 +27,21 @@ struct DofLayout {
   std::vector<int> rail_w;      // per rail node: vertical displacement
   std::vector<int> rail_theta;  // per rail node: rotation
   std::vector<int> sleeper;     // per sleeper
-  std::vector<int> soil;        // per sleeper: the soil mass under it
+  // With resilient layers (resilient_layers.hpp), per sleeper: the ballast's
+  // top under an under-sleeper pad, and its bottom on an under-ballast mat.
+  std::vector<int> pad_base, mat_top;
+  std::vector<int> soil;  // per sleeper: the soil mass under it
   int size = 0;
   int elements_per_span = 0;
   double element_length = 0;  // rail element length, m
 
   // Rail node under sleeper i.
   int pad_node(int i) const { return elements_per_span * i + elements_per_span / 2; }
+  // The lowest DOF of the track under each sleeper, over the element the
+  // ss cut goes through: the mat's top, else the pad's base, else the sleeper.
+  const std::vector<int>& track_base() const {
+    return !mat_top.empty() ? mat_top : !pad_base.empty() ? pad_base : sleeper;
+  }
 };
 
 DofLayout make_layout(const Scene& scene, const Parts& parts);
@@ -42,7 +50,7 @@ DofLayout make_layout(const Scene& scene, const Parts& parts);
 std::vector<int> layer_dofs(const DofLayout& layout, int cut, CutSide side);
 
 // Stiffness and damping of one element of a linear layer (rs: a railpad, ss:
-// the ballast under one sleeper).
+// the lowest element under one sleeper, the ballast or an under-ballast mat).
 struct SpringDamper {
   double k = 0, c = 0;
 };
@@ -159,9 +167,11 @@ double rail_displacement_at(const ContactPath& path, double t, const std::vector
 // The path of wheel `wheel` (0 = leading) over the rail.
 ContactPath contact_path(const Scene& scene, int wheel = 0);
 
-// The force into the ballast under each sleeper (positive down) of a state
-// holding the sleepers: k_b (u_s - u_below) + c_b (v_s - v_below), below the
-// sleeper the soil mass, the ground or the held values of an ss interface.
+// The force into the ground under each sleeper (positive down) of a state
+// holding the sleepers: through the lowest element (the ballast, or an
+// under-ballast mat), k (u_base - u_below) + c (v_base - v_below), above it
+// the track's base (DofLayout::track_base), below it the soil mass, the
+// ground or the held values of an ss interface.
 std::vector<double> ballast_forces(const Scene& scene, const DofLayout& layout, const Vector& u,
                                    const Vector& v, const std::vector<double>* below_u,
                                    const std::vector<double>* below_v);

@@ -41,7 +41,7 @@ std::string replace_line(std::string text, const std::string& prefix, const std:
 // Scenes that reach the keys the shipped scenes leave out: every model of
 // [irregularity], a flat on the car's third wheel, the optional keys of
 // [sleepers] and [simulation], an outside soil, every key of [coupling], a
-// train (every key of [[vehicle.cars]]).
+// train (every key of [[vehicle.cars]]), both resilient layers.
 std::vector<std::pair<std::string, std::string>> variants() {
   const std::string paper = read_text(test::source_path("scenes/paper.toml"));
   const std::string car = read_text(test::source_path("scenes/car_irregular.toml"));
@@ -64,6 +64,10 @@ std::vector<std::pair<std::string, std::string>> variants() {
                            "convergence = 1e-6\nreused_windows = 3\nfeedthrough = \"lagged\"\n"
                            "data_plane = \"relay\"\nwindow_steps = 40\n"},
       {"train", read_text(test::source_path("tests/train_scene.toml"))},
+      {"layers", replace_line(paper, "damping = 40e3", "damping = 40e3\nmass = 300.0") +
+                     "\n[under_sleeper_pads]\nstiffness = 1e8\nloss_factor = 0.2\narea = 0.1\n"
+                     "reference_frequency = 40\n\n[under_ballast_mats]\nstiffness = 1e7\n"
+                     "loss_factor = 0.2\narea = 1.05\n"},
       {"car_flat", car + "\n[wheel_flat]\nlength = 0.05\nwheel_diameter = 0.92\nwheel = 3\n"
                          "shape = \"rounded\"\nangle_deg = 10\n"},
   };
