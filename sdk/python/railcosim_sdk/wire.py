@@ -191,6 +191,12 @@ class SendTimeout(ProtocolError):
         super().__init__(E.TIMEOUT, message)
 
 
+class LinkLost(ConnectionError):
+    """A socket error on a channel (reset, broken pipe, unreachable): the
+    connection is lost. An OSError (so handlers of socket errors see it),
+    told apart from the OSErrors a participant's own code raises."""
+
+
 class LinkClosed(Exception):
     """The other end closed the connection (between frames, or inside one)."""
 
@@ -239,7 +245,12 @@ class Channel:
                 self.sock.settimeout(left)
             else:
                 self.sock.settimeout(None)
-            chunk = self.sock.recv(1 << 16)
+            try:
+                chunk = self.sock.recv(1 << 16)
+            except socket.timeout:
+                raise
+            except OSError as e:
+                raise LinkLost("%s: %s" % (self.what, e.strerror or e)) from e
             if not chunk:
                 raise LinkClosed("%s closed the connection" % self.what, len(buf) > 0)
             buf += chunk
@@ -265,6 +276,8 @@ class Channel:
             self.close()  # part of the frame may have left: the stream is broken
             raise SendTimeout("%s did not read a frame of %d bytes within %g s (it stopped "
                               "reading)" % (self.what, len(payload) + 4, seconds)) from None
+        except OSError as e:
+            raise LinkLost("%s: %s" % (self.what, e.strerror or e)) from e
 
     def send_error(self, req_id, code, message, step=-1, t=0.0, sender=""):
         """Best effort, within ERROR_SEND_SECONDS: the session ends anyway."""
