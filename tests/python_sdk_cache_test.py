@@ -103,6 +103,15 @@ class SchemaCache(unittest.TestCase):
         self.plant(link=True)
         self.assertIn("%s is a symbolic link" % os.path.join(self.fallback, KEY), self.run_sdk())
 
+    def test_group_writable_umask(self):
+        # Under umask 002 the compiled module is still the owner's alone.
+        p = subprocess.run(["/bin/sh", "-c", "umask 002 && exec /usr/bin/python3 -c \"$0\"",
+                            IMPORT], capture_output=True, text=True, timeout=60, env=self.env)
+        self.assertEqual((p.returncode, p.stderr), (0, ""))
+        module = os.path.join(self.fallback, KEY, "railcosim_pb2.py")
+        self.assertEqual(os.stat(module).st_mode & 0o022, 0)
+        self.assertEqual(self.run_sdk(), "")
+
     def test_private_fallback_is_created_and_used(self):
         self.assertEqual(self.run_sdk(), "")
         self.assertEqual(os.stat(self.fallback).st_mode & 0o777, 0o700)

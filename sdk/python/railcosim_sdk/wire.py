@@ -85,6 +85,8 @@ def _protoc(folder, name, out):
     except FileNotFoundError:
         raise SystemExit("railcosim_sdk: protoc not found; install Debian's "
                          "protobuf-compiler (scripts/install-deps.sh does)")
+    for entry in os.listdir(out):  # the owner's alone, whatever the umask (002 gives 0664)
+        os.chmod(os.path.join(out, entry), 0o600)
 
 
 def _cached(root, key, folder, name, module):
