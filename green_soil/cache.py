@@ -9,7 +9,10 @@ Read: opened without following a link and without blocking (a FIFO),
 a regular file only, its size and each member's size bounded by the
 expected shapes before anything is decompressed or allocated, each
 member's header checked for dtype and shape, the values finite, the
-digest recomputed. A missing entry is a miss; a bad one a warning on
+digest recomputed; and the entry must be this user's own (owner the
+effective uid, no write bit for group or others): the digest finds damage
+and entries written for another key, while another user who can write the
+folder could recompute it for wrong data. A missing entry is a miss; a bad one a warning on
 stderr and a miss (the caller computes and writes it again). Written:
 into a new file made by mkstemp in the cache folder (never an existing
 name, never through a link), then os.replace onto the entry's name; a
@@ -91,6 +94,12 @@ def load(path, key, expected):
             limit = sum(16 * int(np.prod(s, dtype=np.int64)) for _, s in expected) + 4 * SLACK
             if not stat.S_ISREG(st.st_mode):
                 raise ValueError("it is not a regular file")
+            if st.st_uid != os.geteuid() or st.st_mode & 0o022:
+                # The digest finds damage, not a forger: whoever can write
+                # the entry can recompute it, so only this user's own count.
+                raise ValueError("it belongs to uid %d or others may write it (mode %o); only "
+                                 "this user's own entries are used"
+                                 % (st.st_uid, stat.S_IMODE(st.st_mode)))
             if st.st_size > limit:
                 raise ValueError("it has %d bytes, at most %d expected" % (st.st_size, limit))
             with zipfile.ZipFile(f) as zf:

@@ -1,5 +1,6 @@
 """The Green's functions' cache (green_soil/cache.py) in a folder others
-can write, or one that cannot be written: an entry with its spectra x 10,
+can write, or one that cannot be written: an entry with its spectra x 10
+(its digest kept, or recomputed by another user),
 of another shape, with a NaN, a FIFO, a link, a deflated member that
 would inflate to 200 MB, or links planted at temporary names are never
 used nor followed: each is warned about, computed again and rewritten;
@@ -96,6 +97,18 @@ class CacheTest(unittest.TestCase):
         bad[0, 3] = np.nan
         cache.store(self.dir, self.path, self.key, [("pairs", self.want[0]), ("points", bad)])
         self.assert_recomputed("not finite in points")
+
+    def test_entry_of_another_user_or_writable_by_others(self):
+        # A forger who can write the folder recomputes the digest: only this
+        # user's own entries are used.
+        forged = [("pairs", self.want[0] * 10.0), ("points", self.want[1])]
+        cache.store(self.dir, self.path, self.key, forged)
+        os.chmod(self.path, 0o666)
+        self.assert_recomputed("others may write it (mode 666)")
+        if os.geteuid() == 0:
+            cache.store(self.dir, self.path, self.key, forged)
+            os.chown(self.path, 65534, 65534)
+            self.assert_recomputed("it belongs to uid 65534")
 
     def test_fifo_entry(self):
         os.mkfifo(self.path)
