@@ -152,6 +152,10 @@ def check(cfg, fps, receivers, H, end_time):
         raise ConfigError("[soil] the track has %d footprints; the Green's-function soil holds "
                           "at most %d (its kernels grow as their square): use a shorter track "
                           "([sleepers] count)" % (len(fps), MAX_FOOTPRINTS))
+    if not (0.0 < H < math.inf and 0.0 <= end_time < math.inf):
+        raise ConfigError("[soil] the run's macro step %r s and end time %r s leave its memory "
+                          "in steps undefined (the master sends H > 0 and a finite end time)"
+                          % (H, end_time))
     e = estimate(cfg, fps, receivers, H, end_time)
     top = cfg["layers"][0]
     grid = ("k_max = %.3g rad/m (%s) in steps of at most %.3g rad/m (2 pi / (8 r_max), r_max = "

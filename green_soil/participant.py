@@ -71,7 +71,7 @@ class GreenSoilParticipant(rc.Participant):
         fps = [(f.x, f.y, f.length, f.width) for f in i.footprints]
         xs = [f.x for f in i.footprints]
         rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
-        try:  # what the keys imply together, before anything is allocated (H > 0: the session)
+        try:  # what the keys imply together, before anything is allocated
             cost.check(cfg, fps, [(rx, d) for d in cfg["receivers"]], self.run.macro_step,
                        self.run.end_time)
         except green_config.ConfigError as e:

@@ -108,6 +108,11 @@ class JointBounds(unittest.TestCase):
         self.assertRaisesRegex(cost.ConfigError, "5000 footprints", cost.check, {}, [()] * 5000,
                                [], 1e-3, 1.0)
 
+    def test_undefined_step(self):
+        for H, end in ((0.0, 1.0), (float("nan"), 1.0), (1e-3, float("inf"))):
+            self.assertRaisesRegex(cost.ConfigError, "memory in steps undefined", cost.check,
+                                   {}, [(0.0, 0.75, 0.6, 0.5)], [], H, end)
+
     def test_shipped_scenes_pass(self):
         for scene in SCENES:
             with self.subTest(scene=scene):
