@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, interpolate, special
 
+from . import cost
 from .spectral import surface_flexibility, top_static
 
 
@@ -65,7 +66,13 @@ class Discretisation:
 
 def k_grid(d: Discretisation, dk_max, k_max):
     """Wavenumbers from 0 to k_max, step min(max(k_ratio k, dk_min), dk_max),
-    and their trapezoid weights."""
+    and their trapezoid weights. Refuses (ValueError) more than
+    cost.MAX_WAVENUMBERS points before building any."""
+    n = cost.wavenumbers(dk_max, k_max, d.k_ratio, d.dk_min)
+    if not n <= cost.MAX_WAVENUMBERS:
+        raise ValueError("the wavenumber grid to k_max = %.3g rad/m in steps of at most %.3g "
+                         "rad/m would have %.3g points (at most %d)"
+                         % (k_max, dk_max, n, cost.MAX_WAVENUMBERS))
     ks = [0.0]
     while ks[-1] < k_max:
         ks.append(ks[-1] + min(max(d.k_ratio * ks[-1], d.dk_min), dk_max))

@@ -31,6 +31,7 @@ from fe_soil import measures  # noqa: E402
 from fe_soil.config import channel_names  # noqa: E402
 
 from . import config as green_config  # noqa: E402
+from . import cost  # noqa: E402
 from .outputs import components, vertical_up, vibration_csv  # noqa: E402
 from .resolution import receiver_bands  # noqa: E402
 from .track import TrackSoil  # noqa: E402
@@ -70,6 +71,11 @@ class GreenSoilParticipant(rc.Participant):
         fps = [(f.x, f.y, f.length, f.width) for f in i.footprints]
         xs = [f.x for f in i.footprints]
         rx = 0.5 * (min(xs) + max(xs)) if cfg["receiver_x"] is None else cfg["receiver_x"]
+        try:  # what the keys imply together, before anything is allocated
+            cost.check(cfg, fps, [(rx, d) for d in cfg["receivers"]], self.run.macro_step,
+                       self.run.end_time)
+        except green_config.ConfigError as e:
+            raise rc.BadRequest(str(e))
         return cfg, fps, rx
 
     def check(self, config, interfaces):

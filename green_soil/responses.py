@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import interpolate
 
-from . import greens
+from . import cache, greens
 from .spectral import LOSS_ONSET, top_static
 
 
@@ -255,19 +255,19 @@ def cached_spectra(layers, fp, pair_offsets, point_offsets, rec, d=greens.Discre
                    cache_dir=None, workers=1):
     """spectra() at rec's bins, kept in cache_dir (default
     $XDG_CACHE_HOME/railcosim/green_soil) under a hash of everything that
-    enters them (not the number of workers); returns (pairs, points, hit)."""
+    enters them (not the number of workers); returns (pairs, points, hit).
+    An entry is checked against its key before use (cache.py); a bad one,
+    or a cache that cannot be written, costs the computation only."""
     cache_dir = cache_dir or default_cache_dir()
-    path = os.path.join(cache_dir, cache_key(layers, fp, pair_offsets, point_offsets, rec, d)
-                        + ".npz")
-    if os.path.exists(path):
-        with np.load(path) as z:
-            return z["pairs"], z["points"], True
+    key = cache_key(layers, fp, pair_offsets, point_offsets, rec, d)
+    path = os.path.join(cache_dir, key + ".npz")
     _, w = rec.frequencies()
+    shapes = [("pairs", (len(pair_offsets), len(w))), ("points", (len(point_offsets), len(w)))]
+    got = cache.load(path, key, shapes)
+    if got is not None:
+        return got["pairs"], got["points"], True
     pairs, points = spectra(layers, fp, pair_offsets, point_offsets, w, d, workers)
-    os.makedirs(cache_dir, exist_ok=True)
-    tmp = path + ".%d.tmp.npz" % os.getpid()
-    np.savez(tmp, pairs=pairs, points=points)
-    os.replace(tmp, path)
+    cache.store(cache_dir, path, key, [("pairs", pairs), ("points", points)])
     return pairs, points, False
 
 
@@ -280,15 +280,12 @@ def cached_horizontal(layers, fp, point_offsets, rec, d=greens.Discretisation(),
     from . import radial
 
     cache_dir = cache_dir or default_cache_dir()
-    name = cache_key(layers, fp, [], point_offsets, rec, d, kind="horizontal")
-    path = os.path.join(cache_dir, name + ".npz")
-    if os.path.exists(path):
-        with np.load(path) as z:
-            return z["horizontal"], True
+    key = cache_key(layers, fp, [], point_offsets, rec, d, kind="horizontal")
+    path = os.path.join(cache_dir, key + ".npz")
     _, w = rec.frequencies()
-    out = radial.point_means(layers, fp, point_offsets, w, d, workers)
-    os.makedirs(cache_dir, exist_ok=True)
-    tmp = path + ".%d.tmp.npz" % os.getpid()
-    np.savez(tmp, horizontal=out)
-    os.replace(tmp, path)
+    got = cache.load(path, key, [("horizontal", (2, len(point_offsets), len(w)))])
+    if got is not None:
+        return got["horizontal"], True
+    out = np.asarray(radial.point_means(layers, fp, point_offsets, w, d, workers), dtype=complex)
+    cache.store(cache_dir, path, key, [("horizontal", out)])
     return out, False

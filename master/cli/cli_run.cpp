@@ -351,8 +351,9 @@ int do_run(const RunArgs& command_line) {
   }
   const std::map<std::string, Address> given = given_nodes(a, scene, spec);
   // A soil the master starts: would it accept its configuration? (Its ranks
-  // and mesh limits, named by file and key, before a rank is started.)
-  if (given.count("soil") == 0) remote::check_started_soil(scene, spec, o.macro_step);
+  // and mesh limits, named by file and key, before a rank is started; at its own window.)
+  if (given.count("soil") == 0)
+    remote::check_started_soil(scene, spec, run::participant_step(scene, spec, o, "soil"));
   if (a.check) return print_check(a, scene, spec, o, given);
 
   remote::NodePool pool(a.token_file);  // nodes it starts share the secret of the given ones

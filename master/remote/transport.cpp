@@ -22,6 +22,20 @@ std::string node_program(const std::string& role) {
   return "track_node";
 }
 
+std::string soil_python_path(const std::string& root, const std::string& user) {
+  std::string out = root;
+  std::size_t begin = 0;
+  while (begin <= user.size()) {
+    std::size_t end = user.find(':', begin);
+    if (end == std::string::npos) end = user.size();
+    // Only absolute entries: an empty one, ".", or any relative folder is
+    // looked up from the working directory, where the user runs the master.
+    if (end > begin && user[begin] == '/') out += ":" + user.substr(begin, end - begin);
+    begin = end + 1;
+  }
+  return out;
+}
+
 LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_file) {
   const char* override_dir = std::getenv("RAILCOSIM_FE_SOIL");
   const std::string root = override_dir != nullptr && *override_dir != '\0'
@@ -43,7 +57,7 @@ LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_f
   if (!fe.scene.empty()) c.argv.insert(c.argv.end(), {"--scene-file", fe.scene});
   if (!token_file.empty()) c.argv.insert(c.argv.end(), {"--token-file", token_file});
   const char* path = std::getenv("PYTHONPATH");
-  c.env = {"PYTHONPATH=" + root + (path != nullptr && *path != '\0' ? ":" + std::string(path) : ""),
+  c.env = {"PYTHONPATH=" + soil_python_path(root, path != nullptr ? path : ""),
            "PYTHONSAFEPATH=1",  // the same for any Python the soil starts
            // One thread per rank: the other participants share the cores.
            "OMP_NUM_THREADS=1", "OPENBLAS_NUM_THREADS=1",

@@ -40,6 +40,12 @@ struct FeSoilLaunch {
   std::string scene;
 };
 LaunchCommand fe_soil_command(const FeSoilLaunch& fe, const std::string& token_file);
+// The PYTHONPATH the started soils get: `root` (the product's folder), then
+// the absolute entries of the user's PYTHONPATH `user` in their order. Empty
+// entries (what `export PYTHONPATH=/opt/x:$PYTHONPATH` leaves), "." and
+// other relative ones are dropped: Python reads them from the working
+// directory, so a numpy.py there would run in the soil.
+std::string soil_python_path(const std::string& root, const std::string& user);
 // The same program asked only to check a Configure on its standard input
 // (--check-configure; one process, no MPI ranks, no port).
 LaunchCommand soil_check_command(const FeSoilLaunch& fe);

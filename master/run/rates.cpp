@@ -31,6 +31,16 @@ engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOp
   return r;
 }
 
+double participant_step(const Scene& scene, const CaseSpec& spec, const RunOptions& o,
+                        const std::string& role) {
+  if (spec.monolithic) return o.macro_step;
+  const std::vector<ParticipantSpec> specs = partition(scene, spec);
+  const engine::RatePlan r = rate_plan(scene, spec, o);
+  for (std::size_t k = 0; k < specs.size(); ++k)
+    if (specs[k].role == role) return o.macro_step * static_cast<double>(r.window[k]);
+  return o.macro_step;
+}
+
 void check_whole_windows(const Scene& scene, const RunOptions& o, const engine::RatePlan& r) {
   const long N = std::lround(scene.end_time / o.macro_step);
   if (N % r.ratio != 0)

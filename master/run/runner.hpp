@@ -71,6 +71,10 @@ struct RunOptions {
 // no cut has a window of its own). Throws std::invalid_argument when the
 // windows cannot be coupled (engine/rate_plan.hpp: plan_rates()).
 engine::RatePlan rate_plan(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
+// The macro step the participant of `role` takes in this case: H times its
+// window (multirate), H when single-rate or when the case has no such role.
+double participant_step(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                        const std::string& role);
 // Throws std::invalid_argument when the scene's end time is not a whole
 // number of the plan's slow window.
 void check_whole_windows(const Scene& scene, const RunOptions& options,

@@ -13,7 +13,7 @@ from .auth import read_token_file
 from .direct import Plane
 from .lockstep import LockstepSession as Session  # the session, with the lock step
 from . import participant as api
-from .wire import E, Channel, LinkClosed, ProtocolError, pb
+from .wire import E, Channel, LinkClosed, LinkLost, ProtocolError, pb
 
 HELLO_SECONDS = 10.0
 IDLE_SECONDS = 60.0
@@ -144,8 +144,13 @@ class Server:
             master.send_error(req_id, e.code, str(e), s.step, max(s.step, 0) * s.H, e.sender)
             print("session from %s: %s: %s" % (self.active, E.Code.Name(e.code), e),
                   file=sys.stderr, flush=True)
-        except OSError as e:
+        except (LinkLost, socket.timeout) as e:  # the master's connection is lost
             print("session from %s: %s" % (self.active, e), file=sys.stderr, flush=True)
+        except OSError as e:  # the participant's own (a file it could not write, ...)
+            traceback.print_exc()
+            master.send_error(req_id, E.INTERNAL, "the %s participant failed: %s: %s"
+                              % (self.p.name, type(e).__name__, e), s.step,
+                              max(s.step, 0) * s.H)
         except Exception as e:  # a bug in the participant must not take the server down
             traceback.print_exc()
             master.send_error(req_id, E.INTERNAL, "internal error in the %s participant: %s: %s"

@@ -3,20 +3,27 @@
 The message classes are generated from protocol/railcosim.proto by protoc
 at first import, into a cache folder keyed by the schema's hash:
 $RAILCOSIM_SDK_CACHE, else $XDG_CACHE_HOME/railcosim, else
-~/.cache/railcosim (a temporary folder if none is writable). The schema is
+~/.cache/railcosim, else TMPDIR/railcosim-EUID; a folder is used only if
+it is this user's own (owner the effective uid, created 0700, no write bit
+for group or others, no symbolic link; the module file too), else the
+schema is compiled into a fresh private temporary folder, read and
+removed (a warning names the refused folder). The schema is
 $RAILCOSIM_PROTO, else protocol/railcosim.proto of the checkout this
 package lives in, else (the SDK installed with the C++ package) the
 railcosim.proto installed beside it. Needs Debian's protobuf-compiler and python3-protobuf.
 """
 
 import hashlib
-import importlib.util
 import os
+import shutil
 import socket
+import stat
 import struct
 import subprocess
+import sys
 import tempfile
 import time
+import types
 
 PROTOCOL_VERSION = 4
 # Write deadlines: a frame to a master (a reply, a report) must be read within
@@ -45,36 +52,112 @@ def _cache_roots():
         yield os.environ["RAILCOSIM_SDK_CACHE"]
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     yield os.path.join(base, "railcosim")
-    yield os.path.join(tempfile.gettempdir(), "railcosim-%d" % os.getuid())
+    yield os.path.join(tempfile.gettempdir(), "railcosim-%d" % os.geteuid())
 
 
-def _compile(proto):
+def _private(path, is_dir):
+    """None if `path` is this user's own (owner the effective uid, no write
+    bit for group or others, no symbolic link, a folder or a regular file as
+    asked); else why not. Code is imported only from such places: anyone
+    else who can write the folder or the file could put code there."""
+    try:
+        st = os.lstat(path)
+    except OSError as e:
+        return "cannot be read (%s)" % (e.strerror or e)
+    if stat.S_ISLNK(st.st_mode):
+        return "is a symbolic link"
+    if not (stat.S_ISDIR(st.st_mode) if is_dir else stat.S_ISREG(st.st_mode)):
+        return "is not a %s" % ("folder" if is_dir else "regular file")
+    if st.st_uid != os.geteuid():
+        return "belongs to uid %d, not to this user (uid %d)" % (st.st_uid, os.geteuid())
+    if st.st_mode & 0o022:
+        return "can be written by others (mode %o)" % stat.S_IMODE(st.st_mode)
+    return None
+
+
+def _warn(text):
+    print("railcosim_sdk: %s" % text, file=sys.stderr, flush=True)
+
+
+def _protoc(folder, name, out):
+    try:
+        subprocess.run(["protoc", "-I", folder, "--python_out", out, name], check=True)
+    except FileNotFoundError:
+        raise SystemExit("railcosim_sdk: protoc not found; install Debian's "
+                         "protobuf-compiler (scripts/install-deps.sh does)")
+    for entry in os.listdir(out):  # the owner's alone, whatever the umask (002 gives 0664)
+        os.chmod(os.path.join(out, entry), 0o600)
+
+
+def _cached(root, key, folder, name, module):
+    """The compiled schema in the private cache folder root/key, compiled
+    there first if missing; None if root cannot be used (not writable, or
+    not this user's own: then it warns)."""
+    try:
+        os.makedirs(root, mode=0o700, exist_ok=True)
+    except OSError:
+        return None  # not writable: the next place, silently
+    why = _private(root, True)
+    if why is not None:
+        _warn("the cache folder %s %s; not used" % (root, why))
+        return None
+    target = os.path.join(root, key)
+    if not os.path.lexists(target):
+        try:
+            work = tempfile.mkdtemp(dir=root)  # 0700, a fresh name
+        except OSError:
+            return None
+        _protoc(folder, name, work)
+        try:
+            os.rename(work, target)  # atomic: another process may race us
+        except OSError:
+            shutil.rmtree(work, ignore_errors=True)
+    path = os.path.join(target, module)
+    for what, is_dir in ((target, True), (path, False)):
+        why = _private(what, is_dir)
+        if why is not None:
+            _warn("the compiled schema's %s %s %s; not used"
+                  % ("folder" if is_dir else "file", what, why))
+            return None
+    return path
+
+
+def _read_private(path):
+    """The source of `path`, opened without following a link and checked on
+    the open file (owner, mode, a regular file), so that what is checked is
+    what is run."""
+    fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+    with os.fdopen(fd, "rb") as f:
+        st = os.fstat(f.fileno())
+        if (not stat.S_ISREG(st.st_mode) or st.st_uid != os.geteuid()
+                or st.st_mode & 0o022 or st.st_size > MAX_FRAME):
+            return None
+        return f.read(MAX_FRAME + 1)
+
+
+def _compiled(proto):
+    """(source, path) of the schema's generated module: from a private cache
+    folder (_cache_roots, the first usable), else compiled into a fresh
+    private temporary folder that is removed once read."""
     with open(proto, "rb") as f:
         key = hashlib.sha256(f.read()).hexdigest()[:16]
     folder, name = os.path.split(proto)
     module = name.replace(".proto", "_pb2.py")
     for root in _cache_roots():
-        target = os.path.join(root, key)
-        if os.path.exists(os.path.join(target, module)):
-            return os.path.join(target, module)
-        try:
-            os.makedirs(root, exist_ok=True)
-            work = tempfile.mkdtemp(dir=root)
-        except OSError:
-            continue
-        try:
-            subprocess.run(["protoc", "-I", folder, "--python_out", work, name], check=True)
-        except FileNotFoundError:
-            raise SystemExit("railcosim_sdk: protoc not found; install Debian's "
-                             "protobuf-compiler (scripts/install-deps.sh does)")
-        try:
-            os.rename(work, target)  # atomic: another process may race us
-        except OSError:
-            pass
-        if os.path.exists(os.path.join(target, module)):
-            return os.path.join(target, module)
-    raise SystemExit("railcosim_sdk: no writable cache folder for the compiled schema; "
-                     "set RAILCOSIM_SDK_CACHE")
+        path = _cached(root, key, folder, name, module)
+        source = _read_private(path) if path is not None else None
+        if source is not None:
+            return source, path
+    work = tempfile.mkdtemp(prefix="railcosim-schema-")
+    try:
+        _protoc(folder, name, work)
+        path = os.path.join(work, module)
+        source = _read_private(path)
+        if source is None:
+            raise SystemExit("railcosim_sdk: the schema compiled into %s cannot be read" % work)
+        return source, path
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 def _load():
@@ -82,10 +165,10 @@ def _load():
     if not os.path.exists(proto):
         raise SystemExit("railcosim_sdk: the schema %s does not exist; set RAILCOSIM_PROTO "
                          "to protocol/railcosim.proto" % proto)
-    path = _compile(proto)
-    spec = importlib.util.spec_from_file_location("railcosim_pb2", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    source, path = _compiled(proto)
+    module = types.ModuleType("railcosim_pb2")
+    module.__file__ = path
+    exec(compile(source, path, "exec"), module.__dict__)  # noqa: S102 (checked above)
     return module
 
 
@@ -108,6 +191,12 @@ class SendTimeout(ProtocolError):
 
     def __init__(self, message):
         super().__init__(E.TIMEOUT, message)
+
+
+class LinkLost(ConnectionError):
+    """A socket error on a channel (reset, broken pipe, unreachable): the
+    connection is lost. An OSError (so handlers of socket errors see it),
+    told apart from the OSErrors a participant's own code raises."""
 
 
 class LinkClosed(Exception):
@@ -158,7 +247,12 @@ class Channel:
                 self.sock.settimeout(left)
             else:
                 self.sock.settimeout(None)
-            chunk = self.sock.recv(1 << 16)
+            try:
+                chunk = self.sock.recv(1 << 16)
+            except socket.timeout:
+                raise
+            except OSError as e:
+                raise LinkLost("%s: %s" % (self.what, e.strerror or e)) from e
             if not chunk:
                 raise LinkClosed("%s closed the connection" % self.what, len(buf) > 0)
             buf += chunk
@@ -184,6 +278,8 @@ class Channel:
             self.close()  # part of the frame may have left: the stream is broken
             raise SendTimeout("%s did not read a frame of %d bytes within %g s (it stopped "
                               "reading)" % (self.what, len(payload) + 4, seconds)) from None
+        except OSError as e:
+            raise LinkLost("%s: %s" % (self.what, e.strerror or e)) from e
 
     def send_error(self, req_id, code, message, step=-1, t=0.0, sender=""):
         """Best effort, within ERROR_SEND_SECONDS: the session ends anyway."""
