@@ -20,6 +20,8 @@ packages=(
   python3-scipy     # the soil from Green's functions (green_soil/): Bessel functions, quadrature
   iproute2
   parallel          # runs a study plan (master study --plan), and its test
+  libzip-dev        # the FMU host (fmu/): unpacks a .fmu archive; the test FMUs are packed with it
+  libpugixml-dev    # the FMU host (fmu/): reads an FMU's modelDescription.xml
 )
 
 missing=()
