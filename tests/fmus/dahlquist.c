@@ -3,7 +3,8 @@
  * x <- (1 - k h) x + h u. With k = 1, u = 0 and x(0) = 1 it reaches
  * x(10) = 0.9^100 after 100 steps, the same products a test forms itself.
  * Built by CMake as FMI 2.0 (FMI_VERSION=2) or 3.0 (FMI_VERSION=3), with
- * state save and restore or without (WITH_STATE=0). The FMI types are
+ * state save and restore or without (WITH_STATE=0), or with a restore that
+ * keeps x as it is (FORGETFUL_RESTORE=1, a broken FMU). The FMI types are
  * declared here, as the standard defines them, for this file alone. */
 #include <math.h>
 #include <stdbool.h>
@@ -82,7 +83,13 @@ static int save(Instance* c, void** state) {
 
 static int restore(Instance* c, void* state) {
   if (!WITH_STATE || state == NULL) return S_ERROR;
+#ifdef FORGETFUL_RESTORE
+  const double x = c->m.x;
   c->m = *(const Model*)state;
+  c->m.x = x;
+#else
+  c->m = *(const Model*)state;
+#endif
   return S_OK;
 }
 
