@@ -55,6 +55,7 @@ FmuParticipant::FmuParticipant(const ParticipantSetup& setup) {
   interfaces_ = setup.interfaces.size();
   map_ports(setup);
   set_parameters(config);
+  declare_channels(config);
 }
 
 FmuParticipant::~FmuParticipant() = default;
@@ -65,7 +66,7 @@ std::string FmuParticipant::name() const {
 
 void FmuParticipant::map_ports(const ParticipantSetup& setup) {
   const OwnConfig& config = setup.config;
-  std::set<std::string> known{"file"};
+  std::set<std::string> known{"file", "peak_history"};
   for (std::size_t k = 0; k < setup.interfaces.size(); ++k) {
     const Interface& itf = setup.interfaces[k];
     for (bool in : {true, false}) {
@@ -102,10 +103,11 @@ void FmuParticipant::map_ports(const ParticipantSetup& setup) {
     }
   }
   for (const std::string& key : config.keys())
-    if (!known.count(key) && key.rfind("set_", 0) != 0)
+    if (!known.count(key) && key.rfind("set_", 0) != 0 && key.rfind("result_", 0) != 0)
       throw BadRequestError(config.where(key) +
                             ": not a key of the FMU participant (file, "
-                            "CUT_in_QUANTITY and CUT_out_QUANTITY of its interfaces, set_NAME)");
+                            "CUT_in_QUANTITY and CUT_out_QUANTITY of its interfaces, set_NAME, "
+                            "peak_history, result_NAME)");
 }
 
 void FmuParticipant::set_parameters(const OwnConfig& config) {
@@ -117,6 +119,30 @@ void FmuParticipant::set_parameters(const OwnConfig& config) {
       throw BadRequestError(config.where(key) + ": the FMU has no real parameter '" + var_name +
                             "'");
     parameters_.emplace_back(v->value_reference, config.number(key));
+  }
+}
+
+void FmuParticipant::declare_channels(const OwnConfig& config) {
+  if (config.has("peak_history")) {
+    channels_.history.push_back(config.string("peak_history"));
+    peak_history_ = true;
+  }
+  const auto& variables = fmu_->description().variables;
+  for (const std::string& key : config.keys()) {
+    if (key.rfind("result_", 0) != 0) continue;
+    const std::string pattern = config.string(key);
+    std::vector<std::uint32_t> refs;
+    for (std::size_t i = 0; i <= variables.size(); ++i) {
+      const fmu::Variable* v = fmu_->description().find(name_at(pattern, i));
+      if (v == nullptr || !v->is_real()) break;
+      refs.push_back(v->value_reference);
+      if (pattern.find("{i}") == std::string::npos) break;
+    }
+    if (refs.empty())
+      throw BadRequestError(config.where(key) + ": the FMU has no real variable '" +
+                            name_at(pattern, 0) + "'");
+    channels_.results.push_back(key.substr(7));
+    result_refs_.push_back(std::move(refs));
   }
 }
 
@@ -187,17 +213,21 @@ StepResult FmuParticipant::finish_step() {
 StepResult FmuParticipant::report() {
   StepResult r;
   r.outputs = outputs();
-  for (const InterfaceData& d : r.outputs)
+  for (const InterfaceData& d : r.outputs) {
     for (const auto* a : {&d.displacement, &d.velocity, &d.force})
       for (double x : *a) r.finite = r.finite && std::isfinite(x);
-  for (const InterfaceData& d : r.outputs)
     for (double x : d.displacement)
       r.max_abs_displacement = std::max(r.max_abs_displacement, std::abs(x));
+  }
+  if (peak_history_) r.history = {r.max_abs_displacement};
   return r;
 }
 
 ParticipantResults FmuParticipant::results() {
-  return {{}, steps_};
+  ParticipantResults r;
+  for (const auto& refs : result_refs_) r.fields.push_back(fmu_->get_real(refs));
+  r.micro_steps = steps_;
+  return r;
 }
 
 ParticipantState FmuParticipant::save() {

@@ -8,6 +8,11 @@
 //   CUT_out_QUANTITY = "name_{i}"        interface receives / output of each it
 //                                        sends; {i} is the coupling point, 0, 1, ...
 //   set_NAME = 2.5                       a parameter's start value
+//   peak_history = "soil_peak_m"         optional: a history channel of that name,
+//                                        the largest |displacement| it sends
+//   result_NAME = "name_{i}"             optional: a result field NAME, those
+//                                        variables at the end (i = 0, 1, ... while
+//                                        the FMU has them)
 // (CUT: wr, rs, ss; QUANTITY: displacement, velocity, force). Refused with
 // a BadRequestError naming the key: a missing or unknown key, a variable
 // the FMU lacks, of another causality or type, or whose declared unit is
@@ -32,7 +37,7 @@ class FmuParticipant final : public Participant {
   ~FmuParticipant() override;
 
   std::string name() const override;
-  Channels channels() const override { return {}; }
+  Channels channels() const override { return channels_; }
   // Before initialize(): the FMU in its initialization mode, these inputs
   // set, its outputs read (an FMU has no statics of its own to solve).
   CouplingData statics(const CouplingData& inputs) override;
@@ -58,6 +63,7 @@ class FmuParticipant final : public Participant {
   };
   void map_ports(const ParticipantSetup& setup);
   void set_parameters(const OwnConfig& config);
+  void declare_channels(const OwnConfig& config);
   void enter_initialization();
   StepResult report();
 
@@ -65,6 +71,9 @@ class FmuParticipant final : public Participant {
   std::vector<Port> inputs_, outputs_;
   std::size_t interfaces_ = 0;
   std::vector<std::pair<std::uint32_t, double>> parameters_;
+  Channels channels_;
+  bool peak_history_ = false;
+  std::vector<std::vector<std::uint32_t>> result_refs_;  // in the order of channels_.results
   double macro_step_ = 0;
   bool in_initialization_ = false;
   long next_ = -1;  // the next macro step (-1 before initialize)
