@@ -97,6 +97,24 @@ TEST_P(FmuParticipantVersions, RepeatsAStepFromASavedStateBitForBit) {
   EXPECT_EQ(first, 0.9 * closed_form(10) + 0.1 * 3.0);
 }
 
+TEST_P(FmuParticipantVersions, DeclaresTheHistoryAndResultsItsConfigurationNames) {
+  FmuParticipant p(setup_for(GetParam(), "peak_history = \"peak_m\"\nresult_final_x = \"x\"\n"));
+  EXPECT_EQ(p.channels().history, std::vector<std::string>{"peak_m"});
+  EXPECT_EQ(p.channels().results, std::vector<std::string>{"final_x"});
+  EXPECT_EQ(p.initialize(kNoInput).history, std::vector<double>{1.0});
+  p.set_inputs(0, kNoInput);
+  EXPECT_EQ(p.step(0).history, std::vector<double>{0.9});
+  EXPECT_EQ(p.results().fields, std::vector<std::vector<double>>{{0.9}});
+  try {
+    FmuParticipant q(setup_for(GetParam(), "result_y = \"y_{i}\"\n"));
+    FAIL() << "a result of no variable was declared";
+  } catch (const BadRequestError& e) {
+    EXPECT_NE(std::string(e.what()).find("key 'fmu.result_y': the FMU has no real variable 'y_0'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(BothVersions, FmuParticipantVersions,
                          ::testing::Values("dahlquist2", "dahlquist3"));
 
