@@ -6,7 +6,9 @@
 // macro_step); the wheel/rail interface's quantities are variables:
 //   inputs  wr_in_displacement (10), wr_in_velocity (11), wr_in_force (12)
 //   outputs wr_out_displacement (20), wr_out_velocity (21), wr_out_force (22)
-// of which the case uses those its interface receives and sends. In
+// of which the case uses those its interface receives and sends, and the
+// vehicle's history channels at the last communication point, wheel_m (30)
+// and contact_force_N (31). In
 // initialization mode the outputs are the vehicle's statics for the inputs
 // set; the state is the Subsystem's checkpoint. Any error is fmi3Error with
 // the reason logged.
@@ -44,8 +46,9 @@ struct Vehicle {
   double in[3] = {0, 0, 0};  // displacement, velocity, force
   std::vector<Quantity> receives, sends;
   bool init_mode = false;
-  long next = 0;         // the next macro step
-  CouplingData outputs;  // the last ones computed
+  long next = 0;                // the next macro step
+  CouplingData outputs;         // the last ones computed
+  std::vector<double> history;  // wheel_m, contact_force_N at the last point
 
   int fail(const std::string& why) {
     if (log != nullptr) log(env, kError, "error", why.c_str());
@@ -83,6 +86,9 @@ void build(Vehicle& v) {
   if (vehicle == nullptr || vehicle->interfaces.size() != 1)
     throw std::invalid_argument("case " + case_name + ": the vehicle has not one interface");
   const railcosim::InterfaceSpec& itf = vehicle->interfaces[0];
+  const railcosim::Channels channels = railcosim::channels_of(*v.scene, vehicle->parts);
+  if (channels.history != std::vector<std::string>{"wheel_m", "contact_force_N"})
+    throw std::invalid_argument("the vehicle's history is not wheel_m, contact_force_N");
   if (railcosim::interface_points(*v.scene, itf) != 1)
     throw std::invalid_argument("the vehicle's interface has more than one point");
   v.receives = itf.receives();
@@ -145,7 +151,9 @@ FMU_EXPORT int fmi3EnterInitializationMode(void* c, bool, double, double start, 
 }
 FMU_EXPORT int fmi3ExitInitializationMode(void* c) {
   return guarded(c, [](Vehicle& v) {
-    v.outputs = v.sub->initialize(v.inputs()).outputs;
+    const railcosim::StepResult r = v.sub->initialize(v.inputs());
+    v.outputs = r.outputs;
+    v.history = r.history;
     v.init_mode = false;
   });
 }
@@ -179,6 +187,8 @@ FMU_EXPORT int fmi3GetFloat64(void* c, const std::uint32_t* vr, std::size_t n, d
         x[i] = v.in[vr[i] - 10];
       else if (vr[i] >= 20 && vr[i] <= 22)
         x[i] = output(v, static_cast<Quantity>(vr[i] - 20));
+      else if (vr[i] >= 30 && vr[i] - 30 < v.history.size())
+        x[i] = v.history[vr[i] - 30];
       else
         throw std::invalid_argument("fmi3GetFloat64: no variable " + std::to_string(vr[i]));
     }
@@ -197,7 +207,9 @@ FMU_EXPORT int fmi3DoStep(void* c, double t, double h, bool, bool* event, bool* 
       throw std::invalid_argument("a step from t = " + std::to_string(t) + " s, at macro step " +
                                   std::to_string(v.next));
     v.sub->set_inputs(n, v.inputs());
-    v.outputs = v.sub->step(n).outputs;
+    const railcosim::StepResult r = v.sub->step(n);
+    v.outputs = r.outputs;
+    v.history = r.history;
     v.next = n + 1;
     *last = t + h;
   });
@@ -206,6 +218,7 @@ FMU_EXPORT int fmi3DoStep(void* c, double t, double h, bool, bool* event, bool* 
 struct Saved {
   railcosim::ParticipantState state;
   long next = 0;
+  std::vector<double> history;
   double in[3] = {0, 0, 0};
 };
 
@@ -215,6 +228,7 @@ FMU_EXPORT int fmi3GetFMUState(void* c, void** s) {
     if (saved == nullptr) saved = new Saved;
     saved->state = v.sub->save();
     saved->next = v.next;
+    saved->history = v.history;
     std::memcpy(saved->in, v.in, sizeof v.in);
     *s = saved;
   });
@@ -225,6 +239,7 @@ FMU_EXPORT int fmi3SetFMUState(void* c, void* s) {
     const auto* saved = static_cast<const Saved*>(s);
     v.sub->restore(saved->state);
     v.next = saved->next;
+    v.history = saved->history;
     std::memcpy(v.in, saved->in, sizeof v.in);
   });
 }

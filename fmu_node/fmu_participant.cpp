@@ -103,11 +103,12 @@ void FmuParticipant::map_ports(const ParticipantSetup& setup) {
     }
   }
   for (const std::string& key : config.keys())
-    if (!known.count(key) && key.rfind("set_", 0) != 0 && key.rfind("result_", 0) != 0)
+    if (!known.count(key) && key.rfind("set_", 0) != 0 && key.rfind("result_", 0) != 0 &&
+        key.rfind("history_", 0) != 0)
       throw BadRequestError(config.where(key) +
                             ": not a key of the FMU participant (file, "
                             "CUT_in_QUANTITY and CUT_out_QUANTITY of its interfaces, set_NAME, "
-                            "peak_history, result_NAME)");
+                            "peak_history, history_NAME, result_NAME)");
 }
 
 void FmuParticipant::set_parameters(const OwnConfig& config) {
@@ -126,6 +127,15 @@ void FmuParticipant::declare_channels(const OwnConfig& config) {
   if (config.has("peak_history")) {
     channels_.history.push_back(config.string("peak_history"));
     peak_history_ = true;
+  }
+  for (const std::string& key : config.keys()) {
+    if (key.rfind("history_", 0) != 0) continue;
+    const fmu::Variable* v = fmu_->description().find(config.string(key));
+    if (v == nullptr || !v->is_real())
+      throw BadRequestError(config.where(key) + ": the FMU has no real variable '" +
+                            config.string(key) + "'");
+    channels_.history.push_back(key.substr(8));
+    history_refs_.push_back(v->value_reference);
   }
   const auto& variables = fmu_->description().variables;
   for (const std::string& key : config.keys()) {
@@ -220,6 +230,10 @@ StepResult FmuParticipant::report() {
       r.max_abs_displacement = std::max(r.max_abs_displacement, std::abs(x));
   }
   if (peak_history_) r.history = {r.max_abs_displacement};
+  if (!history_refs_.empty()) {
+    const std::vector<double> h = fmu_->get_real(history_refs_);
+    r.history.insert(r.history.end(), h.begin(), h.end());
+  }
   return r;
 }
 

@@ -10,6 +10,8 @@
 //   set_NAME = 2.5                       a parameter's start value
 //   peak_history = "soil_peak_m"         optional: a history channel of that name,
 //                                        the largest |displacement| it sends
+//   history_NAME = "name"                optional: a history channel NAME, that
+//                                        variable at each communication point
 //   result_NAME = "name_{i}"             optional: a result field NAME, those
 //                                        variables at the end (i = 0, 1, ... while
 //                                        the FMU has them)
@@ -73,6 +75,7 @@ class FmuParticipant final : public Participant {
   std::vector<std::pair<std::uint32_t, double>> parameters_;
   Channels channels_;
   bool peak_history_ = false;
+  std::vector<std::uint32_t> history_refs_;  // after the peak, in channels_.history's order
   std::vector<std::vector<std::uint32_t>> result_refs_;  // in the order of channels_.results
   double macro_step_ = 0;
   bool in_initialization_ = false;

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# The lumped soil as an FMI 3.0 FMU (tests/fmus/lumped_soil.c), served by
-# fmu_node over TCP as the soil of scenes/soil.toml, against the built-in
-# lumped soil: ss-xx-jacobi explicit and implicit (the implicit run saves
-# and restores the FMU's state in lock step), each within 1e-9 of the
-# built-in run by `master compare` (the FMU solves its tridiagonal systems
-# by Thomas' algorithm, the built-in soil otherwise: round-off apart).
+# FMUs served by fmu_node over TCP against the built-in participants,
+# explicit and implicit (the implicit run saves and restores the FMU's
+# state in lock step):
+# - the lumped soil as an FMI 3.0 FMU (tests/fmus/lumped_soil.c) as the soil
+#   of scenes/soil.toml, ss-xx-jacobi, within 1e-9 by `master compare` (the
+#   FMU solves its tridiagonal systems by Thomas' algorithm, the built-in
+#   soil otherwise: round-off apart);
+# - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
+#   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0).
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 source "$(dirname "$0")/node_start.bash" "$@"
@@ -47,6 +50,32 @@ for coupling in explicit implicit; do
   "$bin/master" compare "$work/builtin-$coupling" "$work/fmu-$coupling" --tolerance 1e-9 \
     >"$work/compare.log" 2>&1 || fail "the FMU soil differs from the built-in one ($coupling)" "$work/compare.log"
   grep -q '^agree: ' "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
+  cat "$work/compare.log"
+done
+
+sed -e 's/^end_time = .*/end_time = 0.05/' "$src/scenes/paper.toml" >"$work/paper.toml"
+cat >"$work/vehicle.toml" <<TOML
+[vehicle]
+file = "$bin/fmus/railcosim_vehicle.fmu"
+wr_in_displacement = "wr_in_displacement"
+wr_out_displacement = "wr_out_displacement"
+history_wheel_m = "wheel_m"
+history_contact_force_N = "contact_force_N"
+TOML
+start vehicle "$bin/fmu_node" --role vehicle --listen 127.0.0.1:0 --config "$work/vehicle.toml"
+vehicle=$address
+for coupling in explicit implicit; do
+  "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
+    --node "vehicle=$vehicle" --out "$work/vfmu-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the run with the vehicle FMU failed ($coupling)" "$work/run.log"
+  grep -m1 "^wr-xx-jacobi: " "$work/run.log" || fail "no summary line ($coupling)" "$work/run.log"
+  "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
+    --out "$work/vbuiltin-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the built-in run failed ($coupling)" "$work/run.log"
+  "$bin/master" compare "$work/vbuiltin-$coupling" "$work/vfmu-$coupling" --tolerance 0 \
+    >"$work/compare.log" 2>&1 || fail "the vehicle FMU differs from the built-in one ($coupling)" "$work/compare.log"
+  grep -q '^agree: 1 run(s), 2 file(s), 0 over the tolerance 0; worst relative difference 0 ' \
+    "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
   cat "$work/compare.log"
 done
 echo "1 passed, 0 failed"
