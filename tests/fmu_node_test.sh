@@ -7,7 +7,9 @@
 #   FMU solves its tridiagonal systems by Thomas' algorithm, the built-in
 #   soil otherwise: round-off apart);
 # - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
-#   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0).
+#   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0);
+# - the lumped soil that cannot save its state: explicit runs, not judged
+#   for that reason; implicit refused, saying so.
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 source "$(dirname "$0")/node_start.bash" "$@"
@@ -52,6 +54,21 @@ for coupling in explicit implicit; do
   grep -q '^agree: ' "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
   cat "$work/compare.log"
 done
+
+sed 's/lumped_soil3.fmu/lumped_soil3_nostate.fmu/' "$work/fmu.toml" >"$work/nostate.toml"
+start nostate "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/nostate.toml"
+"$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --node "soil=$address" \
+  --out "$work/nostate" >"$work/run.log" 2>&1 || fail "the explicit run without state save failed" "$work/run.log"
+grep -q '^ss-xx-jacobi: not_judged, ' "$work/run.log" || fail "not 'not_judged'" "$work/run.log"
+grep -q 'lumped_soil3_nostate.fmu cannot save its state' "$work/run.log" ||
+  fail "the judgement does not say the FMU cannot save its state" "$work/run.log"
+if "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling implicit \
+  --node "soil=$address" --out "$work/nostate" >"$work/run.log" 2>&1; then
+  fail "an implicit run without state save was made" "$work/run.log"
+fi
+grep -q 'cannot save its state .*: explicit coupling only' "$work/run.log" ||
+  fail "the implicit refusal does not say why" "$work/run.log"
+echo "without state save: explicit not judged, implicit refused"
 
 sed -e 's/^end_time = .*/end_time = 0.05/' "$src/scenes/paper.toml" >"$work/paper.toml"
 cat >"$work/vehicle.toml" <<TOML

@@ -17,6 +17,9 @@
 
 #define EXPORT __attribute__((visibility("default")))
 #define N N_POINTS
+#ifndef WITH_STATE
+#define WITH_STATE 1
+#endif
 
 /* Value references: parameters 1-8, then the per-point blocks. */
 enum { VR_MASS = 1, VR_K, VR_C, VR_KC, VR_CC, VR_KB, VR_CB, VR_MICRO };
@@ -200,6 +203,7 @@ EXPORT int fmi3DoStep(void* c, double t, double h, bool no_set_prior, bool* even
   return s;
 }
 EXPORT int fmi3GetFMUState(void* c, void** s) {
+  if (!WITH_STATE) return S_ERROR;
   Model* copy = *s != NULL ? *s : malloc(sizeof(Model));
   if (copy == NULL) return S_ERROR;
   *copy = ((Instance*)c)->m;
