@@ -172,8 +172,7 @@ UnpackedArchive::UnpackedArchive(const fs::path& archive, const ArchiveLimits& l
     refuse(archive, "it has " + std::to_string(bytes) + " bytes, more than the " +
                         std::to_string(limits.max_archive_bytes) + " an FMU may have");
   int error = 0;
-  std::unique_ptr<zip_t, ZipCloser> z(
-      zip_open(archive.c_str(), ZIP_RDONLY, &error));
+  std::unique_ptr<zip_t, ZipCloser> z(zip_open(archive.c_str(), ZIP_RDONLY, &error));
   // (No ZIP_CHECKCONS: its stricter checks refuse sound archives that other
   // tools write, cmake -E tar among them; the checks that matter are ours.)
   if (!z && error == ZIP_ER_EXISTS)  // libzip finds a name twice as it reads the directory

@@ -152,7 +152,9 @@ TEST_F(FmuArchive, RefusesTwoEntriesThatLandOnOneFile) {
     bytes.replace(at, 8, "aaaa.txt");
   std::ofstream(a, std::ios::binary | std::ios::trunc) << bytes;
   m = refusal(a);
-  EXPECT_NE(m.find("test.fmu: entry 'aaaa.txt' lands on 'aaaa.txt', as another entry does"), std::string::npos) << m;
+  EXPECT_NE(m.find("test.fmu: entry 'aaaa.txt' lands on 'aaaa.txt', as another entry does"),
+            std::string::npos)
+      << m;
   // A file that is also another entry's folder.
   m = refusal(zip({{"a", "1"}, {"a/b", "2"}}));
   EXPECT_NE(m.find("entry 'a' is a file and a folder of 'a/b'"), std::string::npos) << m;
