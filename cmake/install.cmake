@@ -12,7 +12,7 @@ set_target_properties(railcosim_protocol PROPERTIES EXPORT_NAME protocol)
 set_target_properties(railcosim_node PROPERTIES EXPORT_NAME node)
 set_target_properties(railcosim_warnings PROPERTIES EXPORT_NAME warnings)
 
-install(TARGETS master vehicle_node track_node soil_node RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS master vehicle_node track_node soil_node fmu_node RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS railcosim_common railcosim_protocol railcosim_node railcosim_warnings
         EXPORT railcosimTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

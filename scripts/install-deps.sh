@@ -42,6 +42,8 @@ tests=(
   libgtest-dev libgmock-dev
   iproute2          # the tests across network namespaces
   parallel          # runs a study plan (master study --plan), and its test
+  libzip-dev        # the FMU host (fmu/): unpacks a .fmu archive; the test FMUs are packed with it
+  libpugixml-dev    # the FMU host (fmu/): reads an FMU's modelDescription.xml
 )
 
 packages=("${base[@]}")

@@ -12,6 +12,7 @@
 #include "cli/cli_study.hpp"
 #include "cli/compare.hpp"
 #include "cli/conform.hpp"
+#include "cli/fmu_check.hpp"
 #include "log.hpp"
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
@@ -71,6 +72,8 @@ int master_main(int argc, char** argv) {
   add_keys_command(app, ka);
   CompareArgs cmp;
   add_compare_command(app, cmp);
+  FmuArgs fa;
+  add_fmu_command(app, fa);
 
   try {
     app.parse(argc, argv);
@@ -85,6 +88,7 @@ int master_main(int argc, char** argv) {
     if (*ca.command) return do_conform(ca);
     if (*ka.command) return do_keys(ka);
     if (*cmp.command) return do_compare(cmp);
+    if (*fa.command) return do_fmu(fa);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "master: scene error: %s\n", e.what());
     return 2;

@@ -1,0 +1,181 @@
+#include "cli/fmu_check.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "fmu.hpp"
+#include "fmu_error.hpp"
+
+namespace railcosim::cli {
+namespace {
+
+using fmu::Fmu;
+using fmu::FmuError;
+using fmu::Variable;
+
+// A default experiment of more steps than this is refused rather than run.
+constexpr long kMaxSteps = 10'000'000;
+
+void plan_experiment(FmuCheckReport& r) {
+  const fmu::DefaultExperiment& e = r.description.default_experiment;
+  r.start = e.start_time.value_or(0.0);
+  r.stop = e.stop_time.value_or(r.start + 1.0);
+  if (!(r.stop > r.start))
+    throw FmuError(r.file + ": <DefaultExperiment> stopTime is not after startTime");
+  r.step = e.step_size.value_or(
+      r.description.capabilities.fixed_internal_step.value_or((r.stop - r.start) / 100));
+  const double n = std::round((r.stop - r.start) / r.step);
+  if (!(r.step > 0) || !(n >= 1) || n > kMaxSteps)
+    throw FmuError(r.file + ": the default experiment's step (" + std::to_string(r.step) +
+                   " s) does not give 1 to " + std::to_string(kMaxSteps) + " steps");
+  r.steps = static_cast<long>(n);
+}
+
+std::vector<std::uint32_t> references(const std::vector<const Variable*>& vars) {
+  std::vector<std::uint32_t> out;
+  for (const Variable* v : vars) out.push_back(v->value_reference);
+  return out;
+}
+
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+// At step n: save, step, restore, step again; every real variable compared.
+void round_trip(FmuCheckReport& r, Fmu& f, double t, const std::vector<std::uint32_t>& all) {
+  const std::vector<double> before = f.get_real(all);
+  fmu::FmuState saved = f.get_state();
+  f.do_step(t, r.step);
+  const std::vector<double> first = f.get_real(all);
+  f.set_state(saved);
+  const std::vector<double> restored = f.get_real(all);
+  f.do_step(t, r.step);
+  const std::vector<double> again = f.get_real(all);
+  char at[64];
+  std::snprintf(at, sizeof at, "the step from t = %.9g s", t);
+  if (!same_bits(before, restored)) {
+    r.round_trip = FmuCheckReport::RoundTrip::kFail;
+    r.round_trip_detail =
+        std::string("after the restore before ") + at + " the variables differ from those saved";
+  } else if (!same_bits(first, again)) {
+    r.round_trip = FmuCheckReport::RoundTrip::kFail;
+    r.round_trip_detail = std::string(at) + " taken again from the saved state differs";
+  } else {
+    r.round_trip = FmuCheckReport::RoundTrip::kPass;
+    r.round_trip_detail = std::string(at) +
+                          " repeated from a saved state: " + std::to_string(all.size()) +
+                          " variables equal bit for bit";
+  }
+}
+
+void run_experiment(FmuCheckReport& r, Fmu& f) {
+  std::vector<const Variable*> outputs, reals;
+  for (const Variable& v : r.description.variables) {
+    if (!v.is_real()) continue;
+    reals.push_back(&v);
+    if (v.causality == "output") outputs.push_back(&v);
+  }
+  const bool state = r.description.capabilities.can_get_and_set_state;
+  if (!state) r.round_trip_detail = "the FMU cannot save its state";
+  try {
+    f.instantiate("fmu_check");
+    f.setup(r.start, r.stop, r.description.default_experiment.tolerance);
+    f.enter_initialization();
+    f.exit_initialization();
+    const std::vector<std::uint32_t> all = references(reals);
+    for (long n = 0; n < r.steps; ++n) {
+      const double t = r.start + static_cast<double>(n) * r.step;
+      if (state && n == r.steps / 2)
+        round_trip(r, f, t, all);
+      else
+        f.do_step(t, r.step);
+    }
+    const std::vector<double> values = f.get_real(references(outputs));
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      r.final_outputs.emplace_back(outputs[i]->name, values[i]);
+    f.terminate();
+    r.ran = true;
+  } catch (const FmuError& e) {
+    r.run_error = e.what();
+    if (state && r.round_trip == FmuCheckReport::RoundTrip::kNotOffered) {
+      r.round_trip = FmuCheckReport::RoundTrip::kFail;
+      r.round_trip_detail = "not reached: the run stopped";
+    }
+  }
+}
+
+void judge_couplings(FmuCheckReport& r) {
+  const fmu::Capabilities& c = r.description.capabilities;
+  auto& out = r.couplings;
+  out.emplace_back("explicit, held inputs (Jacobi, Gauss-Seidel)", "yes");
+  out.emplace_back("explicit, ramped or extrapolated inputs",
+                   c.can_interpolate_inputs
+                       ? "yes: the FMU interpolates its inputs (FMI 2 input derivatives, degree 1)"
+                       : "held inside each communication step (degree 0): the FMU does not "
+                         "interpolate its inputs");
+  const bool state = r.round_trip == FmuCheckReport::RoundTrip::kPass;
+  const std::string why = !c.can_get_and_set_state ? "the FMU cannot save its state"
+                          : state                  ? ""
+                                                   : "its state round trip failed";
+  out.emplace_back("implicit (Aitken, IQN-ILS), steps repeated from a checkpoint",
+                   state ? "yes" : "no: " + why);
+  out.emplace_back("judged (stability measure, co-simulation reference)",
+                   state ? "yes" : "not judged: " + why);
+  out.emplace_back("multirate at its own window", "yes (a fixed communication step)");
+  out.emplace_back("variable communication steps",
+                   c.can_handle_variable_step
+                       ? "yes"
+                       : "no: canHandleVariableCommunicationStepSize is not true");
+  r.explicit_only = !state;
+}
+
+}  // namespace
+
+FmuCheckReport check_fmu(const std::string& file) {
+  Fmu f(file);
+  FmuCheckReport r;
+  r.file = file;
+  r.description = f.description();
+  plan_experiment(r);
+  run_experiment(r, f);
+  judge_couplings(r);
+  return r;
+}
+
+int print_fmu_check(const FmuCheckReport& r) {
+  const fmu::ModelDescription& d = r.description;
+  const fmu::Capabilities& c = d.capabilities;
+  std::printf("FMU %s: FMI %s co-simulation, model '%s', identifier %s\n", r.file.c_str(),
+              fmu::version_name(d.version), d.model_name.c_str(), d.model_identifier.c_str());
+  std::printf("variables (%zu):\n", d.variables.size());
+  for (const Variable& v : d.variables) {
+    std::printf("  %-24s vr %-6u %-10s %-11s %-8s", v.name.c_str(), v.value_reference,
+                v.causality.c_str(), v.variability.c_str(), v.type.c_str());
+    if (v.start) std::printf(" start %.17g", *v.start);
+    if (!v.unit.empty()) std::printf(" [%s]", v.unit.c_str());
+    std::printf("\n");
+  }
+  std::printf(
+      "capabilities: state save %s, variable communication step %s, interpolates "
+      "inputs %s, output derivatives up to order %d, directional derivatives %s\n",
+      c.can_get_and_set_state ? "yes" : "no", c.can_handle_variable_step ? "yes" : "no",
+      c.can_interpolate_inputs ? "yes" : "no", c.max_output_derivative_order,
+      c.provides_directional_derivatives ? "yes" : "no");
+  std::printf("default experiment: %.9g s to %.9g s, %ld steps of %.9g s: %s\n", r.start, r.stop,
+              r.steps, r.step, r.ran ? "PASS" : ("FAIL: " + r.run_error).c_str());
+  for (const auto& [name, value] : r.final_outputs)
+    std::printf("  %s = %.17g at t = %.9g s\n", name.c_str(), value, r.stop);
+  const char* trip = r.round_trip == FmuCheckReport::RoundTrip::kPass   ? "PASS"
+                     : r.round_trip == FmuCheckReport::RoundTrip::kFail ? "FAIL"
+                                                                        : "SKIP";
+  std::printf("state round trip: %s: %s\n", trip, r.round_trip_detail.c_str());
+  std::printf("couplings (what its capabilities allow):\n");
+  for (const auto& [coupling, verdict] : r.couplings)
+    std::printf("  %-62s %s\n", coupling.c_str(), verdict.c_str());
+  std::printf("verdict: %s\n",
+              r.explicit_only ? "explicit coupling only" : "explicit and implicit coupling");
+  return r.ran && r.round_trip != FmuCheckReport::RoundTrip::kFail ? 0 : 1;
+}
+
+}  // namespace railcosim::cli

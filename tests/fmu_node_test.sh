@@ -1,0 +1,98 @@
+#!/usr/bin/env bash
+# FMUs served by fmu_node over TCP against the built-in participants,
+# explicit and implicit (the implicit run saves and restores the FMU's
+# state in lock step):
+# - the lumped soil as an FMI 3.0 FMU (tests/fmus/lumped_soil.c) as the soil
+#   of scenes/soil.toml, ss-xx-jacobi, within 1e-9 by `master compare` (the
+#   FMU solves its tridiagonal systems by Thomas' algorithm, the built-in
+#   soil otherwise: round-off apart);
+# - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
+#   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0);
+# - the lumped soil that cannot save its state: explicit runs, not judged
+#   for that reason; implicit refused, saying so.
+# Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
+set -euo pipefail
+source "$(dirname "$0")/node_start.bash" "$@"
+fail() { echo "$1"; [[ -z ${2:-} ]] || cat "$2"; exit 1; }
+
+sed -e 's/^end_time = .*/end_time = 0.05/' -e '/^ss_macro_step/d' \
+  -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$src/scenes/soil.toml" >"$work/soil.toml"
+grep -q '^micro_steps = 10' "$work/soil.toml" || fail "the scene was not edited"
+cat >"$work/fmu.toml" <<TOML
+[soil]
+file = "$bin/fmus/lumped_soil3.fmu"
+ss_in_displacement = "w_{i}"
+ss_in_velocity = "wd_{i}"
+ss_out_displacement = "u_{i}"
+ss_out_velocity = "ud_{i}"
+# The scene's [soil], [ballast] and simulation.micro_steps.
+set_mass = 699.6
+set_stiffness = 121.08e6
+set_damping = 341.9e3
+set_coupling_stiffness = 43.72e6
+set_coupling_damping = 0.0
+set_ballast_stiffness = 25.5e6
+set_ballast_damping = 40e3
+set_micro_steps = 10
+# What the built-in soil records: its peak and its masses at the end.
+peak_history = "soil_peak_m"
+result_soil_m = "u_{i}"
+TOML
+start fmu "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/fmu.toml"
+soil=$address
+
+for coupling in explicit implicit; do
+  "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling "$coupling" \
+    --node "soil=$soil" --out "$work/fmu-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the run with the FMU soil failed ($coupling)" "$work/run.log"
+  grep -m1 "^ss-xx-jacobi: " "$work/run.log" || fail "no summary line ($coupling)" "$work/run.log"
+  "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling "$coupling" \
+    --out "$work/builtin-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the built-in run failed ($coupling)" "$work/run.log"
+  "$bin/master" compare "$work/builtin-$coupling" "$work/fmu-$coupling" --tolerance 1e-9 \
+    >"$work/compare.log" 2>&1 || fail "the FMU soil differs from the built-in one ($coupling)" "$work/compare.log"
+  grep -q '^agree: ' "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
+  cat "$work/compare.log"
+done
+
+sed 's/lumped_soil3.fmu/lumped_soil3_nostate.fmu/' "$work/fmu.toml" >"$work/nostate.toml"
+start nostate "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/nostate.toml"
+"$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --node "soil=$address" \
+  --out "$work/nostate" >"$work/run.log" 2>&1 || fail "the explicit run without state save failed" "$work/run.log"
+grep -q '^ss-xx-jacobi: not_judged, ' "$work/run.log" || fail "not 'not_judged'" "$work/run.log"
+grep -q 'lumped_soil3_nostate.fmu cannot save its state' "$work/run.log" ||
+  fail "the judgement does not say the FMU cannot save its state" "$work/run.log"
+if "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling implicit \
+  --node "soil=$address" --out "$work/nostate" >"$work/run.log" 2>&1; then
+  fail "an implicit run without state save was made" "$work/run.log"
+fi
+grep -q 'cannot save its state .*: explicit coupling only' "$work/run.log" ||
+  fail "the implicit refusal does not say why" "$work/run.log"
+echo "without state save: explicit not judged, implicit refused"
+
+sed -e 's/^end_time = .*/end_time = 0.05/' "$src/scenes/paper.toml" >"$work/paper.toml"
+cat >"$work/vehicle.toml" <<TOML
+[vehicle]
+file = "$bin/fmus/railcosim_vehicle.fmu"
+wr_in_displacement = "wr_in_displacement"
+wr_out_displacement = "wr_out_displacement"
+history_wheel_m = "wheel_m"
+history_contact_force_N = "contact_force_N"
+TOML
+start vehicle "$bin/fmu_node" --role vehicle --listen 127.0.0.1:0 --config "$work/vehicle.toml"
+vehicle=$address
+for coupling in explicit implicit; do
+  "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
+    --node "vehicle=$vehicle" --out "$work/vfmu-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the run with the vehicle FMU failed ($coupling)" "$work/run.log"
+  grep -m1 "^wr-xx-jacobi: " "$work/run.log" || fail "no summary line ($coupling)" "$work/run.log"
+  "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
+    --out "$work/vbuiltin-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the built-in run failed ($coupling)" "$work/run.log"
+  "$bin/master" compare "$work/vbuiltin-$coupling" "$work/vfmu-$coupling" --tolerance 0 \
+    >"$work/compare.log" 2>&1 || fail "the vehicle FMU differs from the built-in one ($coupling)" "$work/compare.log"
+  grep -q '^agree: 1 run(s), 2 file(s), 0 over the tolerance 0; worst relative difference 0 ' \
+    "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
+  cat "$work/compare.log"
+done
+echo "1 passed, 0 failed"
