@@ -29,6 +29,8 @@ base=(
   libtomlplusplus-dev
   libcli11-dev
   libzip-dev libpugixml-dev  # FMUs as participants: the archive and its modelDescription.xml
+  libspectra-dev    # the verdict's Arnoldi method on Eigen (master/verdict/)
+  liblapack-dev libopenblas-dev  # the verdict's dense eigenvalues (LAPACK, on OpenBLAS)
   python3 python3-matplotlib python3-protobuf python3-numpy
 )
 fe=(
@@ -42,8 +44,6 @@ tests=(
   libgtest-dev libgmock-dev
   iproute2          # the tests across network namespaces
   parallel          # runs a study plan (master study --plan), and its test
-  libzip-dev        # the FMU host (fmu/): unpacks a .fmu archive; the test FMUs are packed with it
-  libpugixml-dev    # the FMU host (fmu/): reads an FMU's modelDescription.xml
 )
 
 packages=("${base[@]}")
