@@ -1,6 +1,6 @@
 // The measures of the macro-step map on a sample of the paper study's runs.
 // The default (run/spectral.hpp: kAuto) takes the paper model's map whole
-// (LAPACK) and equals the dense oracle bitwise. Arnoldi's method, the
+// (Eigen) and equals the dense oracle bitwise. Arnoldi's method, the
 // measure of maps above kDenseMapLimit coordinates, is held against the
 // dense map where it converges: an unstable mode it finds is the dense
 // map's (rho within 1e-6, the products' finite-difference noise), and it

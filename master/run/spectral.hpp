@@ -77,7 +77,7 @@ enum class MapMethod {
   // of the paper scene: moduli 2e-6 apart) it does not converge within any
   // affordable budget, and the verdict then says "not judged".
   kKrylov,
-  // Every column and every eigenvalue (LAPACK): exact, O(N^2) memory and
+  // Every column and every eigenvalue (Eigen's real Schur form): exact, O(N^2) memory and
   // O(N^3) work; the oracle of the tests and the measure of small models.
   kDense,
 };

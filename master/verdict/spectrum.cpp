@@ -1,6 +1,6 @@
 #include "verdict/spectrum.hpp"
 
-#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 // GCC 12 reports a use after free inside Spectra's Hessenberg eigen-solver
 // where Eigen frees a temporary it no longer reads (a false positive of
 // its inlining); clang has no such warning.
@@ -19,41 +19,8 @@
 #include <random>
 #include <sstream>
 
-// LAPACK's eigenvalues of a general real matrix (dgeev, eigenvalues only):
-// a blocked Hessenberg reduction and the multishift QR algorithm with
-// aggressive early deflation, several times faster than Eigen's real Schur
-// form on the maps here. OpenBLAS, where it provides LAPACK, is held to one
-// thread: a study runs its runs side by side.
-extern "C" void dgeev_(const char* jobvl, const char* jobvr, const int* n, double* a,
-                       const int* lda, double* wr, double* wi, double* vl, const int* ldvl,
-                       double* vr, const int* ldvr, double* work, const int* lwork, int* info);
-extern "C" void openblas_set_num_threads(int) __attribute__((weak));
-
 namespace railcosim::verdict {
 namespace {
-
-// Every eigenvalue of the square matrix A (overwritten); false when LAPACK
-// reports that the QR algorithm did not converge.
-bool all_eigenvalues(Eigen::MatrixXd& A, Eigen::VectorXcd& values) {
-  if (openblas_set_num_threads) openblas_set_num_threads(1);
-  const int n = static_cast<int>(A.rows()), one = 1;
-  std::vector<double> wr(static_cast<std::size_t>(n)), wi(static_cast<std::size_t>(n));
-  int info = 0, query = -1;
-  double size = 0;
-  dgeev_("N", "N", &n, A.data(), &n, wr.data(), wi.data(), nullptr, &one, nullptr, &one, &size,
-         &query, &info);
-  int lwork = std::max(1, static_cast<int>(size));
-  std::vector<double> work(static_cast<std::size_t>(lwork));
-  dgeev_("N", "N", &n, A.data(), &n, wr.data(), wi.data(), nullptr, &one, nullptr, &one,
-         work.data(), &lwork, &info);
-  if (info != 0) return false;
-  values.resize(n);
-  for (int i = 0; i < n; ++i)
-    values(i) = {wr[static_cast<std::size_t>(i)], wi[static_cast<std::size_t>(i)]};
-  return true;
-}
-
-using Clock = std::chrono::steady_clock;
 
 // Raised inside a product when the budget is spent; caught below.
 struct OutOfBudget {
@@ -138,13 +105,13 @@ Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
         R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
     s.dimension = K;
     if (K > 0) {
-      Eigen::VectorXcd values;
-      if (!all_eigenvalues(R, values)) {
+      const Eigen::EigenSolver<Eigen::MatrixXd> eig(R, false);
+      if (eig.info() != Eigen::Success) {
         s.why_not = "the eigenvalue iteration of the map's matrix did not converge";
         finish(s, op);
         return s;
       }
-      take(s, values);
+      take(s, eig.eigenvalues());
     } else {
       s.converged = true;
     }

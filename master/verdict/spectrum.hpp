@@ -7,8 +7,8 @@
 // GenEigsSolver on Eigen), asking for the eigenvalues of largest modulus:
 // its cost is a number of products and O(N k) memory, not the N products
 // and O(N^3) work of the whole matrix. dense_spectrum() builds every column
-// and computes every eigenvalue (Eigen's real Schur form): an oracle for
-// tests on small maps, never the product's default.
+// and computes every eigenvalue (Eigen's real Schur form): exact, the
+// oracle of the tests and the measure of small maps.
 //
 // Both are bounded: a budget of products and of seconds, and a stop that is
 // asked before every product. A measure that does not converge within its
