@@ -27,9 +27,9 @@ namespace railcosim::remote {
 // user raises (--step-deadline-floor, [coupling] step_deadline_floor).
 struct RemoteTimeouts {
   std::chrono::milliseconds connect{10000};  // with retries: a node may still be starting
-  // A node that answers the hello with BUSY (another client holds it: a
-  // session, or a connection that has not said hello yet, which a node
-  // keeps for at most 10 s) is asked again for this long.
+  // A node that answers the hello with BUSY (another session holds it, or
+  // eight other connections are in their hello, each for at most 10 s) is
+  // asked again for this long.
   std::chrono::milliseconds busy{20000};
   std::chrono::milliseconds reply{10000};  // hello, configure and every other request
   std::chrono::milliseconds step_min{2000};
