@@ -7,6 +7,13 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
+# Folders 0755 whatever the installing user's umask (under umask 000 they
+# were world-writable: anyone could plant a scene or an SDK module there);
+# install(DIRECTORY) below says the same for the folders it copies.
+set(CMAKE_INSTALL_DEFAULT_DIRECTORY_PERMISSIONS
+    OWNER_READ OWNER_WRITE OWNER_EXECUTE GROUP_READ GROUP_EXECUTE WORLD_READ WORLD_EXECUTE)
+set(railcosim_dir_permissions DIRECTORY_PERMISSIONS ${CMAKE_INSTALL_DEFAULT_DIRECTORY_PERMISSIONS})
+
 set_target_properties(railcosim_common PROPERTIES EXPORT_NAME common)
 set_target_properties(railcosim_protocol PROPERTIES EXPORT_NAME protocol)
 set_target_properties(railcosim_node PROPERTIES EXPORT_NAME node)
@@ -32,14 +39,14 @@ install(FILES ${PROJECT_SOURCE_DIR}/protocol/railcosim.proto
 # What the C++ participant guide's checks use besides the programs: the
 # scenes, and the worked example (a participant built against this package).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/scenes
-        FILES_MATCHING PATTERN "*.toml")
+        ${railcosim_dir_permissions} FILES_MATCHING PATTERN "*.toml")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/cpp_soil/
-        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/cpp_soil)
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/cpp_soil ${railcosim_dir_permissions})
 # The Python SDK and its example, so that a Python participant needs nothing
 # but the package either: the SDK finds the schema installed above.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/python/railcosim_sdk/
         DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/sdk/python/railcosim_sdk
-        FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
+        ${railcosim_dir_permissions} FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
 install(FILES ${PROJECT_SOURCE_DIR}/examples/python_soil/soil_participant.py
               ${PROJECT_SOURCE_DIR}/examples/python_soil/README.md
         DESTINATION ${CMAKE_INSTALL_DATADIR}/railcosim/examples/python_soil)

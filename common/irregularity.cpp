@@ -159,10 +159,14 @@ TableProfile TableProfile::parse_csv(const std::string& text, const std::string&
   for (int lineno = 1; std::getline(in, line); ++lineno) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
+    // The messages name the line and what was expected, never its text: a
+    // scene may name any readable file (say another user's secrets) as its
+    // profile, and the message may travel further than the file.
     const auto where = [&] { return path + ":" + std::to_string(lineno) + ": "; };
     const auto comma = line.find(',');
     if (comma == std::string::npos)
-      throw SceneError(where() + "expected 'x_m,r_m', got '" + line + "'");
+      throw SceneError(where() + "expected 'x_m,r_m', two numbers and a comma; the line (" +
+                       std::to_string(line.size()) + " characters, not shown) has no comma");
     const std::string a = line.substr(0, comma), b = line.substr(comma + 1);
     double x = 0, r = 0;
     std::size_t ia = 0, ib = 0;
@@ -171,12 +175,12 @@ TableProfile TableProfile::parse_csv(const std::string& text, const std::string&
       r = std::stod(b, &ib);
     } catch (const std::exception&) {
       if (xs.empty() && lineno == 1) continue;  // a header line
-      throw SceneError(where() + "not two numbers: '" + line + "'");
+      throw SceneError(where() + "not two numbers 'x_m,r_m' (the line is not shown)");
     }
     if (a.find_first_not_of(" \t", ia) != std::string::npos ||
         b.find_first_not_of(" \t", ib) != std::string::npos || !std::isfinite(x) ||
         !std::isfinite(r))
-      throw SceneError(where() + "not two finite numbers: '" + line + "'");
+      throw SceneError(where() + "not two finite numbers 'x_m,r_m' (the line is not shown)");
     if (!xs.empty() && !(x > xs.back()))
       throw SceneError(where() + "x must increase strictly (x = " + a + " after " +
                        std::to_string(xs.back()) + ")");

@@ -297,11 +297,10 @@ void read_coupling(SceneReader& r, Scene& sc) {
   text("data_plane", c.data_plane);
   whole("window_steps", c.window_steps);
   number("step_budget", c.step_budget);
+  number("step_deadline_floor", c.step_deadline_floor);
   number("wr_macro_step", c.wr_macro_step);
   number("rs_macro_step", c.rs_macro_step);
   number("ss_macro_step", c.ss_macro_step);
-  for (std::optional<double>* w : {&c.wr_macro_step, &c.rs_macro_step, &c.ss_macro_step})
-    if (w->has_value() && **w == 0) w->reset();  // 0: the finest window
 }
 
 void read_simulation(SceneReader& r, Scene& sc) {

@@ -21,18 +21,19 @@ namespace railcosim {
 // command line says otherwise (a flag given wins); each member is unset when
 // the scene leaves its key out. The names are those of the flags' values.
 struct SceneCoupling {
-  std::optional<bool> implicit;            // --coupling implicit (true) or explicit
-  std::optional<std::string> inputs;       // --inputs
-  std::optional<std::string> accelerator;  // --accelerator
-  std::optional<double> relaxation;        // --relaxation
-  std::optional<long> max_iterations;      // --max-iterations
-  std::optional<long> iteration_budget;    // --iteration-budget
-  std::optional<double> convergence;       // --convergence
-  std::optional<long> reused_windows;      // --reused-windows
-  std::optional<std::string> feedthrough;  // --feedthrough
-  std::optional<std::string> data_plane;   // --data-plane
-  std::optional<long> window_steps;        // --window-steps
-  std::optional<double> step_budget;       // --step-budget, s
+  std::optional<bool> implicit;               // --coupling implicit (true) or explicit
+  std::optional<std::string> inputs;          // --inputs
+  std::optional<std::string> accelerator;     // --accelerator
+  std::optional<double> relaxation;           // --relaxation
+  std::optional<long> max_iterations;         // --max-iterations
+  std::optional<long> iteration_budget;       // --iteration-budget
+  std::optional<double> convergence;          // --convergence
+  std::optional<long> reused_windows;         // --reused-windows
+  std::optional<std::string> feedthrough;     // --feedthrough
+  std::optional<std::string> data_plane;      // --data-plane
+  std::optional<long> window_steps;           // --window-steps
+  std::optional<double> step_budget;          // --step-budget, s
+  std::optional<double> step_deadline_floor;  // --step-deadline-floor, s
   // A cut's own window (--macro-step CUT=H_cut), s: an integer multiple of
   // the finest window simulation.macro_step.
   std::optional<double> wr_macro_step, rs_macro_step, ss_macro_step;

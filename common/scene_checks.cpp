@@ -1,7 +1,9 @@
 #include "scene_checks.hpp"
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -265,7 +267,35 @@ void check_matrix_spread(const Scene& s) {
 
 }  // namespace
 
+// A scene's cut windows ([coupling] CUT_macro_step): each an integer
+// multiple of the scene's own macro step, as --macro-step CUT=S must be
+// (under another --macro-step a window that does not fit it is a default
+// left aside, docs/coupling.md).
+void check_cut_windows(const Scene& s) {
+  const std::pair<const char*, const std::optional<double>*> windows[] = {
+      {"coupling.wr_macro_step", &s.coupling.wr_macro_step},
+      {"coupling.rs_macro_step", &s.coupling.rs_macro_step},
+      {"coupling.ss_macro_step", &s.coupling.ss_macro_step}};
+  for (const auto& [key, w] : windows) {
+    if (!w->has_value()) continue;
+    const double window = **w, k = window / s.macro_step, near = std::round(k);
+    if (window == 0)
+      fail(s, key,
+           "0 is no window: leave the key out for the finest window (simulation.macro_step = " +
+               text(s.macro_step) + " s)");
+    if (near >= 1 && near <= 1e9 && std::abs(k - near) <= 1e-9 * k) continue;
+    const double below = std::max(1.0, std::floor(k)), above = std::max(1.0, std::ceil(k));
+    fail(s, key,
+         "the window " + text(window) +
+             " s is not an integer multiple (at most 1e9) of "
+             "simulation.macro_step = " +
+             text(s.macro_step) + " s; the nearest multiples are " + text(below * s.macro_step) +
+             " s" + (above != below ? " and " + text(above * s.macro_step) + " s" : std::string()));
+  }
+}
+
 void check_scene_derived(const Scene& s) {
+  check_cut_windows(s);
   check_run_size(s);
   check_excitation(s);
   check_static_state(s);

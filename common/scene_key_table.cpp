@@ -308,11 +308,16 @@ void coupling_keys(std::vector<Entry>& v) {
       number("coupling", "step_budget", "s", "over TCP: a step's time limit (--step-budget)")
           .range(closed(0.1, 86400, "must lie between 0.1 and 86400"))
           .fallback(120));
+  v.push_back(number("coupling", "step_deadline_floor", "s",
+                     "over TCP: the least a silent step is waited for, on both data planes "
+                     "(--step-deadline-floor)")
+                  .range(closed(0.1, 86400, "must lie between 0.1 and 86400"))
+                  .fallback(2));
   for (const char* cut : {"wr", "rs", "ss"})
     v.push_back(number("coupling", std::string(cut) + "_macro_step", "s",
                        std::string("the window of the ") + cut +
-                           " cut, an integer multiple of simulation.macro_step, 0: "
-                           "simulation.macro_step (--macro-step " +
+                           " cut, an integer multiple of simulation.macro_step (leave it "
+                           "out for simulation.macro_step; 0 is refused) (--macro-step " +
                            cut + "=H)")
                     .range(closed(0, 1e6, "must lie between 0 and 1e6"))
                     .fallback(0));

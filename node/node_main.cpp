@@ -1,6 +1,7 @@
 // The command line of every node program: options, limits, "listening on".
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -17,6 +18,18 @@ int node_main(const std::string& default_role, int argc, char** argv) {
 }
 
 namespace {
+
+// Seconds from 1 ms to a day: what the millisecond clocks of the limits
+// hold (NaN, 1e-300 and 1e300 are refused, not read as "no limit").
+const CLI::Validator kSeconds(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !(v >= 1e-3 && v <= 86400.0))
+        return "expected seconds from 0.001 to 86400, got " + text;
+      return "";
+    },
+    "SECONDS in [0.001, 86400]");
 
 // The values of the command line, at their defaults until parsed.
 struct NodeCommandLine {
@@ -62,16 +75,16 @@ void declare_options(CLI::App& app, NodeCommandLine& o) {
       ->capture_default_str();
   app.add_option("--idle-timeout", o.idle_seconds,
                  "Seconds a session may stay silent before the node closes it")
-      ->check(CLI::PositiveNumber)
+      ->check(kSeconds)
       ->capture_default_str();
   app.add_option("--message-timeout", o.message_seconds,
                  "Seconds a request may take to arrive whole once begun, and a reply to be read "
                  "whole (also the hello's deadline, when shorter)")
-      ->check(CLI::PositiveNumber)
+      ->check(kSeconds)
       ->capture_default_str();
   app.add_option("--max-step-seconds", o.step_seconds,
                  "Seconds of work one macro step may take before it fails (STEP_FAILED)")
-      ->check(CLI::PositiveNumber)
+      ->check(kSeconds)
       ->capture_default_str();
   app.add_option("--config", o.config_path,
                  "TOML file holding the participant's own configuration, in its table [--table]: "

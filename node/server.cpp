@@ -2,6 +2,8 @@
 
 #include "server_conn.hpp"
 
+#include <algorithm>
+
 namespace railcosim {
 
 NodeServer::NodeServer(NodeOptions options, const Address& listen, ServerLimits limits)
@@ -79,17 +81,34 @@ void NodeServer::accept() {
           ->warn("refused a connection from {}: busy with the session from {}", conn->peer(),
                  active_->peer());
       conn->refuse_busy();
+    } else if (opening_.size() >= kMaxOpenings) {
+      logger(options_.role)
+          ->warn("refused a connection from {}: {} others are saying hello", conn->peer(),
+                 opening_.size());
+      conn->refuse_busy();
     } else {
-      active_ = conn;
-      ++sessions_;
+      opening_.push_back(conn);
       conn->start();
     }
     accept();
   });
 }
 
+bool NodeServer::opened(Conn* c) {
+  const auto it = std::find_if(opening_.begin(), opening_.end(),
+                               [c](const std::shared_ptr<Conn>& o) { return o.get() == c; });
+  if (it == opening_.end() || active_) return false;
+  active_ = *it;
+  opening_.erase(it);
+  ++sessions_;
+  return true;
+}
+
 void NodeServer::session_ended(Conn* c) {
   if (active_.get() == c) active_.reset();
+  opening_.erase(std::remove_if(opening_.begin(), opening_.end(),
+                                [c](const std::shared_ptr<Conn>& o) { return o.get() == c; }),
+                 opening_.end());
 }
 
 void NodeServer::run(bool handle_signals) {
@@ -117,6 +136,7 @@ void NodeServer::stop() {
       active_->inbox()->shut_down_links();
       active_->close();
     }
+    for (const auto& c : opening_) c->close();
     io_.stop();
   });
 }

@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "connection.hpp"
 #include "session.hpp"
@@ -57,6 +58,10 @@ class NodeServer {
  private:
   class Conn;
   void accept();
+  // A connection's hello (and authentication) completed: true when it now
+  // holds the session, false when another one got there first (it is then
+  // answered BUSY).
+  bool opened(Conn* c);
   void session_ended(Conn* c);
   // Runs `job` on the worker thread (one job at a time, in order).
   void run_on_worker(std::function<void()> job);
@@ -67,6 +72,10 @@ class NodeServer {
   boost::asio::io_context io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   std::shared_ptr<Conn> active_;
+  // Connections still in their hello, each within the handshake deadline,
+  // side by side: a client that says hello and stays silent holds nobody.
+  std::vector<std::shared_ptr<Conn>> opening_;
+  static constexpr std::size_t kMaxOpenings = 8;
   long sessions_ = 0;
   std::atomic<bool> stopping_{false};  // cancels the work running on the worker
   std::mutex jobs_mutex_;

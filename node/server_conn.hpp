@@ -62,7 +62,7 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   void start() {
     boost::system::error_code ec;
     socket_.set_option(tcp::no_delay(true), ec);
-    log_->info("session {} from {} started", server_.sessions_, peer_);
+    log_->debug("connection from {}: waiting for its hello", peer_);
     // One deadline for the whole opening, authentication included: bytes
     // that trickle in do not extend it.
     arm(server_.limits_.handshake_timeout, "complete the hello");
@@ -200,7 +200,16 @@ class NodeServer::Conn : public std::enable_shared_from_this<Conn> {
   }
 
   void answer(const wire::Envelope& req, wire::Envelope reply, bool close) {
-    if (reply.has_hello_reply()) said_hello_ = true;
+    if (reply.has_hello_reply()) {
+      // The first connection whose hello completes holds the session.
+      if (server_.opened(this)) {
+        said_hello_ = true;
+        log_->info("session {} from {} started", server_.sessions_, peer_);
+      } else {
+        reply = error_envelope(req.id(), wire::Error::BUSY, kBusyText);
+        close = true;
+      }
+    }
     if (reply.has_error())
       log_->warn("session from {}: {} rejected at macro step {}: {}", peer_, body_name(req),
                  session_.step(), reply.error().message());

@@ -212,6 +212,20 @@ TEST(TableProfile, InterpolatesLinearlyAndNamesFileAndLineOfBadRows) {
   const std::string back = write_temp("back.csv", "0,0\n2,0\n1,0\n");
   expect_error(back, back + ":3: x must increase");
   expect_error(testing::TempDir() + "absent.csv", "cannot open");
+  // A file that is no profile (another user's secrets, say): the line is
+  // named, its text never quoted.
+  for (const std::string& secret :
+       {std::string("root:$6$s3cr3t:19000:0:99999:7:::\n"), std::string("x_m,r_m\n0,0\ns3cr3t,1\n"),
+        std::string("0,0\n1,nan s3cr3t\n")}) {
+    const std::string path = write_temp("secret.csv", secret);
+    try {
+      TableProfile::load_csv(path);
+      ADD_FAILURE() << "no error for " << secret;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()).find("s3cr3t"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path + ":"), std::string::npos) << e.what();
+    }
+  }
 }
 
 IrregularitySpec parse(const std::string& text) {

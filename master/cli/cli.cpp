@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 #include "cli/cli_keys.hpp"
@@ -38,6 +40,20 @@ void catch_stop_signals() {
 }
 
 }  // namespace
+
+CLI::Validator seconds_in(double lo, double hi) {
+  std::ostringstream range;
+  range << lo << " to " << hi;
+  return CLI::Validator(
+      [lo, hi, r = range.str()](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(v >= lo && v <= hi))
+          return "expected seconds from " + r + ", got " + text;
+        return "";
+      },
+      "SECONDS in [" + range.str() + "]");
+}
 
 void add_check_flag(CLI::App& command, bool& check) {
   command.add_flag("--check", check,

@@ -7,6 +7,9 @@
 
 namespace railcosim::cli {
 
+// A number of seconds in [lo, hi] (CLI::Range lets NaN through).
+CLI::Validator seconds_in(double lo, double hi);
+
 // Adds --check to a command: read and check everything, do nothing.
 void add_check_flag(CLI::App& command, bool& check);
 

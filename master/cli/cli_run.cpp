@@ -8,12 +8,12 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <map>
 #include <memory>
 #include <thread>
@@ -95,13 +95,16 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
   std::string roles;
   const auto parts = partition(scene, spec);
   for (const auto& p : parts) roles += (roles.empty() ? "" : ", ") + p.role;
+  std::map<std::string, std::string> served;  // address -> role: a node serves one participant
   for (const auto& [role, address] : given) {
-    bool found = false;
-    for (const auto& p : parts) found = found || p.role == role;
-    if (!found)
+    if (std::none_of(parts.begin(), parts.end(), [&](const auto& p) { return p.role == role; }))
       throw std::invalid_argument("a node was given for the " + role + " participant (" +
                                   address.str() + "), but case " + spec.name() +
                                   " has none (its participants: " + roles + ")");
+    if (const auto [at, fresh] = served.emplace(address.str(), role); !fresh)
+      throw std::invalid_argument("the " + at->second + " and " + role +
+                                  " participants were both given " + address.str() +
+                                  ": a node serves one participant, give each its own address");
   }
   return given;
 }
@@ -163,27 +166,6 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
       o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument("--feedthrough resolved exists only for Jacobi schedules");
   return o;
-}
-
-// --macro-step H (the finest window) and --macro-step CUT=H_cut, repeatable.
-void add_macro_step_option(CLI::App& run_command, RunArgs& a) {
-  CLI::App* run = &run_command;
-  run->add_option_function<std::vector<std::string>>(
-         "--macro-step",
-         [&a](const std::vector<std::string>& values) {
-           try {
-             for (const std::string& v : values) {
-               const double h = engine::read_macro_step(v, a.cut_windows);
-               if (h > 0) a.macro_step = h;
-             }
-           } catch (const std::invalid_argument& e) {
-             throw CLI::ValidationError(e.what());
-           }
-         },
-         "Macro step H in seconds, the finest window (default: simulation.macro_step of the "
-         "scene); repeatable as CUT=H_cut to give cut wr, rs or ss its own window, an integer "
-         "multiple of H (default: [coupling] CUT_macro_step of the scene, else H)")
-      ->allow_extra_args(false);
 }
 
 // The coupling options of `master run`: explicit or implicit, the inputs,
@@ -284,7 +266,13 @@ void add_run_command(CLI::App& app, RunArgs& a) {
   run->add_option("--step-budget", a.step_budget,
                   "tcp: the most one macro step may take, in seconds, while its node shows "
                   "progress (a node silent for the step deadline fails sooner)")
-      ->check(CLI::Range(0.1, 86400.0))
+      ->check(seconds_in(0.1, 86400.0))
+      ->capture_default_str();
+  run->add_option("--step-deadline-floor", a.step_deadline_floor,
+                  "tcp: the least a macro step is waited for while its node is silent, in "
+                  "seconds, on both data planes (the deadline is 50 times the slowest step so "
+                  "far, within [this, 30 s]; raise it for a participant whose steps vary)")
+      ->check(seconds_in(0.1, 86400.0))
       ->capture_default_str();
   run->add_option("--judge", a.judge,
                   "What is judged after the run: full (stability and the errors against the "
@@ -365,6 +353,8 @@ int do_run(const RunArgs& command_line) {
   job.transport = a.transport;
   job.nodes = {given, &pool, {}};
   job.nodes.step_budget = std::chrono::milliseconds(std::lround(a.step_budget * 1000));
+  job.nodes.step_deadline_floor =
+      std::chrono::milliseconds(std::lround(a.step_deadline_floor * 1000));
   if (!a.token_file.empty()) job.nodes.token = read_token_file(a.token_file);
   job.out = a.out;
   job.folder = spec.name();

@@ -22,7 +22,7 @@ struct RunArgs {
   double macro_step = 0;  // 0: from the scene
   // --macro-step CUT=H_cut: the cuts given their own window on the command line
   std::map<std::string, engine::CutWindow> cut_windows;
-  double tolerance = 0;   // 0: from the scene
+  double tolerance = 0;  // 0: from the scene
   std::string feedthrough = "lagged";
   std::string restart;  // empty: from the scene
   std::string transport = remote::kTcpTransport;
@@ -33,12 +33,13 @@ struct RunArgs {
   std::string coupling = "explicit", inputs = "hold", accelerator = "iqn-ils";
   std::string data_plane = "direct";
   long window_steps = 0;
-  double step_budget = 120;   // s
-  double reference_step = 0;  // s; 0: half the macro step (run/cosim_reference.hpp)
-  std::string judge = "full";  // what the verdict measures (run::JudgeMode)
-  double judge_budget = 1.0;   // the stability measure's time over the run's
-  engine::CouplingOptions c;  // the numbers; the names above are parsed into it
-  bool check = false;         // master --check: stop once everything is read and checked
+  double step_budget = 120;        // s
+  double step_deadline_floor = 2;  // s: the least a silent macro step is waited for
+  double reference_step = 0;       // s; 0: half the macro step (run/cosim_reference.hpp)
+  std::string judge = "full";      // what the verdict measures (run::JudgeMode)
+  double judge_budget = 1.0;       // Arnoldi's products over the run's macro steps
+  engine::CouplingOptions c;       // the numbers; the names above are parsed into it
+  bool check = false;              // master --check: stop once everything is read and checked
 };
 
 // Adds `run` to the master's command line, filling `a`.

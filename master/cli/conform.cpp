@@ -1,20 +1,17 @@
 #include "cli/conform.hpp"
 
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <random>
-#include <sstream>
 #include <stdexcept>
-
-#include <unistd.h>
 
 #include "auth.hpp"
 #include "cli/conform_fresh.hpp"
 #include "cli/conform_peer.hpp"
+#include "cli/conform_runs.hpp"
+#include "cli/conform_statics.hpp"
 #include "cosim_case.hpp"
 #include "model.hpp"
 #include "remote/remote_participant.hpp"
@@ -112,34 +109,6 @@ std::string refuses(const Subject& s, const CouplingData& inputs) {
   return is_error(c->receive(s.o.reply), wire::Error::BAD_REQUEST);
 }
 
-std::string read_all(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::string quoted(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// The whole case run by this program with the subject as ROLE, on `plane`;
-// returns the run folder.
-std::filesystem::path whole_run(const Subject& s, const std::string& plane,
-                                const std::filesystem::path& out, const std::string& token_file) {
-  std::string cmd = quoted(s.o.master_program) + " run --scene " + quoted(s.o.scene_path) +
-                    " --case " + quoted(s.o.case_name) + " --node " +
-                    quoted(s.config.participant.role + "=" + s.o.address.str()) + " --data-plane " +
-                    plane + " --out " + quoted((out / plane).string());
-  if (!token_file.empty()) cmd += " --token-file " + quoted(token_file);
-  cmd += " >" + quoted((out / (plane + ".log")).string()) + " 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("the " + plane + " run failed: " + read_all(out / (plane + ".log")));
-  return out / plane / s.o.case_name;
-}
-
 // The subject of the checks: the scene, and the role's participant in the
 // case with the scene's step options.
 Subject subject_of(const ConformOptions& options) {
@@ -166,6 +135,7 @@ struct Checks {
   // exception is a failure with its message.
   bool item(const char* section, const char* what, const std::function<std::string()>& check) {
     ConformItem i{section, what, Verdict::kPass, ""};
+    std::fprintf(stderr, "conform: %s %s\n", section, what);  // progress, before the item runs
     try {
       i.detail = check();
       if (i.detail.rfind(kSkipped, 0) == 0) {
@@ -326,6 +296,10 @@ void check_fresh(Checks& checks) {
               "a restore followed by new inputs: outputs change in proportion, and "
               "equal a fresh session's with those inputs",
               [&] { return check_restore_new_inputs(f); });
+  checks.item("§16",
+              "statics direction: at the coupled static state the soil sinks and its springs "
+              "carry the vehicle's weight, k_f sum(s_i) = m g",
+              [&] { return check_soil_statics(s.scene, s.o); });
 }
 
 // §13, §17: inputs and peer links a participant must refuse.
@@ -348,25 +322,18 @@ void check_refusals(Checks& checks) {
   });
 }
 
-// §17: the whole case on both data planes, bit for bit.
+// §17: the whole case on both data planes, bit for bit (conform_runs.hpp);
+// skipped once an earlier item failed: the runs would only meet its fault
+// again, with full judgement, for as long as the case lasts.
 void check_planes(Checks& checks) {
-  const Subject& s = checks.s;
-  checks.item("§17", "a whole run on the direct data plane equals the relayed run bit for bit",
-              [&] {
-                const auto out = std::filesystem::temp_directory_path() /
-                                 ("railcosim-conform-" + std::to_string(::getpid()));
-                std::filesystem::create_directories(out);
-                const auto relay = whole_run(s, "relay", out, s.o.token_file);
-                const auto direct = whole_run(s, "direct", out, s.o.token_file);
-                std::string why;
-                if (read_all(direct / "summary.json").find("\"data_plane\": \"direct\"") ==
-                    std::string::npos)
-                  why = std::string(kSkipped) + "the participant does not offer the direct plane";
-                else if (read_all(direct / "history.csv") != read_all(relay / "history.csv"))
-                  why = "history.csv differs between the planes";
-                std::filesystem::remove_all(out);
-                return why;
-              });
+  const char* what = "a whole run on the direct data plane equals the relayed run bit for bit";
+  for (const ConformItem& i : checks.items)
+    if (i.verdict == Verdict::kFail) {
+      checks.skip("§17", what, "an earlier item failed (" + i.section + " " + i.what + ")");
+      return;
+    }
+  checks.item("§17", what,
+              [&] { return check_whole_runs(checks.s.o, checks.s.config.participant.role); });
 }
 
 }  // namespace

@@ -54,6 +54,7 @@ std::vector<Taken> keys_of(const SceneCoupling& c) {
           taken("data_plane", "--data-plane", c.data_plane),
           taken("window_steps", "--window-steps", c.window_steps),
           taken("step_budget", "--step-budget", c.step_budget),
+          taken("step_deadline_floor", "--step-deadline-floor", c.step_deadline_floor),
           taken("wr_macro_step", "--macro-step", c.wr_macro_step),
           taken("rs_macro_step", "--macro-step", c.rs_macro_step),
           taken("ss_macro_step", "--macro-step", c.ss_macro_step)};
@@ -97,6 +98,7 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene) {
   take("--data-plane", c.data_plane, r.data_plane);
   take("--window-steps", c.window_steps, r.window_steps);
   take("--step-budget", c.step_budget, r.step_budget);
+  take("--step-deadline-floor", c.step_deadline_floor, r.step_deadline_floor);
   return r;
 }
 
@@ -134,6 +136,27 @@ std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& sce
   ratios.insert(from_scene.begin(), from_scene.end());
   for (const CutChoice& c : spec.cuts) ratios.emplace(cut_name_of(c), 1);
   return ratios;
+}
+
+// --macro-step H (the finest window) and --macro-step CUT=H_cut, repeatable.
+void add_macro_step_option(CLI::App& run_command, RunArgs& a) {
+  CLI::App* run = &run_command;
+  run->add_option_function<std::vector<std::string>>(
+         "--macro-step",
+         [&a](const std::vector<std::string>& values) {
+           try {
+             for (const std::string& v : values) {
+               const double h = engine::read_macro_step(v, a.cut_windows);
+               if (h > 0) a.macro_step = h;
+             }
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError(e.what());
+           }
+         },
+         "Macro step H in seconds, the finest window (default: simulation.macro_step of the "
+         "scene); repeatable as CUT=H_cut to give cut wr, rs or ss its own window, an integer "
+         "multiple of H (default: [coupling] CUT_macro_step of the scene, else H)")
+      ->allow_extra_args(false);
 }
 
 std::string cut_windows_note(const RunArgs& a, const Scene& scene) {

@@ -27,6 +27,9 @@ std::string scene_coupling_note(const RunArgs& a, const Scene& scene);
 // elsewhere the cut exchanges every H.
 std::map<std::string, long> check_cut_windows(const RunArgs& a, const Scene& scene,
                                               const CaseSpec& spec, double finest);
+// --macro-step H (the finest window) and --macro-step CUT=H_cut, repeatable.
+void add_macro_step_option(CLI::App& run_command, RunArgs& a);
+
 // Where the cuts' windows came from, for a message ("--macro-step ss=0.001").
 std::string cut_windows_note(const RunArgs& a, const Scene& scene);
 

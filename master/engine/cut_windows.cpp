@@ -58,6 +58,12 @@ std::map<std::string, long> cut_ratios(double finest,
   for (const auto& [cut, w] : cuts) {
     const double k = w.window / finest;
     const double near = std::round(k);
+    if (!(k <= kMaxCutRatio))
+      throw std::invalid_argument(w.origin + ": the window " + window_text(w.window) +
+                                  " s of cut " + cut + " is " + window_text(k) +
+                                  " times the finest window " + window_text(finest) +
+                                  " s; a cut's window is at most " + window_text(kMaxCutRatio) +
+                                  " finest windows (and must divide the run's end time)");
     if (near >= 1 && std::abs(k - near) <= 1e-9 * k) {
       ratios[cut] = static_cast<long>(near);
       continue;

@@ -26,7 +26,9 @@ double read_macro_step(const std::string& value, std::map<std::string, CutWindow
 // The window of each cut in `cuts` as a count of finest windows `finest`.
 // Throws std::invalid_argument naming the option or key, both values and the
 // nearest multiples of `finest` when a window is not an integer multiple of
-// it (relative tolerance 1e-9), or is finer than it.
+// it (relative tolerance 1e-9), or is finer than it, or more than
+// kMaxCutRatio times it.
+inline constexpr double kMaxCutRatio = 1e9;
 std::map<std::string, long> cut_ratios(double finest, const std::map<std::string, CutWindow>& cuts);
 
 // The cut names a window can be given for.

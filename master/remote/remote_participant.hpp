@@ -22,11 +22,14 @@ namespace railcosim::remote {
 // How long the master waits for a node. A step's deadline follows from the
 // cost of the steps seen so far: step_factor times the slowest one, within
 // [step_min, step_max]; before the first step is timed, step_max applies.
+// The same rule on both data planes (a relayed step's reply; on the direct
+// plane the time between a node's step reports); step_min is the floor a
+// user raises (--step-deadline-floor, [coupling] step_deadline_floor).
 struct RemoteTimeouts {
   std::chrono::milliseconds connect{10000};  // with retries: a node may still be starting
-  // A node that answers the hello with BUSY (another client holds it: a
-  // session, or a connection that has not said hello yet, which a node
-  // keeps for at most 10 s) is asked again for this long.
+  // A node that answers the hello with BUSY (another session holds it, or
+  // eight other connections are in their hello, each for at most 10 s) is
+  // asked again for this long.
   std::chrono::milliseconds busy{20000};
   std::chrono::milliseconds reply{10000};  // hello, configure and every other request
   std::chrono::milliseconds step_min{2000};

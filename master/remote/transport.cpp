@@ -148,6 +148,12 @@ class TcpTransport final : public Transport {
       base.step_budget = setup.step_budget;
     else if (scene.coupling.step_budget)
       base.step_budget = std::chrono::milliseconds(std::lround(*scene.coupling.step_budget * 1000));
+    if (setup.step_deadline_floor.count() > 0)
+      base.step_min = setup.step_deadline_floor;
+    else if (scene.coupling.step_deadline_floor)
+      base.step_min =
+          std::chrono::milliseconds(std::lround(*scene.coupling.step_deadline_floor * 1000));
+    base.step_max = std::max(base.step_max, base.step_min);
     const auto reply = reply_limit_override();
     return [scene, given = setup.given, pool = setup.pool, token = setup.token, base,
             reply](const SubsystemConfig& c) -> std::unique_ptr<Participant> {

@@ -97,6 +97,10 @@ struct TransportSetup {
   // The most one macro step may take (0: the scene's [coupling] step_budget,
   // else RemoteTimeouts' default).
   std::chrono::milliseconds step_budget{0};
+  // The least a macro step is waited for without a word from its node, on
+  // both data planes (0: the scene's [coupling] step_deadline_floor, else
+  // RemoteTimeouts' step_min).
+  std::chrono::milliseconds step_deadline_floor{0};
 };
 
 // A transport: where the participants of a run live and how the master
