@@ -10,6 +10,8 @@
 //                    never advances, until its budget ends or it is stopped
 //   slow-statics     works 4 s on its first Statics, showing progress: one
 //                    more unit of work every 20 ms (frames with step -1)
+//   fails-step       gives up on its macro step 10 (STEP_FAILED), its state
+//                    as calm as before: a failure, not a divergence
 // Usage: broken_node MODE [node options]
 #include <chrono>
 #include <cmath>
@@ -46,6 +48,8 @@ class Broken final : public Participant {
   void start_step(long n) override {
     if (mode_ == "late" && n == 4) std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     if (n == 300 && (mode_ == "slow-working" || mode_ == "stuck-progress")) work_long();
+    if (n == 10 && mode_ == "fails-step")
+      throw StepFailure("the integrator gave up on macro step 10 (a test's broken node)");
     inner_.start_step(n);
   }
   StepResult finish_step() override {
@@ -91,7 +95,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: broken_node "
                  "ignores-restore|late|wrong-count|accepts-nan|slow-working|stuck-progress|"
-                 "slow-statics ...\n");
+                 "slow-statics|fails-step ...\n");
     return 2;
   }
   const std::string mode = argv[1];

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "auth.hpp"
+#include "remote/peer_text.hpp"
 
 namespace railcosim::remote {
 
@@ -158,7 +159,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
   }
   if (e.has_reports()) {
     node.p->accept_reports_frame(e.id());
-    node.waiting_for = e.reports().waiting_for();
+    node.waiting_for = terminal_text(e.reports().waiting_for());
     for (const auto& w : e.reports().reports()) {
       node.reports.push_back(node.p->accept_report(w));
       node.reported = static_cast<long>(w.step());
@@ -169,7 +170,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
   try {
     node.p->window_reply(e);
     node.done_step = static_cast<long>(e.window_done().step());
-    node.done_reason = e.window_done().reason();
+    node.done_reason = terminal_text(e.window_done().reason());
   } catch (const StepFailure& f) {
     node.failed = true;
     node.step_failure = true;

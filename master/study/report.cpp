@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "log.hpp"
+#include "remote/peer_text.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/run_output.hpp"
@@ -212,7 +213,8 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
     for (const auto& r : runs)
       if (r.record.status == "missing" || r.record.status == "failed" ||
           r.record.status == "not_run")
-        md << "| " << r.folder << " | " << r.record.status << " | " << r.record.message << " |\n";
+        md << "| " << r.folder << " | " << remote::markdown_text(r.record.status) << " | "
+           << remote::markdown_text(r.record.message) << " |\n";
     md << "\n";
   }
   const std::string other = remote::other_transport(info.transport);
@@ -309,8 +311,11 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
        << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
        << run::sci(x.wall_s) << " | " << micro << " | "
        << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
-       << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | " << x.status
-       << (x.status == "ok" || x.message.empty() ? "" : " (" + x.message + ")") << " |\n";
+       << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | "
+       << remote::markdown_text(x.status)
+       << (x.status == "ok" || x.message.empty() ? ""
+                                                 : " (" + remote::markdown_text(x.message) + ")")
+       << " |\n";
   }
   run::write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
