@@ -124,6 +124,8 @@ void DirectExchange::silence(long n, milliseconds waited, bool budget) {
   std::ostringstream s;
   if (budget)
     s << budget_text(waited);
+  else if (!slow->reports.empty())  // it has reported the step: what it owes is data
+    s << "no data to its peers within " << waited.count() << " ms";
   else if (slow->counted_progress > 0 || slow->stale_progress > 0)
     s << "no progress for " << waited.count() << " ms";
   else
@@ -146,8 +148,8 @@ void DirectExchange::silence(long n, milliseconds waited, bool budget) {
     s << "; it has sent " << part << " byte(s) of a frame it has not finished";
   if (!waiters.empty()) s << "; the " << waiters << " participant(s) wait for its data";
   // Its step reports are its word, not the data its peers wait for.
-  if (!waiters.empty() && slow->reported > n)
-    s << ", though its step reports went on to macro step " << slow->reported;
+  if (!waiters.empty() && !slow->reports.empty())
+    s << ": its step reports are no proof it sent them";
   s << ")";
   slow->p->fail_at(n, s.str());
 }
