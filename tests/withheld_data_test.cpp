@@ -166,13 +166,19 @@ test::FakeNode::Reports lying_reports(Lies lies) {
   };
 }
 
-// wr-xx-jacobi on the paper scene over kSteps macro steps: the failure's
-// message and the vehicle's address.
-std::pair<std::string, std::string> run_against_liar(Lies lies) {
+// CASE (wr-xx-jacobi) on SCENE (the paper's) over kSteps macro steps, the
+// soil (if any) on a real node: the failure's message and the vehicle's
+// address.
+std::pair<std::string, std::string> run_against_liar(Lies lies,
+                                                     const std::string& case_name = "wr-xx-jacobi",
+                                                     const std::string& scene_file = "paper.toml") {
   test::FakeNode vehicle("vehicle", nullptr, {}, lying_reports(lies));
   remote::LaunchedNode track("track_node", milliseconds(10000));
+  std::unique_ptr<remote::LaunchedNode> soil;
+  if (case_name.find("ss") != std::string::npos)
+    soil = std::make_unique<remote::LaunchedNode>("soil_node", milliseconds(10000));
   WithholdingProxy proxy(track.address());
-  Scene scene = test::paper_scene();
+  Scene scene = load_scene(test::source_path("scenes/" + scene_file));
   scene = with_keys(scene, {{"simulation.end_time", kSteps * scene.macro_step}});
   remote::RemoteTimeouts t;
   t.step_min = milliseconds(500);
@@ -180,21 +186,26 @@ std::pair<std::string, std::string> run_against_liar(Lies lies) {
   t.step_budget = milliseconds(4000);
   const remote::ParticipantFactory make =
       [&](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
-    const Address at = c.participant.role == "vehicle" ? vehicle.address() : proxy.address();
+    const std::string& role = c.participant.role;
+    const Address at = role == "vehicle" ? vehicle.address()
+                       : role == "soil"  ? soil->address()
+                                         : proxy.address();
     return std::make_unique<remote::RemoteParticipant>(at, scene, c, t);
   };
   run::RunOptions o;
   o.macro_step = scene.macro_step;
   o.tolerance = scene.tolerance;
   try {
-    run::run_cosim(scene, parse_case("wr-xx-jacobi"), o, make, "tcp");
+    run::run_cosim(scene, parse_case(case_name), o, make, "tcp");
   } catch (const remote::NodeFailure& e) {
     return {e.what(), vehicle.address().str()};
   }
   return {"the run went through", vehicle.address().str()};
 }
 
-void expect_vehicle_named(const std::pair<std::string, std::string>& r) {
+// `step`: the macro step the run fails at (Gauss-Seidel's track, which
+// steps first, waits one step earlier).
+void expect_vehicle_named(const std::pair<std::string, std::string>& r, long step = 20) {
   const auto& [m, vehicle] = r;
   EXPECT_EQ(m.rfind("vehicle node at " + vehicle + ": ", 0), 0u) << m;
   EXPECT_NE(m.find("vehicle node at " + vehicle + ": no data to its peers within "),
@@ -202,7 +213,8 @@ void expect_vehicle_named(const std::pair<std::string, std::string>& r) {
       << m;
   EXPECT_NE(m.find(" ms (its last step report was for macro step 199; "), std::string::npos) << m;
   EXPECT_NE(m.find("; the track participant(s) wait for its data: its step reports are no proof it "
-                   "sent them) at macro step 20 "),
+                   "sent them) at macro step " +
+                   std::to_string(step) + " "),
             std::string::npos)
       << m;
   EXPECT_EQ(m.find("step budget"), std::string::npos) << m;
@@ -218,6 +230,17 @@ TEST(WithheldData, ItsProgressFramesDoNotMakeTheTrackExhaustTheBudget) {
 
 TEST(WithheldData, ItsForgedClaimToWaitForTheTrackDoesNotShiftTheBlame) {
   expect_vehicle_named(run_against_liar({false, true}));
+}
+
+// vehicle | track | soil: the soil has its data from the track, the
+// vehicle still owes the track its own.
+TEST(WithheldData, WithThreeParticipantsTheVehicleIsNamed) {
+  expect_vehicle_named(run_against_liar({}, "wr-xx+ss-xx-jacobi", "soil.toml"));
+}
+
+TEST(WithheldData, UnderGaussSeidelTheVehicleIsNamed) {
+  expect_vehicle_named(run_against_liar({}, "wr-xx+ss-xx-gauss-seidel", "soil.toml"), 19);
+  expect_vehicle_named(run_against_liar({true, true}, "wr-xx+ss-xx-gauss-seidel", "soil.toml"), 19);
 }
 
 }  // namespace
