@@ -122,6 +122,7 @@ void send_envelope(int fd, const wire::Envelope& e) {
 struct Lies {
   bool progress = false;  // progress frames for the step after its forged reports
   bool claim = false;     // says it waits for the track
+  bool forge = true;      // false: its reports stop where the track's do (a tie)
 };
 
 // The vehicle's report stream: passed on up to macro step kWithheldFrom,
@@ -138,7 +139,7 @@ test::FakeNode::Reports lying_reports(Lies lies) {
     wire::StepReport last = e.reports().reports(e.reports().reports_size() - 1);
     if (last.step() < kWithheldFrom) return;
     const double h = last.t() / static_cast<double>(last.step());
-    while (last.step() < kSteps - 1 && nap(milliseconds(10), stop)) {
+    while (lies.forge && last.step() < kSteps - 1 && nap(milliseconds(10), stop)) {
       wire::Envelope forged;
       forged.set_id(e.id());
       for (int k = 0; k < 20 && last.step() < kSteps - 1; ++k) {
@@ -204,14 +205,19 @@ std::pair<std::string, std::string> run_against_liar(Lies lies,
 }
 
 // `step`: the macro step the run fails at (Gauss-Seidel's track, which
-// steps first, waits one step earlier).
-void expect_vehicle_named(const std::pair<std::string, std::string>& r, long step = 20) {
+// steps first, waits one step earlier); `reported`: the vehicle's last
+// step report.
+void expect_vehicle_named(const std::pair<std::string, std::string>& r, long step = 20,
+                          long reported = kSteps - 1) {
   const auto& [m, vehicle] = r;
   EXPECT_EQ(m.rfind("vehicle node at " + vehicle + ": ", 0), 0u) << m;
   EXPECT_NE(m.find("vehicle node at " + vehicle + ": no data to its peers within "),
             std::string::npos)
       << m;
-  EXPECT_NE(m.find(" ms (its last step report was for macro step 199; "), std::string::npos) << m;
+  EXPECT_NE(
+      m.find(" ms (its last step report was for macro step " + std::to_string(reported) + "; "),
+      std::string::npos)
+      << m;
   EXPECT_NE(m.find("; the track participant(s) wait for its data: its step reports are no proof it "
                    "sent them) at macro step " +
                    std::to_string(step) + " "),
@@ -230,6 +236,18 @@ TEST(WithheldData, ItsProgressFramesDoNotMakeTheTrackExhaustTheBudget) {
 
 TEST(WithheldData, ItsForgedClaimToWaitForTheTrackDoesNotShiftTheBlame) {
   expect_vehicle_named(run_against_liar({false, true}));
+}
+
+// Its reports held where the track's stop (a tie): the track's claim is
+// believed.
+TEST(WithheldData, AVehicleWhoseReportsAreHeldToATieIsNamed) {
+  Lies tie;
+  tie.forge = false;
+  tie.claim = true;
+  const auto r = run_against_liar(tie);
+  EXPECT_EQ(r.first.rfind("vehicle node at " + r.second + ": ", 0), 0u) << r.first;
+  EXPECT_NE(r.first.find("the track participant(s) wait for its data"), std::string::npos)
+      << r.first;
 }
 
 // vehicle | track | soil: the soil has its data from the track, the

@@ -381,23 +381,15 @@ int do_run(const RunArgs& command_line) {
   const run::RunOutcome outcome = run::execute(job);
   progress->run_done(0);
   progress->end();
-  if (!outcome.error.empty()) {
+  if (outcome.error.empty()) print_summary(outcome.record, outcome.dir);
+  if (const std::string& error = outcome.failure(); !error.empty()) {
     // A folder that could not be made (a full disk) holds nothing to point at.
     const std::string where = outcome.dir.empty()
                                   ? "no history or summary could be written under " +
                                         (std::filesystem::path(a.out) / spec.name()).string()
                                   : "history so far and summary in " + outcome.dir.string();
     std::fprintf(stderr, "master: %s failed: %s\n  %s\n", spec.name().c_str(),
-                 remote::terminal_text(outcome.error).c_str(), where.c_str());
-    return 1;
-  }
-  print_summary(outcome.record, outcome.dir);
-  // A participant that gave up on a step without a divergence to show for it
-  // failed the run: the run is not a result, whatever the run loop wrote.
-  if (outcome.record.status == "failed") {
-    std::fprintf(stderr, "master: %s failed: %s\n  history so far and summary in %s\n",
-                 spec.name().c_str(), remote::terminal_text(outcome.record.message).c_str(),
-                 outcome.dir.string().c_str());
+                 remote::terminal_text(error).c_str(), where.c_str());
     return 1;
   }
   return 0;
