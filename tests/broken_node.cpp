@@ -11,6 +11,8 @@
 //   slow-statics     works 4 s on its first Statics, showing progress: one
 //                    more unit of work every 20 ms (frames with step -1)
 //   slow-silent      works 3 s on its macro step 300 without showing progress
+//   fails-step       gives up on its macro step 10 (STEP_FAILED), its state
+//                    as calm as before: a failure, not a divergence
 // Usage: broken_node MODE [node options]
 #include <chrono>
 #include <cmath>
@@ -48,6 +50,8 @@ class Broken final : public Participant {
     if (mode_ == "late" && n == 4) std::this_thread::sleep_for(std::chrono::milliseconds(1500));
     if (n == 300 && (mode_ == "slow-working" || mode_ == "stuck-progress")) work_long();
     if (n == 300 && mode_ == "slow-silent") std::this_thread::sleep_for(std::chrono::seconds(3));
+    if (n == 10 && mode_ == "fails-step")
+      throw StepFailure("the integrator gave up on macro step 10 (a test's broken node)");
     inner_.start_step(n);
   }
   StepResult finish_step() override {
@@ -93,7 +97,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: broken_node "
                  "ignores-restore|late|wrong-count|accepts-nan|slow-working|stuck-progress|"
-                 "slow-statics|slow-silent ...\n");
+                 "slow-statics|slow-silent|fails-step ...\n");
     return 2;
   }
   const std::string mode = argv[1];

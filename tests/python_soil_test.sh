@@ -63,10 +63,13 @@ participant secret-upper "$bin/vehicle_node" --listen 127.0.0.1:0 --token-file "
 secret_upper=$address
 
 run() {  # OUT NAME CASE [master options]: one run; NAME the run's folder under OUT
-  local out=$1 name=$2 case=$3
+  # (OUT "failed": the run must fail, exit status 1)
+  local out=$1 name=$2 case=$3 rc=0 want=0
   shift 3
+  [[ $out == failed ]] && want=1
   "$bin/master" run --scene "$work/soil.toml" --case "$case" --out "$work/tmp" "$@" \
-    >"$work/master.log" 2>&1 || { cat "$work/master.log"; exit 1; }
+    >"$work/master.log" 2>&1 || rc=$?
+  [[ $rc == "$want" ]] || { echo "master exited $rc, not $want:"; cat "$work/master.log"; exit 1; }
   mkdir -p "$work/$out"
   mv "$work/tmp/$case" "$work/$out/$name"
   rm -rf "$work/tmp"

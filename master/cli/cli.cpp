@@ -16,6 +16,7 @@
 #include "cli/conform.hpp"
 #include "cli/fmu_check.hpp"
 #include "log.hpp"
+#include "remote/peer_text.hpp"
 #include "remote/remote_participant.hpp"
 #include "scene.hpp"
 
@@ -106,13 +107,13 @@ int master_main(int argc, char** argv) {
     if (*cmp.command) return do_compare(cmp);
     if (*fa.command) return do_fmu(fa);
   } catch (const SceneError& e) {
-    std::fprintf(stderr, "master: scene error: %s\n", e.what());
+    std::fprintf(stderr, "master: scene error: %s\n", remote::terminal_text(e.what()).c_str());
     return 2;
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "master: %s\n", e.what());
+    std::fprintf(stderr, "master: %s\n", remote::terminal_text(e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "master: run failed: %s\n", e.what());
+    std::fprintf(stderr, "master: run failed: %s\n", remote::terminal_text(e.what()).c_str());
     return 1;
   }
   return 0;

@@ -6,6 +6,7 @@
 
 #include "cli/cli.hpp"
 #include "cli/compare.hpp"
+#include "remote/peer_text.hpp"
 
 namespace railcosim::cli {
 
@@ -28,6 +29,12 @@ void add_compare_command(CLI::App& app, CompareArgs& a) {
   a.command->add_option("--tolerance", a.tolerance, "The largest relative difference allowed")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  a.command
+      ->add_option("--max-file-mb", a.max_file_mb,
+                   "The largest file read, in MiB (a folder someone sends may hold anything); "
+                   "a file over it is refused, named")
+      ->check(CLI::Range(1e-6, 1e6))
+      ->capture_default_str();
   add_check_flag(*a.command, a.check);
 }
 
@@ -47,7 +54,8 @@ int do_compare(const CompareArgs& a) {
                 a.other.c_str(), a.tolerance);
     return 0;
   }
-  const RunComparison r = compare_runs(a.reference, a.other, a.tolerance);
+  const RunComparison r = compare_runs(a.reference, a.other, a.tolerance,
+                                       static_cast<std::uintmax_t>(a.max_file_mb * 1048576.0));
   std::size_t over = 0;
   for (const FileComparison& f : r.files) {
     if (!f.problem.empty()) {
@@ -55,13 +63,14 @@ int do_compare(const CompareArgs& a) {
       ++over;
     } else if (!(f.worst <= r.tolerance)) {
       std::printf("differ: %s: column %s by %.3g relative\n", f.name.c_str(),
-                  f.worst_column.c_str(), f.worst);
+                  remote::terminal_text(f.worst_column).c_str(), f.worst);
       ++over;
     }
   }
   const FileComparison* w = r.worst();
   const std::string worst = w ? "worst relative difference " + format_number(w->worst) + " (" +
-                                    w->name + ", column " + w->worst_column + ")"
+                                    w->name + ", column " + remote::terminal_text(w->worst_column) +
+                                    ")"
                               : std::string("no file to compare");
   std::printf("%s: %zu run(s), %zu file(s), %zu over the tolerance %g; %s\n",
               r.agree() ? "agree" : "differ", r.runs, r.files.size(), over, r.tolerance,

@@ -10,6 +10,7 @@
 #include "auth.hpp"
 #include "cli/cli.hpp"
 #include "cli/conform.hpp"
+#include "remote/peer_text.hpp"
 #include "scene.hpp"
 
 namespace railcosim::cli {
@@ -88,8 +89,9 @@ int report_conformance(const std::vector<ConformItem>& items, const ConformOptio
     (i.verdict == ConformItem::Verdict::kPass   ? passed
      : i.verdict == ConformItem::Verdict::kFail ? failed
                                                 : skipped)++;
+    // The detail may quote the participant's own words.
     std::printf("  %s  %-4s %s%s%s\n", v, i.section.c_str(), i.what.c_str(),
-                i.detail.empty() ? "" : ": ", i.detail.c_str());
+                i.detail.empty() ? "" : ": ", remote::terminal_text(i.detail).c_str());
   }
   std::printf("%d passed, %d failed, %d skipped\n", passed, failed, skipped);
   return failed == 0 ? 0 : 1;

@@ -26,6 +26,7 @@
 #include "log.hpp"
 #include "model.hpp"
 #include "remote/node_launcher.hpp"
+#include "remote/peer_text.hpp"
 #include "remote/remote_participant.hpp"
 #include "remote/soil_check.hpp"
 #include "remote/transport.hpp"
@@ -51,7 +52,7 @@ void print_summary(const run::RunRecord& r, const std::filesystem::path& dir) {
   std::printf(", %ld macro steps,", r.macro_steps);
   for (const auto& [k, v] : r.micro_steps) std::printf(" %s %ld micro steps,", k.c_str(), v);
   std::printf(" wall %.3f s\n", r.wall_s);
-  if (!r.message.empty()) std::printf("  %s\n", r.message.c_str());
+  if (!r.message.empty()) std::printf("  %s\n", remote::terminal_text(r.message).c_str());
   std::printf("  results in %s\n", dir.string().c_str());
 }
 
@@ -382,17 +383,17 @@ int do_run(const RunArgs& command_line) {
   const run::RunOutcome outcome = run::execute(job);
   progress->run_done(0);
   progress->end();
-  if (!outcome.error.empty()) {
+  if (outcome.error.empty()) print_summary(outcome.record, outcome.dir);
+  if (const std::string& error = outcome.failure(); !error.empty()) {
     // A folder that could not be made (a full disk) holds nothing to point at.
     const std::string where = outcome.dir.empty()
                                   ? "no history or summary could be written under " +
                                         (std::filesystem::path(a.out) / spec.name()).string()
                                   : "history so far and summary in " + outcome.dir.string();
     std::fprintf(stderr, "master: %s failed: %s\n  %s\n", spec.name().c_str(),
-                 outcome.error.c_str(), where.c_str());
+                 remote::terminal_text(error).c_str(), where.c_str());
     return 1;
   }
-  print_summary(outcome.record, outcome.dir);
   return 0;
 }
 

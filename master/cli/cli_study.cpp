@@ -3,6 +3,7 @@
 #include "cli/cli.hpp"
 
 #include "engine/coupling_options.hpp"
+#include "remote/peer_text.hpp"
 
 #include <signal.h>
 #include <unistd.h>
@@ -49,8 +50,9 @@ int report_collected(const study::CollectedStudy& c, const std::filesystem::path
   std::printf("report: %s\n", (out / "REPORT.md").string().c_str());
   for (const auto& r : c.runs)
     if (r.record.status == "failed" || r.record.status == "missing" || r.record.status == "not_run")
-      std::fprintf(stderr, "master: %s %s: %s\n", r.folder.c_str(), r.record.status.c_str(),
-                   r.record.message.c_str());
+      std::fprintf(stderr, "master: %s %s: %s\n", r.folder.c_str(),
+                   remote::terminal_text(r.record.status).c_str(),
+                   remote::terminal_text(r.record.message).c_str());
   if (c.failed + c.missing + c.not_run > 0) return 1;
   if (c.stage2_pending) {
     std::fprintf(stderr,

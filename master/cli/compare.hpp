@@ -1,8 +1,9 @@
-// `master compare`: two runs' output folders, value by value (a column of names: equal), to a stated
-// tolerance: the check that a participant of one's own computes what the
-// built-in one does (docs/participant-guide-cpp.md, "Checking it").
+// `master compare`: two runs' output folders, value by value (a column of names: equal), to a
+// stated tolerance: the check that a participant of one's own computes what the built-in one does
+// (docs/participant-guide-cpp.md, "Checking it").
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,10 +14,19 @@ class App;
 
 namespace railcosim::cli {
 
+// What `compare` reads of a folder it is given (someone else's, perhaps):
+// a file's size (--max-file-mb, default kDefaultMaxFileMb), a line's length
+// and a header's columns. Memory stays a few numbers per column, whatever
+// the rows.
+inline constexpr std::size_t kMaxCsvLineBytes = 4u << 20;
+inline constexpr std::size_t kMaxCsvColumns = 65536;
+inline constexpr double kDefaultMaxFileMb = 2048;
+
 struct CompareArgs {
   CLI::App* command = nullptr;
   std::string reference, other;
   double tolerance = 1e-9;
+  double max_file_mb = kDefaultMaxFileMb;
   bool check = false;
 };
 
@@ -56,8 +66,12 @@ struct RunComparison {
 // that column in the reference (1 if all zero), is judged against
 // `tolerance`. A non-finite value agrees only with the same one. Throws
 // std::invalid_argument naming the folder or the file, line and column of
-// what cannot be read (no runs, a value that is not a number).
+// what cannot be read (no runs, a value that is not a number), or refused:
+// not a regular file (a FIFO is refused at once, not waited on), over
+// `max_file_bytes`, a line over kMaxCsvLineBytes, a header over
+// kMaxCsvColumns.
 RunComparison compare_runs(const std::filesystem::path& reference,
-                           const std::filesystem::path& other, double tolerance);
+                           const std::filesystem::path& other, double tolerance,
+                           std::uintmax_t max_file_bytes);
 
 }  // namespace railcosim::cli

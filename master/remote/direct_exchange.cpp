@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "auth.hpp"
+#include "remote/peer_text.hpp"
 
 namespace railcosim::remote {
 
@@ -92,7 +93,10 @@ std::unique_ptr<DirectExchange> DirectExchange::make(const std::vector<Participa
         }
     }
   for (std::size_t p = 0; p < P; ++p) nodes[p]->set_links(links[p]);
-  return std::unique_ptr<DirectExchange>(new DirectExchange(nodes, bound, total, options));
+  std::unique_ptr<DirectExchange> x(new DirectExchange(nodes, bound, total, options));
+  for (std::size_t p = 0; p < P; ++p)
+    for (const wire::PeerLink& l : links[p].links()) x->nodes_[p].peers.push_back(l.peer());
+  return x;
 }
 
 DirectExchange::DirectExchange(std::vector<RemoteParticipant*> nodes, double bound, long total,
@@ -117,8 +121,9 @@ void DirectExchange::grant(long n) {
   window_end_ = end;
   w.set_divergence_bound(bound_);
   w.set_report_steps(options_.report_steps);
-  last_useful_ = std::chrono::steady_clock::now();
+  const auto now = std::chrono::steady_clock::now();
   for (Node& node : nodes_) {
+    node.last_useful = now;
     node.p->grant(w);
     node.in_window = true;
     node.done_step = -1;
@@ -150,15 +155,17 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
     node.last_frame = now;
     node.idle_frames = 0;
     node.counted_progress = node.stale_progress = 0;
-    last_useful_ = now;
+    node.last_useful = now;
   } else if (e.has_reports()) {
     ++node.idle_frames;
   } else {
-    last_useful_ = now;
+    node.last_useful = now;
   }
   if (e.has_reports()) {
     node.p->accept_reports_frame(e.id());
-    node.waiting_for = e.reports().waiting_for();
+    std::string claim = terminal_text(e.reports().waiting_for());
+    if (!claim.empty() && claim != node.waiting_for) node.claimed_at = now;
+    node.waiting_for = std::move(claim);
     for (const auto& w : e.reports().reports()) {
       node.reports.push_back(node.p->accept_report(w));
       node.reported = static_cast<long>(w.step());
@@ -169,7 +176,7 @@ void DirectExchange::take(Node& node, const wire::Envelope& e) {
   try {
     node.p->window_reply(e);
     node.done_step = static_cast<long>(e.window_done().step());
-    node.done_reason = e.window_done().reason();
+    node.done_reason = terminal_text(e.window_done().reason());
   } catch (const StepFailure& f) {
     node.failed = true;
     node.step_failure = true;
@@ -279,7 +286,7 @@ std::vector<StepResult> DirectExchange::advance(long n) {
     const milliseconds limit = progress();
     const milliseconds budget = nodes_.front().p->timeouts().step_budget;
     const auto now = std::chrono::steady_clock::now();
-    const auto deadline = std::max(last_useful_, waiting_since) + limit;
+    const auto deadline = std::max(last_useful(), waiting_since) + limit;
     if (now >= waiting_since + budget) silence(n, budget, true);
     if (now >= deadline) silence(n, limit);
     read(std::chrono::ceil<milliseconds>(std::min(deadline, waiting_since + budget) - now));

@@ -37,6 +37,37 @@ bool enter_lockstep(const std::vector<Participant*>& participants, long first, l
 // step, "direct" for windows), by name and address; "" when none lacks it.
 std::string relay_reason(const std::vector<Participant*>& participants, bool lockstep);
 
+// What the master knows of one node when a macro step is held up: who
+// holds it up is judged from these alone (direct_blame.cpp).
+struct HoldUp {
+  std::string role;
+  std::vector<std::string> peers;  // the participants it has a peer link with
+  long reported = 0;               // its last step report
+  bool has_step = false;           // it has reported the macro step waited for
+  std::string waiting_for;         // the participant it says it waits for ("" none)
+  std::chrono::steady_clock::time_point claimed_at{};  // when it said so
+  // Its last frame that moved the run on: a step report, a window's reply,
+  // a progress frame that counted.
+  std::chrono::steady_clock::time_point last_useful{};
+};
+
+// Who holds the step up, and what the master knows of the claims, for the
+// failure's message. A claim to wait for a peer it has no link with (or for
+// no participant of the run) is false: the claimant. Otherwise a claim is
+// believed, whatever the peer's step reports say (a node's reports are not
+// the data it sends its peers: a node may report steps and withhold its
+// data): the participant that others wait for and that waits for nobody,
+// following claims to their end; where claims go round, the one whose step
+// reports went furthest (it passed the point its claimant waits at), or on a
+// tie the one named by the earliest claim. With no claim, of the nodes that
+// have not reported the step, the one that reported least, then the one
+// silent longest.
+struct Blamed {
+  std::size_t node = 0;
+  std::string claim;  // "; it says it waits for ..." when its own claim is refuted
+};
+Blamed blame(const std::vector<HoldUp>& nodes);
+
 class DirectExchange final : public engine::MacroSteps {
  public:
   // nullptr unless every participant is a RemoteParticipant whose node offers
@@ -77,6 +108,12 @@ class DirectExchange final : public engine::MacroSteps {
     bool peer_failed = false;  // it lost a peer: the root cause is elsewhere
     int sender = -1;           // the node whose data it rejected, if any
     std::string waiting_for;   // the peer it said it waits for
+    std::chrono::steady_clock::time_point claimed_at{};
+    std::vector<std::string> peers;  // its links' peers
+    // Its last frame that moved the run on (a step report, a window's reply,
+    // a progress frame that counted): a node's deadline counts from it, so
+    // one node's frames do not extend another's.
+    std::chrono::steady_clock::time_point last_useful{};
     std::chrono::steady_clock::time_point last_frame{};
     long idle_frames = 0;  // report frames without a step report since its last one
     // Its progress frames in the window: the last counted (a later step, or
@@ -102,11 +139,6 @@ class DirectExchange final : public engine::MacroSteps {
   [[noreturn]] void silence(long n, std::chrono::milliseconds waited, bool budget = false);
   // A progress frame: moves the deadline on when it counts.
   void take_progress(Node& node, const wire::Envelope& e);
-  // The participant a node says it waits for (nullptr: none, or not one of
-  // this run's), and the first node whose claim what the master knows
-  // refutes: the peer it names reported past the claimant's point.
-  const Node* claimed(const Node& claimant) const;
-  Node* false_claimant();
   // The failure that ends macro step n (or, with any_step, any failure),
   // ranked by root cause: a failed step or data rejected (blamed on its
   // sender), then a node that closed its connection, then the others, then
@@ -127,10 +159,11 @@ class DirectExchange final : public engine::MacroSteps {
   // relayed step); step_max before any is measured.
   std::chrono::milliseconds progress() const;
   std::chrono::steady_clock::duration slowest_gap_{0};
-  // The last frame that moved the run on (a step report or a window's
-  // reply): the deadline counts from it, so bytes that trickle in or empty
-  // report frames do not extend it.
-  std::chrono::steady_clock::time_point last_useful_{};
+  // When the nodes that have not reported the step waited for last moved
+  // the run on (Node::last_useful): the deadline counts from it, so bytes
+  // that trickle in, empty report frames, and the frames of a node that has
+  // reported the step do not extend it.
+  std::chrono::steady_clock::time_point last_useful() const;
   long step_ = 0;         // the macro step being waited for, for messages
   long window_end_ = -1;  // of the window granted last (-1: none yet)
   // After every node has ended its window: names the node that cannot give

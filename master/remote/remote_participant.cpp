@@ -6,6 +6,7 @@
 
 #include "auth.hpp"
 #include "log.hpp"
+#include "remote/peer_text.hpp"
 #include "wire.hpp"
 
 namespace railcosim::remote {
@@ -48,7 +49,7 @@ void RemoteParticipant::start(const Scene& scene, const std::optional<std::strin
   std::string challenge;
   if (reply.has_error())
     fail("hello failed: " + wire::Error::Code_Name(reply.error().code()) + ": " +
-         reply.error().message());
+         terminal_text(reply.error().message()));
   if (reply.has_challenge()) {
     if (!token) fail("the node requires a shared secret: pass the same --token-file as the node's");
     challenge = reply.challenge().nonce();
@@ -103,7 +104,7 @@ wire::Envelope RemoteParticipant::open_session(const Scene& scene, const std::st
     conn_->close();
     const auto now = Clock::now();
     if (now >= give_up)
-      fail("hello failed: BUSY: " + reply.error().message() + " (asked again for " +
+      fail("hello failed: BUSY: " + terminal_text(reply.error().message()) + " (asked again for " +
            std::to_string(timeouts_.busy.count()) + " ms)");
     // Sleep in slices, so that a stop signal is seen within one.
     const auto nap = std::min(pause, std::chrono::ceil<std::chrono::milliseconds>(give_up - now));
@@ -141,7 +142,8 @@ void RemoteParticipant::fail(const std::string& what) const {
 
 std::string RemoteParticipant::failure_text(long step, const std::string& what) const {
   std::ostringstream s;
-  s << name() << ": " << what;
+  // Whatever a node's words it holds, they stay on this line.
+  s << name() << ": " << terminal_text(what);
   // Before the first step there is no macro step to name (the protocol's -1).
   if (!stepping_ || step < 0)
     s << " before the run";
@@ -191,13 +193,13 @@ wire::Envelope RemoteParticipant::await(wire::Envelope::BodyCase expected, const
     if (!in_flight_.empty()) in_flight_.pop_front();
     if (reply.has_error() && reply.error().code() == wire::Error::STEP_FAILED) {
       std::ostringstream s;
-      s << name() << ": " << reply.error().message() << " at macro step " << step_;
+      s << name() << ": " << terminal_text(reply.error().message()) << " at macro step " << step_;
       throw StepFailure(s.str());
     }
     if (reply.has_error()) {
       const auto& err = reply.error();
       fail(std::string(what) + " failed: " + wire::Error::Code_Name(err.code()) + ": " +
-           err.message());
+           terminal_text(err.message()));
     }
     if (reply.body_case() == wire::Envelope::kAck && pending_acks_ > 0) {
       --pending_acks_;

@@ -3,6 +3,7 @@
 // each checked before it counts.
 #include <sstream>
 
+#include "remote/peer_text.hpp"
 #include "remote/remote_participant.hpp"
 #include "wire.hpp"
 
@@ -59,10 +60,11 @@ void RemoteParticipant::window_reply(const wire::Envelope& reply) {
     if (err.step() >= 0) step_ = static_cast<long>(err.step());
     if (err.code() == wire::Error::STEP_FAILED) {
       std::ostringstream s;
-      s << name() << ": " << err.message() << " at macro step " << step_;
+      s << name() << ": " << terminal_text(err.message()) << " at macro step " << step_;
       throw StepFailure(s.str());
     }
-    fail("window failed: " + wire::Error::Code_Name(err.code()) + ": " + err.message());
+    fail("window failed: " + wire::Error::Code_Name(err.code()) + ": " +
+         terminal_text(err.message()));
   }
   if (!reply.has_window_done()) fail("unexpected " + body_name(reply) + " in reply to window");
   // Its step reports came before it on the same stream: the window ended

@@ -41,6 +41,12 @@ struct RunOutcome {
   RunRecord record;           // finished, or failed with the history it had
   std::filesystem::path dir;  // where it was written ("" if nowhere)
   std::string error;          // why the run failed; "" when it finished
+  // Why the run failed: `error`, or the record's message when its status is
+  // `failed` (a participant that gave up on a step without a divergence to
+  // show for it: no result either); "" for a result.
+  const std::string& failure() const {
+    return error.empty() && record.status == "failed" ? record.message : error;
+  }
 };
 
 // Runs the job and writes its folder (history.csv, deflection.csv,

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "log.hpp"
+#include "remote/peer_text.hpp"
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/run_output.hpp"
@@ -22,17 +23,6 @@
 
 namespace railcosim::study {
 namespace {
-
-// A run's message as one Markdown table cell, whole: a '|' it holds (a norm,
-// ||G(x) - x||) would otherwise end the cell there, and a line break the row.
-std::string cell(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '|') out += '\\';
-    out += c == '\n' ? ' ' : c;
-  }
-  return out;
-}
 
 // Runs a shell command; true on exit status 0.
 bool shell(const std::string& cmd) {
@@ -223,8 +213,8 @@ void incomplete_section(std::ostringstream& md, const StudyReportInfo& info,
     for (const auto& r : runs)
       if (r.record.status == "missing" || r.record.status == "failed" ||
           r.record.status == "not_run")
-        md << "| " << r.folder << " | " << r.record.status << " | " << cell(r.record.message)
-           << " |\n";
+        md << "| " << r.folder << " | " << remote::markdown_text(r.record.status) << " | "
+           << remote::markdown_text(r.record.message) << " |\n";
     md << "\n";
   }
   const std::string other = remote::other_transport(info.transport);
@@ -321,8 +311,11 @@ void write_report(const StudyReportInfo& info, const std::vector<StudyRun>& runs
        << x.feedthrough.value_or("–") << " | " << x.macro_step << " | " << r.tolerance << " | "
        << run::sci(x.wall_s) << " | " << micro << " | "
        << (x.rel_l2_error ? run::sci(*x.rel_l2_error) : "–") << " | "
-       << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | " << x.status
-       << (x.status == "ok" || x.message.empty() ? "" : " (" + cell(x.message) + ")") << " |\n";
+       << (has ? run::sci(r.rel_l2_error_converged) : "–") << " | "
+       << remote::markdown_text(x.status)
+       << (x.status == "ok" || x.message.empty() ? ""
+                                                 : " (" + remote::markdown_text(x.message) + ")")
+       << " |\n";
   }
   run::write_file_atomically(info.dir / "REPORT.md", md.str());  // checked: never a 0-byte report
 }
