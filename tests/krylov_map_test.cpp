@@ -18,7 +18,7 @@
 #include "run/stability.hpp"
 #include "test_support.hpp"
 
-namespace railcosim {
+namespace railcosim::krylov_map_test {
 namespace {
 
 struct Sample {
@@ -116,4 +116,4 @@ TEST(KrylovMap, ArnoldiAgreesWithTheDenseMapWhereItConverges) {
 }
 
 }  // namespace
-}  // namespace railcosim
+}  // namespace railcosim::krylov_map_test

@@ -12,7 +12,7 @@
 
 #include "verdict/spectrum.hpp"
 
-namespace railcosim {
+namespace railcosim::verdict_spectrum_test {
 namespace {
 
 // A real matrix Q^T B Q: B block-diagonal with rotation blocks of moduli
@@ -140,4 +140,4 @@ TEST(VerdictSpectrum, ASmallMapIsTakenWhole) {
 }
 
 }  // namespace
-}  // namespace railcosim
+}  // namespace railcosim::verdict_spectrum_test

@@ -22,6 +22,8 @@
 namespace railcosim::verdict {
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
 // Raised inside a product when the budget is spent; caught below.
 struct OutOfBudget {
   std::string why;
