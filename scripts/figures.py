@@ -21,7 +21,7 @@ from figure_text import title_height, wrapped  # noqa: E402
 from speed_accuracy import RAN_TO_END, cut_of, num, read_rows, speed_accuracy  # noqa: E402
 
 STATUS_COLOURS = {"ok": "#4caf50", "inaccurate": "#fff176", "amplified": "#ff9800", "diverged": "#e53935",
-                  "not_converged": "#ce93d8", "failed": "#9e9e9e"}
+                  "not_converged": "#ce93d8", "failed": "#9e9e9e", "not judged": "#e0e0e0"}
 
 
 def read_xy(path, xcol, ycol):
@@ -129,6 +129,35 @@ def paper_figures(study, cases, mono, out):
     spectra(os.path.join(study, mono["folder"], "spectra.csv"), out)
 
 
+def map_status(r):
+    """A run's cell colour: its status, or "not judged" where its stability
+    was not judged (its errors alone do not make it ok)."""
+    settled = r["status"] in ("amplified", "diverged", "failed", "not_converged")
+    return "not judged" if not settled and r.get("stability") == "not judged" else r["status"]
+
+
+def rho_digits(rho):
+    """rho with three digits in its distance from 1 (at least four in all),
+    as the report writes it."""
+    off = abs(rho - 1)
+    digits = max(4, 3 + math.ceil(-math.log10(off))) if off > 0 else 4
+    return "%.*g" % (min(digits, 12), rho)
+
+
+def map_words(r):
+    """A run's cell text: its status, and rho with its rate per second where
+    one was measured (matrix-free: through the participants)."""
+    words = map_status(r).replace("_", " ")
+    rho, rate = r.get("rho", ""), r.get("rho_rate_per_s", "")
+    if rho:
+        words += "\nρ " + rho_digits(float(rho))
+        if rate:
+            words += "\n%.3g /s" % float(rate)
+        if r.get("rho_basis") == "matrix-free":
+            words += " (m-f)"
+    return words
+
+
 def stability_map(runs, out):
     """Macro step against method, grouped by cut (a line between cuts)."""
     methods = []
@@ -138,15 +167,16 @@ def stability_map(runs, out):
     cuts = list(dict.fromkeys(cut_of(m) for m in methods))
     methods = [m for c in cuts for m in methods if cut_of(m) == c]
     steps = sorted({num(r["macro_step_s"]) for r in runs if r["method"] in methods})
-    status = {(r["method"], num(r["macro_step_s"])): r["status"] for r in runs
-              if r["method"] in methods and r["group"] in ("case", "sweep")}
-    fig, ax = plt.subplots(figsize=(1.2 * len(steps) + 4, 0.32 * len(methods) + 1.8))
+    cells = {(r["method"], num(r["macro_step_s"])): r for r in runs
+             if r["method"] in methods and r["group"] in ("case", "sweep")}
+    fig, ax = plt.subplots(figsize=(1.2 * len(steps) + 4, 0.55 * len(methods) + 1.8))
     for i, m in enumerate(methods):
         for j, h in enumerate(steps):
-            s = status.get((m, h), "")
+            r = cells.get((m, h))
+            s = map_status(r) if r else ""
             ax.add_patch(plt.Rectangle((j, i), 1, 1, color=STATUS_COLOURS.get(s, "white"), ec="white"))
-            ax.text(j + 0.5, i + 0.5, s or "not run", ha="center", va="center", fontsize=7,
-                    color="k" if s else "0.6")
+            ax.text(j + 0.5, i + 0.5, map_words(r) if r else "not run", ha="center", va="center",
+                    fontsize=5.5, color="k" if s else "0.6")
         if i + 1 < len(methods) and cut_of(methods[i + 1]) != cut_of(m):
             ax.axhline(i + 1, color="k", lw=1.5)
     ax.set_xlim(0, len(steps))
@@ -158,7 +188,8 @@ def stability_map(runs, out):
     # is centred on the axes, and a long one overflows both sides).
     title = wrapped("Stability map (grouped by cut): green ok; yellow inaccurate (stable, error over its "
                     "bound); orange amplified (unstable: a perturbation of the static state grows); red "
-                    "diverged", fig.get_figwidth() - 0.4, 10)
+                    "diverged; grey not judged. Each cell: ρ of the macro-step map at rest and its growth rate "
+                    "per second (m-f: measured through the participants)", fig.get_figwidth() - 0.4, 10)
     top_in = title_height(title, 10)
     fig.set_figheight(fig.get_figheight() + top_in)
     fig.suptitle(title, fontsize=10)

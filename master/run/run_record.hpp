@@ -97,6 +97,20 @@ struct RunRecord {
   std::vector<double> sleeper_x;            // positions of the ballast_force_* channels, if any
 };
 
+// The spectral radius a run's verdict measured: the map's, else the one
+// measured through the participants (matrix_free.hpp); its growth rate per
+// second; and which of the two it is ("map", "matrix-free", "" for none).
+inline std::optional<double> rho_of(const RunRecord& r) {
+  return r.spectral_radius ? r.spectral_radius : r.matrix_free_rho;
+}
+inline std::optional<double> rho_rate_of(const RunRecord& r) {
+  return r.spectral_radius ? r.spectral_rate : r.matrix_free_rate;
+}
+inline std::string rho_basis_of(const RunRecord& r) {
+  if (r.spectral_radius) return r.stability_basis == "matrix-free" ? "matrix-free" : "map";
+  return r.matrix_free_rho ? "matrix-free" : "";
+}
+
 // A run that ran to its end and was judged: its errors against the
 // monolithic run are comparable (ok, inaccurate or amplified).
 inline bool ran_to_end(const RunRecord& r) {

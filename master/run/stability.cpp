@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "connection.hpp"
+#include "log.hpp"
 
 #include "run/evaluation.hpp"
 #include "run/matrix_free.hpp"
@@ -172,6 +173,7 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
   MapSettings settings;
   settings.budget = judge_budget(run, options);
   MapSpectrum m;
+  logger("master")->info("{}: judging its stability: the macro-step map at rest", run.case_name);
   try {
     m = macro_step_spectrum(scene, spec, options, settings);
   } catch (const verdict::Stopped&) {
@@ -183,6 +185,7 @@ void judge_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
   }
   run.map_method = m.method;
   if (m.products > 0) run.map_products = m.products;
+  if (m.dimension > 0) run.map_dimension = m.dimension;
   if (m.computed && m.method == "krylov" && m.rate_per_s < unstable_rate(scene.end_time)) {
     // Arnoldi's converged eigenvalues are eigenvalues, not always the
     // largest (spectral.hpp): a growing one proves instability, the lack of

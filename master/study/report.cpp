@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <optional>
 #include <set>
@@ -18,6 +19,7 @@
 #include "remote/transport.hpp"
 #include "run/evaluation.hpp"
 #include "run/run_output.hpp"
+#include "run/stability.hpp"
 #include "scene.hpp"
 #include "study/study_plan.hpp"
 
@@ -80,15 +82,22 @@ std::string scene_line(const Scene& s) {
 }
 
 // The stability map as a table too (it is read without the figure): each
-// run's status and its map's spectral radius.
-// A run's cell of the stability map: its status and rho, the dense map's
-// or, where that could not be built, the one measured through the
-// participants ("matrix-free").
+// run's verdict, and the spectral radius rho with its rate per second where
+// one was measured: the map's, or, where that could not be built, the one
+// measured through the participants ("matrix-free"). A run whose stability
+// was not judged says so, whatever its errors.
 std::string map_cell(const run::RunRecord& r) {
-  std::string cell = r.status;
-  const bool free = r.stability_basis == "matrix-free" || !r.spectral_radius;
-  const std::optional<double> rho = r.spectral_radius ? r.spectral_radius : r.matrix_free_rho;
-  if (rho) cell += ", ρ " + run::rho_words(*rho) + (free ? " (matrix-free)" : "");
+  const bool settled = r.status == "amplified" || r.status == "diverged" || r.status == "failed" ||
+                       r.status == "not_converged";
+  std::string cell = !settled && r.stability == run::kNotJudged ? "not judged" : r.status;
+  const std::optional<double> rho = rho_of(r), rate = rho_rate_of(r);
+  if (rho) {
+    std::ostringstream s;
+    s << std::setprecision(3) << ", ρ " << run::rho_words(*rho);
+    if (rate) s << " (" << *rate << " /s)";
+    if (rho_basis_of(r) == "matrix-free") s << " matrix-free";
+    cell += s.str();
+  }
   return cell;
 }
 
@@ -108,9 +117,11 @@ void write_stability_map(std::ostringstream& md, const std::vector<StudyRun>& ru
   }
   md << "\n"
      << h << " Stability map\n\n"
-     << "Each run's status and, where it was computed, the spectral radius ρ of its macro-step "
-        "map at rest (a perturbation grows by ρ per macro step; unstable when it e-folds "
-        "within 20 times the run's duration): from the map itself, or, marked matrix-free, "
+     << "Each run's status (`not judged` where its stability was not: the reason is in its "
+        "summary.json) and, where it was measured, the spectral radius ρ of its macro-step "
+        "map at rest with its growth rate per second (a perturbation grows by ρ per macro step, "
+        "or per slow window of a multirate run; unstable when it e-folds within 20 times the "
+        "run's duration): from the map itself, or, marked matrix-free, "
         "measured through the participants' save and restore where the map cannot be built "
         "(implicit coupling, a participant on a node given by address, a soil of its own).\n\n"
         "| method |";

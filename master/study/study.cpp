@@ -190,7 +190,7 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
        "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
        "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
        "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart,variant,"
-       "stability,error_growth\n";
+       "stability,error_growth,rho,rho_rate_per_s,rho_basis\n";
   auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
   auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
   auto steps = [](const RunRecord& r, const char* k) {
@@ -215,7 +215,8 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << r.transport << "," << quoted(r.message) << "," << r.method << "," << r.inputs << ","
       << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
       << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
-      << "," << s.variant << "," << r.stability << "," << optd(r.error_growth) << "\n";
+      << "," << s.variant << "," << r.stability << "," << optd(r.error_growth) << ","
+      << optd(rho_of(r)) << "," << optd(rho_rate_of(r)) << "," << rho_basis_of(r) << "\n";
   }
   write_file_atomically(file, f.str());
 }
