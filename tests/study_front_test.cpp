@@ -139,5 +139,29 @@ TEST(StudyFront, SlopeIsTheLeastSquaresFitOfLogErrorOnLogH) {
   EXPECT_EQ(rows[1].errors.front().first, 1e-4);  // ascending H
 }
 
+// A run judged against a co-simulation reference at its own macro step (the
+// sweep's smallest H of a --node study) measures the reference's round-off:
+// it is left out of the fit, and said so; the slope is the others' 2.
+TEST(StudyFront, ARunJudgedAgainstAReferenceAtItsOwnStepIsNotFitted) {
+  std::vector<study::StudyRun> runs;
+  for (double H : {1e-4, 5e-4, 1e-3}) {
+    runs.push_back(study_run(kLinear, "tcp", H, 1, H == 1e-4 ? 5.5e-11 : 5 * std::pow(H, 2.0)));
+    runs.back().record.reference_kind = "co-simulation";
+    runs.back().record.reference_macro_step = 1e-4;
+  }
+  const auto rows = study::error_slopes(runs);
+  ASSERT_EQ(rows.size(), 1u);
+  ASSERT_EQ(rows[0].errors.size(), 2u);
+  EXPECT_NEAR(*rows[0].slope, 2.0, 1e-9);
+  ASSERT_EQ(rows[0].left_out.size(), 1u);
+  EXPECT_EQ(rows[0].left_out[0], 1e-4);
+  std::ostringstream md;
+  study::write_slopes_section(md, rows, "##");
+  EXPECT_NE(md.str().find("left out H = 0.0001 s (judged against a co-simulation reference at "
+                          "its own macro step)"),
+            std::string::npos)
+      << md.str();
+}
+
 }  // namespace
 }  // namespace railcosim

@@ -54,10 +54,17 @@ std::vector<SlopeRow> error_slopes(const std::vector<StudyRun>& runs) {
       return s.case_name == x.case_name && s.inputs == x.inputs;
     });
     if (it == rows.end()) {
-      rows.push_back({x.case_name, x.inputs, {}, std::nullopt});
+      rows.push_back({x.case_name, x.inputs, {}, std::nullopt, {}});
       it = rows.end() - 1;
     }
-    it->errors.emplace_back(x.macro_step, r.rel_l2_error_converged);
+    // A run judged against a co-simulation reference at its own H measures
+    // the reference's convergence, not its error: no point of an order fit.
+    const bool own_step = x.reference_kind == "co-simulation" && x.reference_macro_step &&
+                          std::abs(*x.reference_macro_step - x.macro_step) <= 1e-9 * x.macro_step;
+    if (own_step)
+      it->left_out.push_back(x.macro_step);
+    else
+      it->errors.emplace_back(x.macro_step, r.rel_l2_error_converged);
   }
   auto rank = [&](const SlopeRow& s) {
     return std::pair(std::find(cases.begin(), cases.end(), s.case_name) - cases.begin(),
@@ -69,6 +76,9 @@ std::vector<SlopeRow> error_slopes(const std::vector<StudyRun>& runs) {
     std::sort(s.errors.begin(), s.errors.end());
     s.slope = log_log_slope(s.errors);
   }
+  rows.erase(
+      std::remove_if(rows.begin(), rows.end(), [](const SlopeRow& s) { return s.errors.empty(); }),
+      rows.end());
   return rows;
 }
 
@@ -114,6 +124,21 @@ void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
     std::snprintf(b, sizeof b, "%.2f", s.slope ? *s.slope : 0.0);
     md << " " << (s.slope ? std::string(b) : std::string("–")) << " |\n";
   }
+  // Which runs each slope was fitted from, and which were left out.
+  std::ostringstream fitted;
+  for (const SlopeRow& s : rows) {
+    fitted << "\n- " << s.case_name << " " << s.inputs << ": fitted from H =";
+    for (std::size_t i = 0; i < s.errors.size(); ++i)
+      fitted << (i ? ", " : " ") << s.errors[i].first;
+    fitted << " s";
+    if (!s.left_out.empty()) {
+      fitted << "; left out H =";
+      for (std::size_t i = 0; i < s.left_out.size(); ++i)
+        fitted << (i ? ", " : " ") << s.left_out[i];
+      fitted << " s (judged against a co-simulation reference at its own macro step)";
+    }
+  }
+  md << "\nThe runs each slope is fitted from:" << fitted.str() << "\n";
 }
 
 }  // namespace railcosim::study

@@ -20,6 +20,9 @@ struct SlopeRow {
   std::string inputs;                             // "linear", "waveform3", ...
   std::vector<std::pair<double, double>> errors;  // (H, rel_l2_error_converged), ascending H
   std::optional<double> slope;                    // from 2 points up
+  // Macro steps of runs left out of the fit: judged against a co-simulation
+  // reference at their own H, their error is the reference's round-off.
+  std::vector<double> left_out;
 };
 
 // The least-squares slope of log(y) against log(x); nullopt below 2 points
