@@ -284,17 +284,18 @@ TEST(TcpNodes, AnUnreachableNodeIsNamedWithItsAddress) {
   }
 }
 
-// A connection that says nothing holds a node (BUSY to everyone else) until
-// its hello deadline. The master asks again while the node is busy: the run
-// goes on once the blocker leaves (it once failed at the first BUSY) ...
+// A session in progress holds a node (BUSY to everyone else; a connection
+// that only says nothing does not: the node takes several hellos side by
+// side). The master asks again while the node is busy: the run goes on
+// once the other session leaves (it once failed at the first BUSY) ...
 TEST(TcpNodes, TheMasterAsksABusyNodeAgainUntilTheBlockerLeaves) {
   const Scene scene = test::paper_scene();
   LaunchedNode track("track_node", std::chrono::seconds(10));
-  auto blocker = Connection::connect(track.address(), std::chrono::milliseconds(5000));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the node takes it as a session
+  auto blocker = std::make_unique<RemoteParticipant>(track.address(), scene,
+                                                     config_of(scene, "wr-xx-jacobi", "track"));
   std::thread leave([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(600));
-    blocker->close();
+    blocker.reset();
   });
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -311,8 +312,8 @@ TEST(TcpNodes, TheMasterAsksABusyNodeAgainUntilTheBlockerLeaves) {
 TEST(TcpNodes, ANodeBusyForLongerThanTheRetryTimeIsNamed) {
   const Scene scene = test::paper_scene();
   LaunchedNode track("track_node", std::chrono::seconds(10));
-  auto blocker = Connection::connect(track.address(), std::chrono::milliseconds(5000));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const RemoteParticipant blocker(track.address(), scene,
+                                  config_of(scene, "wr-xx-jacobi", "track"));
   RemoteTimeouts t;
   t.busy = std::chrono::milliseconds(500);
   const auto t0 = std::chrono::steady_clock::now();
