@@ -161,8 +161,16 @@ std::string duration_words(double seconds) {
 // The map's words: rho, the e-folding time, and which micro steps it takes.
 void map_words(std::ostream& s, const RunRecord& run) {
   const bool growing = *run.spectral_rate > 0 && run.stability == "unstable";
-  s << (growing ? "at rest: " : "") << "ρ = " << rho_words(*run.spectral_radius)
-    << " per macro step" << (growing ? "" : " at rest");
+  // A multirate run's map steps one slow window (several macro steps).
+  double window = run.macro_step;
+  for (const auto& [cut, w] : run.windows) window = std::max(window, w);
+  std::ostringstream per;
+  if (window > run.macro_step * (1 + 1e-9))
+    per << " per slow window (" << window << " s)";
+  else
+    per << " per macro step";
+  s << (growing ? "at rest: " : "") << "ρ = " << rho_words(*run.spectral_radius) << per.str()
+    << (growing ? "" : " at rest");
   if (*run.spectral_rate > 0)
     s << ", e-folds every " << duration_words(1 / *run.spectral_rate) << " ("
       << std::setprecision(3) << *run.spectral_rate << " 1/s; the run lasts "
