@@ -275,18 +275,7 @@ void add_run_command(CLI::App& app, RunArgs& a) {
                   "far, within [this, 30 s]; raise it for a participant whose steps vary)")
       ->check(seconds_in(0.1, 86400.0))
       ->capture_default_str();
-  run->add_option("--judge", a.judge,
-                  "What is judged after the run: full (stability and the errors against the "
-                  "reference), stability (no reference is made), none")
-      ->check(CLI::IsMember({"full", "stability", "none"}))
-      ->capture_default_str();
-  run->add_option("--judge-budget", a.judge_budget,
-                  "Where the stability map is measured by Arnoldi's method (a model of more than "
-                  "1500 coordinates), its products may take this many times the run's macro "
-                  "steps (at least 200 products); past it the stability is \"not judged\" with "
-                  "the reason. A smaller model's map is taken whole. 0: no bound")
-      ->check(CLI::Range(0.0, 1000.0))
-      ->capture_default_str();
+  add_judge_options(run, a);
   run->add_option("--node", a.nodes,
                   "ROLE=HOST:PORT of a running node serving that participant (vehicle, track, "
                   "rail, soil); repeatable. Participants without one get a node started here")

@@ -42,6 +42,8 @@ struct RunArgs {
   bool check = false;              // master --check: stop once everything is read and checked
 };
 
+// Adds --judge and --judge-budget to `run` (judge_options.cpp).
+void add_judge_options(CLI::App* run, RunArgs& a);
 // Adds `run` to the master's command line, filling `a`.
 void add_run_command(CLI::App& app, RunArgs& a);
 // Runs the case; the exit status (0 finished, 1 failed; usage errors throw).
