@@ -132,13 +132,13 @@ def point_means(layers, fp, offsets, omegas, d: Discretisation = Discretisation(
     from a loaded footprint's centre, at complex circular frequencies;
     `workers` processes take blocks of frequencies (greens' radial grid
     and wavenumber grid of the highest frequency for every block)."""
-    from .responses import usable_cores, worker_pool
+    from .responses import worker_count, worker_pool
 
     omegas = np.asarray(omegas, dtype=complex)
     if not len(offsets) or not len(omegas):
         return np.zeros((2, len(offsets), len(omegas)), complex)
     f_grid = float(np.max(np.abs(omegas.real))) / (2.0 * math.pi)
-    workers = usable_cores() if workers == 0 else workers
+    workers = worker_count(workers)
     blocks = [blk for blk in np.array_split(np.arange(len(omegas)), max(1, workers)) if len(blk)]
     jobs = [(layers, fp, list(offsets), omegas[blk], d, f_grid) for blk in blocks]
     if len(jobs) > 1:

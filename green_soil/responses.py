@@ -19,6 +19,7 @@ import json
 import math
 import multiprocessing
 import os
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,6 +43,26 @@ def usable_cores():
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover (no affinity on this platform)
         return max(1, os.cpu_count() or 1)
+
+
+# A pool of more processes than this many per usable core only costs memory
+# and switching: a larger [soil] workers is held to it (workers = 256 on two
+# cores once started 154 processes).
+WORKERS_PER_CORE = 2
+
+
+def worker_count(asked):
+    """The processes a pool of `asked` workers starts (0: the usable cores):
+    at most WORKERS_PER_CORE per usable core, with a note on stderr when the
+    number asked is held to it."""
+    cores = usable_cores()
+    if asked == 0:
+        return cores
+    if asked > WORKERS_PER_CORE * cores:
+        sys.stderr.write("green_soil: [soil] workers = %d held to %d (%d per usable core, %d cores)\n"
+                         % (asked, WORKERS_PER_CORE * cores, WORKERS_PER_CORE, cores))
+        return WORKERS_PER_CORE * cores
+    return asked
 
 
 def end_with_parent(parent):
@@ -104,7 +125,7 @@ def spectra(layers, fp: Footprint, pair_offsets, point_offsets, omegas,
     the linear algebra's blocking, far below 1e-12 relative)."""
     omegas = np.asarray(omegas, dtype=complex)
     f_grid = float(np.max(np.abs(omegas.real))) / (2.0 * math.pi) if len(omegas) else 0.0
-    workers = usable_cores() if workers == 0 else workers
+    workers = worker_count(workers)
     blocks = [blk for blk in np.array_split(np.arange(len(omegas)), max(1, workers)) if len(blk)]
     jobs = [(layers, fp, list(pair_offsets), list(point_offsets), omegas[blk], d, f_grid)
             for blk in blocks]

@@ -27,6 +27,22 @@ POINTS = [(0.0, 7.35), (0.0, 8.65), (0.0, 15.35)]
 REC = R.Record(dt=2e-3, duration=0.5, f_max=60.0)
 
 
+class WorkerCountTest(unittest.TestCase):
+    """[soil] workers = 256 on two cores once started 154 processes: a pool
+    is held to WORKERS_PER_CORE processes per usable core, and says so."""
+
+    def test_a_pool_is_held_to_its_cores(self):
+        import contextlib
+        import io
+        cores = R.usable_cores()
+        self.assertEqual(R.worker_count(0), cores)
+        self.assertEqual(R.worker_count(1), 1)
+        note = io.StringIO()
+        with contextlib.redirect_stderr(note):
+            self.assertEqual(R.worker_count(256), R.WORKERS_PER_CORE * cores)
+        self.assertIn("[soil] workers = 256 held to %d" % (R.WORKERS_PER_CORE * cores), note.getvalue())
+
+
 class WorkersTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
