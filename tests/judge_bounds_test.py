@@ -5,7 +5,7 @@ runs it: bounded and stoppable.
 Usage: judge_bounds_test.py BIN_DIR SOURCE_DIR
 
 - the paper scene with 600 sleepers (a map of about 8,000 coordinates, over
-  the dense measure's 1,500): `master run` measures it by Arnoldi's method
+  the dense measure's 4,000): `master run` measures it by Arnoldi's method
   within its budget of products (the run's macro steps over two, at least
   200), and says "not judged" with the reason where Arnoldi proves nothing;
   its memory stays within 256 MiB of the same run with --judge none;

@@ -14,7 +14,7 @@ void add_judge_options(CLI::App* run, RunArgs& a) {
       ->capture_default_str();
   run->add_option("--judge-budget", a.judge_budget,
                   "Where the stability map is measured by Arnoldi's method (a model of more than "
-                  "1500 coordinates), its products may take this many times the run's macro "
+                  "4000 coordinates), its products may take this many times the run's macro "
                   "steps (at least 200 products); past it the stability is \"not judged\" with "
                   "the reason. A smaller model's map is taken whole. 0: no bound")
       ->check(CLI::Range(0.0, 1000.0))
