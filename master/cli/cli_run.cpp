@@ -97,7 +97,10 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
   const auto parts = partition(scene, spec);
   for (const auto& p : parts) roles += (roles.empty() ? "" : ", ") + p.role;
   std::map<std::string, std::string> served;  // address -> role: a node serves one participant
-  for (const auto& [role, address] : given) {
+  for (const auto& entry : given) {
+    // (clang 14 cannot capture a structured binding in a lambda)
+    const std::string& role = entry.first;
+    const Address& address = entry.second;
     if (std::none_of(parts.begin(), parts.end(), [&](const auto& p) { return p.role == role; }))
       throw std::invalid_argument("a node was given for the " + role + " participant (" +
                                   address.str() + "), but case " + spec.name() +
