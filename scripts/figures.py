@@ -51,73 +51,109 @@ def main(study):
     mono = cases.get("monolithic")
     drawn = speed_accuracy(study, runs, out)
     stability_map(runs, out)
-    # A scene whose soil is a participant of its own (the FE soil) has no
-    # monolithic run: the figures drawn against it are left out.
     if mono is not None:
-        paper_figures(study, cases, mono, out)
+        paper_figures(study, cases, lambda r: (mono["folder"], "monolithic"), out)
+    else:
+        # A participant given by address or a soil of its own: each run over the
+        # co-simulation reference of its participants (the study wrote it), not
+        # the built-in model, whose physics need not be theirs.
+        def reference(r):
+            folder = r.get("reference_folder", "")
+            if not folder or not os.path.exists(os.path.join(study, folder, "deflection.csv")):
+                return None
+            return folder, "co-simulation reference (" + folder.split("/")[-1] + ")"
+
+        paper_figures(study, {k: r for k, r in cases.items() if reference(r)}, reference, out)
     return drawn
 
 
-def paper_figures(study, cases, mono, out):
-    """The figures drawn against the monolithic run: deflection, errors,
-    contact force and spectra."""
-    x_m, w_m = read_xy(os.path.join(study, mono["folder"], "deflection.csv"), "x_m", "w_m")
-
-    def deflection(run):
-        return read_xy(os.path.join(study, run["folder"], "deflection.csv"), "x_m", "w_m")
-
+def paper_figures(study, cases, reference, out):
+    """The figures drawn against each run's reference (the monolithic run, or
+    the co-simulation reference of its participants): deflection, errors,
+    contact force and spectra, one panel per cut (and schedule) that ran."""
     usable = {k: r for k, r in cases.items() if k != "monolithic" and r["status"] in RAN_TO_END}
+    if not usable:
+        return
+
+    def deflection(folder):
+        return read_xy(os.path.join(study, folder, "deflection.csv"), "x_m", "w_m")
+
+    cut_words = {"wr": "wheel/rail", "rs": "rail/sleepers", "ss": "sleepers/soil"}
+    order = ("wr", "rs", "ss")
+    cuts = sorted({cut_of(k) for k in usable},
+                  key=lambda c: [order.index(p) if p in order else len(order) for p in c.split("+")])
+
+    def cut_title(cut):
+        return " + ".join(cut_words.get(c, c) for c in cut.split("+")) + " cut"
 
     # The paper's Figure 5: deflection at t_end per cut, the paper's couplings
-    # (explicit, held inputs; at most 6 legend entries).
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), sharey=True)
-    for ax, split, title in zip(axes, ("wr", "rs"), ("wheel/rail cut", "rail/sleepers cut")):
-        ax.plot(x_m, [w * 1e3 for w in w_m], "k-", lw=3, alpha=0.35, label="monolithic")
+    # (explicit, held inputs), over the reference(s) they are judged against.
+    ncols = min(3, len(cuts))
+    nrows = (len(cuts) + ncols - 1) // ncols
+    fig, axes = plt.subplots(nrows, ncols, figsize=(6.5 * ncols, 4.5 * nrows), sharey=True, squeeze=False)
+    for k in range(len(cuts), nrows * ncols):
+        axes[k // ncols][k % ncols].axis("off")
+    for n, cut in enumerate(cuts):
+        ax = axes[n // ncols][n % ncols]
+        refs = {reference(r) for k, r in usable.items() if cut_of(k) == cut}
+        for folder, label in sorted(refs):
+            x_m, w_m = deflection(folder)
+            ax.plot(x_m, [w * 1e3 for w in w_m], "k-", lw=3, alpha=0.35, label=label)
         for k, r in sorted(usable.items()):
-            if cut_of(k) == split and "+" not in k:
-                x, w = deflection(r)
+            if cut_of(k) == cut and not any(tag in k for tag in ("+implicit", "+explicit", "-at-")):
+                x, w = deflection(r["folder"])
                 c, d = style(k)
                 ax.plot(x, [v * 1e3 for v in w], color=c, ls=d, lw=1.2, label=k)
-        ax.set_title(f"Rail deflection at t_end, {title}")
+        ax.set_title(f"Rail deflection at t_end, {cut_title(cut)}")
         ax.set_xlabel("x (m)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    axes[0].set_ylabel("w (mm, down)")
-    axes[0].invert_yaxis()
+    for row in axes:
+        row[0].set_ylabel("w (mm, down)")
+    axes[0][0].invert_yaxis()
     fig.tight_layout()
     fig.savefig(os.path.join(out, "deflection.png"), dpi=110)
     plt.close(fig)
 
-    # The paper's Figure 6: error curves per cut x schedule.
-    fig, axes = plt.subplots(2, 2, figsize=(13, 7), sharex=True)
-    for i, split in enumerate(("wr", "rs")):
-        for j, scheme in enumerate(("jacobi", "gauss-seidel")):
-            ax = axes[i][j]
-            for k, r in sorted(usable.items()):
-                if cut_of(k) == split and scheme in k and (scheme != "jacobi" or "gauss" not in k):
-                    x, w = deflection(r)
-                    c, d = style(k)
-                    ax.plot(x, [(a - b) * 1e3 for a, b in zip(w, w_m)], color=c, ls=d, label=k)
-            ax.axhline(0, color="k", lw=0.5)
-            ax.set_title(f"{'wheel/rail' if split == 'wr' else 'rail/sleepers'}, {scheme}")
-            ax.set_ylabel("w - w_monolithic (mm)")
-            ax.grid(alpha=0.3)
-            ax.legend(fontsize=7)
-    for ax in axes[1]:
+    # The paper's Figure 6: error curves per cut x schedule that ran, each run
+    # over its own reference.
+    def of_panel(k, cut, scheme):
+        return cut_of(k) == cut and scheme in k and (scheme != "jacobi" or "gauss" not in k)
+
+    panels = [(cut, scheme) for cut in cuts for scheme in ("jacobi", "gauss-seidel")
+              if any(of_panel(k, cut, scheme) for k in usable)]
+    ncols = min(2, len(panels))
+    nrows = (len(panels) + ncols - 1) // ncols
+    fig, axes = plt.subplots(nrows, ncols, figsize=(6.5 * ncols, 3.5 * nrows), squeeze=False)
+    for k in range(len(panels), nrows * ncols):
+        axes[k // ncols][k % ncols].axis("off")
+    for n, (cut, scheme) in enumerate(panels):
+        ax = axes[n // ncols][n % ncols]
+        for k, r in sorted(usable.items()):
+            if of_panel(k, cut, scheme):
+                x, w = deflection(r["folder"])
+                _, w_ref = deflection(reference(r)[0])
+                c, d = style(k)
+                ax.plot(x, [(a - b) * 1e3 for a, b in zip(w, w_ref)], color=c, ls=d, label=k)
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_title(f"{cut_title(cut)}, {scheme}")
+        ax.set_ylabel("w - w_reference (mm)")
         ax.set_xlabel("x (m)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "errors.png"), dpi=110)
     plt.close(fig)
 
-    # Contact force: monolithic, best and worst co-simulation at the scene's H.
+    # Contact force: the best run's reference, the best and the worst co-simulation at the scene's H.
+    ranked = sorted(usable.values(), key=lambda r: num(r["rel_l2_error"]))
+    ref_folder, ref_label = reference(ranked[0])
     fig, ax = plt.subplots(figsize=(11, 4.5))
-    t, f = read_xy(os.path.join(study, mono["folder"], "history.csv"), "t_s", "contact_force_N")
-    ax.plot(t, [v / 1e3 for v in f], "k-", lw=2.5, alpha=0.4, label="monolithic")
-    if usable:
-        ranked = sorted(usable.values(), key=lambda r: num(r["rel_l2_error"]))
-        for r, label in ((ranked[0], "best"), (ranked[-1], "worst")):
-            t, f = read_xy(os.path.join(study, r["folder"], "history.csv"), "t_s", "contact_force_N")
-            ax.plot(t, [v / 1e3 for v in f], lw=1, label=f"{label}: {r['method']}")
+    t, f = read_xy(os.path.join(study, ref_folder, "history.csv"), "t_s", "contact_force_N")
+    ax.plot(t, [v / 1e3 for v in f], "k-", lw=2.5, alpha=0.4, label=ref_label)
+    for r, label in ((ranked[0], "best"), (ranked[-1], "worst")):
+        t, f = read_xy(os.path.join(study, r["folder"], "history.csv"), "t_s", "contact_force_N")
+        ax.plot(t, [v / 1e3 for v in f], lw=1, label=f"{label}: {r['method']}")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("contact force (kN)")
     ax.grid(alpha=0.3)
@@ -126,7 +162,7 @@ def paper_figures(study, cases, mono, out):
     fig.savefig(os.path.join(out, "contact_force.png"), dpi=110)
     plt.close(fig)
 
-    spectra(os.path.join(study, mono["folder"], "spectra.csv"), out)
+    spectra(os.path.join(study, ref_folder, "spectra.csv"), out, ref_label)
 
 
 def map_status(r):
@@ -198,9 +234,10 @@ def stability_map(runs, out):
     plt.close(fig)
 
 
-def spectra(path, out):
-    """One-third-octave band levels of the monolithic run: contact forces and
-    the energy mean of the ballast forces over the sleepers (if written)."""
+def spectra(path, out, label):
+    """One-third-octave band levels of the reference run (`label`): contact
+    forces and the energy mean of the ballast forces over the sleepers (if
+    written)."""
     if not os.path.exists(path):
         return
     bands = {}
@@ -221,7 +258,7 @@ def spectra(path, out):
     ax.set_ylabel("band level (dB re 1 N)")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
-    ax.set_title("Force spectra of the monolithic run")
+    ax.set_title(wrapped(f"Force spectra of the {label} run", 10.5, 12))
     fig.tight_layout()
     fig.savefig(os.path.join(out, "spectra.png"), dpi=110)
     plt.close(fig)

@@ -108,8 +108,10 @@ def speed_accuracy(study, runs, out):
         panel(axes[k // ncols][k % ncols], cut, cosim, tol, front, levels, state)
     for k in range(len(cuts), nrows * ncols):
         axes[k // ncols][k % ncols].axis("off")
+    against = ("the co-simulation reference" if any(r.get("reference_kind") == "co-simulation" for r in cosim)
+               else "the converged monolithic run")
     for row in axes:
-        row[0].set_ylabel("rel. L2 error of the deflection at t_end\n(against the converged monolithic run)")
+        row[0].set_ylabel(f"rel. L2 error of the deflection at t_end\n(against {against})")
     for ax in axes[-1]:
         ax.set_xlabel("wall time (s)")
     answer_table(fig.add_subplot(grid[nrows, :]), state["answers"])

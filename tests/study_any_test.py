@@ -1,8 +1,15 @@
 #!/usr/bin/env python3
 """The study of a scene with an outside participant: `master study --node
 soil=HOST:PORT` with the Python soil of examples/python_soil (the built-in
-soil's physics, on the Python SDK) on the lumped soil scene, shortened to
-0.02 s with 10 fixed micro steps, two cases and a sweep of two macro steps:
+soil's physics, on the Python SDK, with twice the scene's soil stiffness:
+other physics than the study's built-in model) on the lumped soil scene,
+shortened to 0.02 s with 10 fixed micro steps, three cases and a sweep of
+two macro steps:
+
+- no monolithic run, column, curve or claim: every error, figure and
+  label is against the co-simulation reference, written once per cut set
+  below references/ and shared by the schedules, and unlike the built-in
+  soil's monolithic run; one panel per cut and schedule that ran;
 
 - the report has every section of the paper scene's study (the answer, the
   stability map with rho, the speed/accuracy chart, the cheapest-method
@@ -36,7 +43,10 @@ import unittest
 
 SRC, BIN = sys.argv[1], sys.argv[2]
 SOIL = os.path.join(SRC, "examples", "python_soil", "soil_participant.py")
-CASES = ["ss-xt-jacobi", "wr-xt+ss-xx-jacobi"]
+CASES = ["ss-xt-jacobi", "ss-xt-gauss-seidel", "wr-xt+ss-xx-jacobi"]
+# The soil node runs other physics than the scene's built-in soil: twice its
+# footprint stiffness (what the study must not stand in for with its own model).
+SOIL_STIFFNESS = "242.16e6"
 STEPS = [1e-4, 5e-4]
 # The lagged wheel/rail X-T coupling grows at rest (rho 1.10 and 2.07 by the
 # dense map); resolved too (rho 2.79 at 5e-4 s, and slowly at 1e-4 s: rho
@@ -62,10 +72,16 @@ class StudyAnyScene(unittest.TestCase):
         cls.scene = os.path.join(cls.work, "soil.toml")
         with open(cls.scene, "w") as f:
             f.write(text)
+        # What the node serves: the same scene with a stiffer soil.
+        cls.soil_scene = os.path.join(cls.work, "soil_node.toml")
+        with open(cls.soil_scene, "w") as f:
+            soil = text.index("\n[soil]")
+            f.write(text[:soil] + re.sub(r"(?m)^stiffness = \S+", "stiffness = " + SOIL_STIFFNESS,
+                                         text[soil:], count=1))
         cls.env = dict(os.environ, RAILCOSIM_SDK_CACHE=os.path.join(cls.work, "cache"))
         out = os.path.join(cls.work, "soil.out")
         with open(out, "w") as f:
-            cls.proc = subprocess.Popen(["/usr/bin/python3", SOIL, "--config", cls.scene],
+            cls.proc = subprocess.Popen(["/usr/bin/python3", SOIL, "--config", cls.soil_scene],
                                         stdout=f, stderr=subprocess.DEVNULL, env=cls.env)
         deadline = time.monotonic() + 30
         cls.soil = None
@@ -110,9 +126,13 @@ class StudyAnyScene(unittest.TestCase):
 
     def test_study_ends_complete(self):
         self.assertEqual(self.result.returncode, 0, self.result.stdout + self.result.stderr[-3000:])
-        # 2 cases: ss-xt-jacobi lagged, resolved, implicit-linear, extrapolated;
-        # wr-xt+ss-xx-jacobi lagged and resolved; each at both macro steps.
-        self.assertEqual(len(self.runs()), 12)
+        # 3 cases: ss-xt-jacobi lagged, resolved, implicit-linear, extrapolated;
+        # ss-xt-gauss-seidel lagged; wr-xt+ss-xx-jacobi lagged and resolved;
+        # each at both macro steps; no monolithic run (the built-in soil is not
+        # the node's).
+        self.assertEqual(len(self.runs()), 14)
+        with open(os.path.join(self.study, "plan.txt")) as f:
+            self.assertNotIn("method=monolithic", f.read())
 
     def test_report_has_every_section(self):
         with open(os.path.join(self.study, "REPORT.md")) as f:
@@ -153,7 +173,7 @@ class StudyAnyScene(unittest.TestCase):
             free = s["rho"] if s["basis"] == "matrix-free" else s["rho_matrix_free"]
             self.assertIsNotNone(free, (folder, s))
             case = folder.split("/")[-1]
-            args = ["run", "--scene", self.scene, "--case", case, "--transport", "inproc",
+            args = ["run", "--scene", self.soil_scene, "--case", case, "--transport", "inproc",
                     "--macro-step", str(H), "--out", os.path.join(self.work, "builtin", folder)]
             if "resolved" in method:
                 args += ["--feedthrough", "resolved"]
@@ -172,6 +192,60 @@ class StudyAnyScene(unittest.TestCase):
                 self.assertLessEqual(free, max(dense, 1.0) + trust, (folder, free, dense))
                 if dense > 1.0:
                     self.assertLess(abs(free - dense), trust, (folder, free, dense))
+
+    def test_report_is_of_the_nodes_physics(self):
+        """No monolithic column, curve or claim; every error and figure over
+        the co-simulation reference, which is not the built-in model."""
+        with open(os.path.join(self.study, "REPORT.md")) as f:
+            report = f.read()
+        self.assertNotIn("monolithic (no cut)", report)
+        self.assertNotIn("the monolithic run is the fastest", report)
+        answer = report.split("**The answer.**")[1].split("\n## ")[0]
+        self.assertIn("against the co-simulation reference", answer)
+        self.assertNotIn("monolithic", answer)
+        header = report.split("\n\n")[1]
+        self.assertIn("against the co-simulation reference", header)
+        self.assertNotIn("against the monolithic run", header)
+        with open(os.path.join(self.study, "summary.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertFalse([r for r in rows if r["method"] == "monolithic"])
+        # One reference per cut set and reference step, shared by its schedules,
+        # feedthroughs and couplings, written once below references/.
+        folders = {r["reference_folder"] for r in rows if r["status"] != "failed"}
+        self.assertEqual(folders, {"references/H_0.0001/ss-xt", "references/H_0.0001/wr-xt+ss-xx"})
+        for folder in folders:
+            with open(os.path.join(self.study, folder, "summary.json")) as f:
+                ref = json.load(f)
+            self.assertEqual((ref["status"], ref["method"], ref["macro_step_s"]),
+                             ("ok", "implicit", 1e-4), folder)
+        # The reference is the node's physics: the built-in soil's monolithic
+        # run differs from it by far more than any coupling error.
+        p = self.master("run", "--scene", self.scene, "--case", "monolithic", "--out",
+                        os.path.join(self.work, "builtin_monolithic"))
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr[-2000:])
+        builtin = self.deflection(os.path.join(self.work, "builtin_monolithic", "monolithic"))
+        ref = self.deflection(os.path.join(self.study, "references/H_0.0001/ss-xt"))
+        diff = math.sqrt(sum((a - b) ** 2 for a, b in zip(builtin, ref)) / sum(b * b for b in ref))
+        self.assertGreater(diff, 1e-2)
+        # The figures: a panel per cut that ran (ss, wr+ss) and per cut and
+        # schedule that ran (ss jacobi, ss gauss-seidel, wr+ss jacobi: three
+        # panels of two columns), never the built-in model.
+        sizes = {name: self.png_size(name) for name in ("deflection", "errors", "contact_force")}
+        self.assertEqual(sizes["deflection"], (2 * 715, 495), sizes)
+        self.assertEqual(sizes["errors"], (2 * 715, 2 * 385), sizes)
+        with open(os.path.join(self.study, "REPORT.md")) as f:
+            figures = f.read().split("Figures\n")[1]
+        self.assertIn("every case over its co-simulation reference", figures)
+        self.assertNotIn("monolithic", figures)
+
+    def deflection(self, folder):
+        with open(os.path.join(folder, "deflection.csv"), newline="") as f:
+            return [float(r["w_m"]) for r in csv.DictReader(f)]
+
+    def png_size(self, name):
+        with open(os.path.join(self.study, "figures", name + ".png"), "rb") as f:
+            head = f.read(24)
+        return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
 
     def test_budget_marks_runs_not_run(self):
         out = os.path.join(self.work, "budget")

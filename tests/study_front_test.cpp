@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "study/report_front.hpp"
+#include "study/report_methods.hpp"
 #include "study/report_slopes.hpp"
 #include "study/study_plan.hpp"
 
@@ -156,11 +157,35 @@ TEST(StudyFront, ARunJudgedAgainstAReferenceAtItsOwnStepIsNotFitted) {
   ASSERT_EQ(rows[0].left_out.size(), 1u);
   EXPECT_EQ(rows[0].left_out[0], 1e-4);
   std::ostringstream md;
-  study::write_slopes_section(md, rows, "##");
+  study::write_slopes_section(md, rows, "##", study::reference_words(runs));
+  EXPECT_NE(md.str().find("against the co-simulation reference at each macro step H"),
+            std::string::npos)
+      << md.str();
+  EXPECT_EQ(md.str().find("monolithic"), std::string::npos) << md.str();
   EXPECT_NE(md.str().find("left out H = 0.0001 s (judged against a co-simulation reference at "
                           "its own macro step)"),
             std::string::npos)
       << md.str();
+}
+
+// A study without a monolithic run (a participant given by address): the
+// answer names the co-simulation reference and claims nothing of a
+// monolithic run, and the front has no monolithic column.
+TEST(StudyFront, AnAnswerWithoutAMonolithicRunNamesTheCosimReference) {
+  std::vector<study::StudyRun> runs;
+  for (double H : {1e-4, 5e-4}) {
+    runs.push_back(study_run(kLinear, "tcp", H, H * 1e4, 2e-4 * H / 1e-4));
+    runs.back().record.reference_kind = "co-simulation";
+  }
+  const auto front = study::study_front(runs, "tcp");
+  std::ostringstream md;
+  study::write_answer(md, front, "tcp");
+  EXPECT_NE(md.str().find("(against the co-simulation reference)"), std::string::npos) << md.str();
+  EXPECT_EQ(md.str().find("monolithic"), std::string::npos) << md.str();
+  EXPECT_EQ(study::reference_words(runs), "the co-simulation reference");
+  runs.back().record.reference_kind = "monolithic";
+  runs.front().record.reference_kind = "monolithic";
+  EXPECT_EQ(study::reference_words(runs), "the converged monolithic run");
 }
 
 }  // namespace

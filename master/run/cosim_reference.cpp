@@ -78,22 +78,33 @@ std::string reference_run(const ReferenceJob& job, double H, engine::InputMode i
 }
 
 // The two reference runs, at H_ref and 2 H_ref: with substep waveforms,
-// or with linear inputs where a participant takes none. "" or why not.
+// else linear inputs where a participant takes no waveforms, else held
+// inputs where it takes no ramps either (an FMU that does not interpolate
+// its inputs). "" or why not; `order` the order of the inputs taken.
 std::string reference_runs(const ReferenceJob& job, double H_ref, RunRecord& fine,
-                           RunRecord& coarse, std::string& note) {
+                           RunRecord& coarse, std::string& note, int& order) {
   auto log = logger("master");
-  engine::InputMode inputs = engine::InputMode::kWaveform3;
   log->info("{}: computing the co-simulation reference (implicit, H = {} s and {} s)",
             job.spec.name(), H_ref, 2 * H_ref);
-  bool threw = false;
-  std::string why = reference_run(job, H_ref, inputs, fine, threw);
-  if (threw) {  // a participant may take no substep waveforms
-    note = why + "; the reference takes linear inputs instead";
-    log->info("{}: {}", job.spec.name(), note);
-    inputs = engine::InputMode::kLinear;
+  const std::pair<engine::InputMode, const char*> tries[] = {
+      {engine::InputMode::kWaveform3, ""},
+      {engine::InputMode::kLinear, "the reference takes linear inputs instead"},
+      {engine::InputMode::kHold, "the reference takes held inputs instead (first order)"}};
+  engine::InputMode inputs = tries[0].first;
+  std::string why;
+  for (const auto& [mode, instead] : tries) {
+    if (*instead) {
+      note += (note.empty() ? "" : "; ") + why + "; " + instead;
+      log->info("{}: {}", job.spec.name(), note);
+    }
+    inputs = mode;
+    bool threw = false;
     why = reference_run(job, H_ref, inputs, fine, threw);
+    if (!threw) break;  // a participant may take no substep waveforms, no ramps
   }
   if (!why.empty()) return why;
+  order = inputs == engine::InputMode::kHold ? 1 : kReferenceOrder;
+  bool threw = false;
   return reference_run(job, 2 * H_ref, inputs, coarse, threw);
 }
 
@@ -111,6 +122,27 @@ std::string too_coarse(const RunRecord& run, const Scene& scene) {
       << kReferenceErrorShare << " x " << kMaxDeflectionError;
   if (!s.str().empty()) s << ": give a finer --reference-step";
   return s.str();
+}
+
+// Writes the finer reference run as a run folder below ROOT; its folder
+// relative to ROOT, or "" (logged) when it cannot be written.
+std::string write_reference(const std::filesystem::path& root, const CaseSpec& jacobi, double H_ref,
+                            const RunRecord& fine) {
+  std::string cuts = jacobi.name();
+  cuts = cuts.substr(0, cuts.size() - std::string("-jacobi").size());
+  std::ostringstream rel;
+  rel << "references/H_" << H_ref << "/" << cuts;
+  try {
+    RunWriter w(root / std::filesystem::path(rel.str()).parent_path(), cuts);
+    w.channels(fine.extra_channels);
+    for (const HistoryRow& row : fine.history) w.row(row);
+    w.finish(fine);
+  } catch (const std::exception& e) {
+    logger("master")->error("{}: the co-simulation reference is not written: {}", rel.str(),
+                            e.what());
+    return "";
+  }
+  return rel.str();
 }
 
 }  // namespace
@@ -143,14 +175,18 @@ void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& sp
   const double H = options.macro_step;
   const long k = reference_step > 0 ? std::max(1L, std::lround(H / reference_step)) : 2L;
   const double H_ref = H / static_cast<double>(k);
+  CaseSpec jacobi = spec;  // the reference of every schedule of the cut set
+  jacobi.scheme = Scheme::kJacobi;
   auto made_here = [&] {
     CosimReferences::Made m;
-    m.why_not =
-        reference_runs({scene, spec, options, make, transport}, H_ref, m.fine, m.coarse, m.note);
+    m.why_not = reference_runs({scene, jacobi, options, make, transport}, H_ref, m.fine, m.coarse,
+                               m.note, m.order);
+    if (m.why_not.empty() && shared && !shared->root().empty())
+      m.folder = write_reference(shared->root(), jacobi, H_ref, m.fine);
     return m;
   };
   std::ostringstream key;
-  key << std::setprecision(17) << scene.source << "|" << spec.name() << "|" << H_ref << "|"
+  key << std::setprecision(17) << scene.source << "|" << jacobi.name() << "|" << H_ref << "|"
       << options.tolerance << "|" << transport << "|" << static_cast<int>(options.data_plane);
   CosimReferences::Made own;
   const CosimReferences::Made& m = shared ? shared->get(key.str(), made_here) : (own = made_here());
@@ -162,11 +198,13 @@ void assess_against_cosim(RunRecord& run, const Scene& scene, const CaseSpec& sp
     return;
   }
   run.reference_kind = "co-simulation";
+  run.reference_folder = m.folder;
   run.reference_macro_step = H_ref;
   run.reference_coupling = fine.method + "-" + fine.inputs + "-" + fine.accelerator.value_or("");
   run.reference_note = note;
   // Richardson: the finer run's error is about the difference over 2^p - 1.
-  const double richardson = std::pow(2.0, kReferenceOrder) - 1;
+  run.reference_order = m.order;
+  const double richardson = std::pow(2.0, m.order) - 1;
   const RunRecord fine_at_coarse = every_kth_row(fine, 2);
   run.reference_history_error = coupling_history_error(coarse, fine_at_coarse) / richardson;
   run.reference_rel_l2_error =
@@ -194,9 +232,11 @@ std::string judgement_json(const RunRecord& r) {
     << ", \"macro_step_s\": " << opt(r.reference_macro_step) << ", \"coupling\": "
     << (r.reference_coupling.empty() ? "null" : json_quoted(r.reference_coupling))
     << ", \"history_error_estimate\": " << opt(r.reference_history_error)
-    << ", \"rel_l2_error_estimate\": " << opt(r.reference_rel_l2_error)
-    << ", \"estimate_order\": " << (cosim ? std::to_string(kReferenceOrder) : "null")
-    << ", \"note\": " << json_quoted(r.reference_note) << "},\n";
+    << ", \"rel_l2_error_estimate\": " << opt(r.reference_rel_l2_error) << ", \"estimate_order\": "
+    << (cosim ? std::to_string(r.reference_order.value_or(kReferenceOrder)) : "null")
+    << ", \"note\": " << json_quoted(r.reference_note)
+    << ", \"folder\": " << (r.reference_folder.empty() ? "null" : json_quoted(r.reference_folder))
+    << "},\n";
   return s.str();
 }
 

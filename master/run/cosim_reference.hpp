@@ -7,7 +7,8 @@
 // participants: the same case (its split, so the same participants, served
 // by the same nodes), implicit coupling converged to kReferenceConvergence
 // with IQN-ILS, its inputs substep waveforms of degree 3 (falling back to
-// linear ramps for participants that take no waveforms), at a finer macro
+// linear ramps for participants that take no waveforms, and to held inputs
+// for those that take no ramps either, then of first order), at a finer macro
 // step H_ref = H / k. Its own error is estimated by Richardson
 // extrapolation from a second reference run at 2 H_ref: for a method of
 // order p the difference of the two, over 2^p - 1, estimates the error of
@@ -15,6 +16,7 @@
 // with inputs at least linear over the step, are second order).
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -33,7 +35,8 @@ namespace railcosim::run {
 // residual (coupling_options.hpp), a hundredth of the default.
 inline constexpr double kReferenceConvergence = 1e-10;
 inline constexpr int kReferenceMaxIterations = 100;
-// The order assumed by the Richardson estimate of the reference's error.
+// The order assumed by the Richardson estimate of the reference's error
+// (held inputs, where a participant takes no ramps: 1).
 inline constexpr int kReferenceOrder = 2;
 // A reference whose estimated error is over this fraction of a bound the
 // run is judged by (cosim.amplification_threshold, kMaxDeflectionError)
@@ -44,20 +47,30 @@ inline constexpr double kReferenceErrorShare = 0.5;
 // history; its final fields as they are): a run at H_ref seen at k H_ref.
 RunRecord every_kth_row(const RunRecord& fine, long k);
 
-// The reference runs of a case, made once for every run that is judged
-// against them (a study's methods of one case share its reference): by scene
-// file, case, reference step, tolerance and transport.
+// The reference runs of a cut set, made once for every run that is judged
+// against them: by scene file, cuts and their types, reference step,
+// tolerance, transport and data plane. The schedule is not in the key: the
+// reference is a converged implicit coupling, run Jacobi, so the Jacobi and
+// Gauss-Seidel methods of one cut set (and their feedthroughs, inputs and
+// couplings) share one reference.
 class CosimReferences {
  public:
   struct Made {
-    RunRecord fine, coarse;  // at H_ref and 2 H_ref
-    std::string note;        // how they were made (linear inputs instead of a waveform)
-    std::string why_not;     // why they cannot serve; "" when they can
+    RunRecord fine, coarse;       // at H_ref and 2 H_ref
+    std::string note;             // how they were made (linear inputs instead of a waveform)
+    std::string why_not;          // why they cannot serve; "" when they can
+    std::string folder;           // where `fine` was written, relative to the root; "" if not
+    int order = kReferenceOrder;  // of its inputs: 1 where it had to hold them
   };
   // The pair of `key`, made by `make` the first time it is asked for.
   const Made& get(const std::string& key, const std::function<Made()>& make);
+  // Writes each reference made from now on (its finer run, as a run folder)
+  // below ROOT/references/H_<H_ref>/<cuts>/, e.g. references/H_5e-05/ss-xt/.
+  void write_below(const std::filesystem::path& root) { root_ = root; }
+  const std::filesystem::path& root() const { return root_; }
 
  private:
+  std::filesystem::path root_;
   struct Entry {
     std::once_flag once;
     Made made;

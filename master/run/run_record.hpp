@@ -69,6 +69,10 @@ struct RunRecord {
   // (cosim_reference.hpp: its macro step, coupling and Richardson estimates
   // of its own history and deflection errors), "none", or "" (not judged).
   std::string reference_kind, reference_coupling, reference_note;
+  // Where a study wrote the co-simulation reference (its finer run), relative
+  // to the study's folder; "" where it was not written.
+  std::string reference_folder;
+  std::optional<int> reference_order;  // of the Richardson estimate (cosim_reference.hpp)
   std::optional<double> reference_macro_step, reference_history_error, reference_rel_l2_error;
   std::string transport = remote::kInprocTransport;
   std::string data_plane;              // over TCP: "direct" or "relay"

@@ -174,11 +174,14 @@ void write_answer(std::ostream& md, const std::vector<FrontRow>& front,
     if (std::find(columns.begin(), columns.end(), c) == columns.end()) columns.push_back(c);
     other = other || r.transport != transport;
   }
+  const bool mono = std::any_of(front.begin(), front.end(),
+                                [](const FrontRow& r) { return r.cut == "monolithic"; });
   md << "**The answer.** The method to use at each cut for a relative error of the rail "
-        "deflection at t_end of at most 1e-3, 1e-4 and 1e-5 (against the converged monolithic "
-        "run), and its wall time (co-simulation over `"
-     << transport
-     << "`; the monolithic run in process): the cheapest run of the sweep that "
+        "deflection at t_end of at most 1e-3, 1e-4 and 1e-5 (against "
+     << (mono ? "the converged monolithic run" : "the co-simulation reference")
+     << "), and its wall time (co-simulation over `" << transport << "`"
+     << (mono ? "; the monolithic run in process" : "")
+     << "): the cheapest run of the sweep that "
         "ends `ok` and reaches it. `speed_accuracy.png` draws the same runs bold.\n\n| error at "
         "most |";
   for (const std::string& c : columns) md << " " << c << " |";
@@ -210,9 +213,12 @@ void write_front_table(std::ostream& md, const std::vector<FrontRow>& front,
   md << "\n"
      << h << " Cheapest method per accuracy\n\n"
      << "Per cut, among the runs of the sweep that end `ok`, the one that reaches each relative "
-        "error (rail deflection at t_end against the converged monolithic run) in the least "
-        "wall time over `"
-     << transport << "` (the monolithic run: across tolerances, in process); the same method and "
+        "error (rail deflection at t_end against "
+     << reference_words(runs) << ") in the least wall time over `" << transport << "`"
+     << (reference_words(runs) == "the co-simulation reference"
+             ? ""
+             : " (the monolithic run: across tolerances, in process)")
+     << "; the same method and "
      << "H rerun over `" << other << "` where stage 2 ran it. This is the table the report opens "
      << "with and the front `speed_accuracy.png` draws (`front.csv`).\n\n"
      << (std::any_of(front.begin(), front.end(),

@@ -27,6 +27,13 @@ const StudyRun* cheapest_reaching(const std::vector<StudyRun>& runs, double leve
   return best;
 }
 
+std::string reference_words(const std::vector<StudyRun>& runs) {
+  const bool cosim = std::any_of(runs.begin(), runs.end(), [](const StudyRun& r) {
+    return is_cosim(r) && r.record.reference_kind == "co-simulation";
+  });
+  return cosim ? "the co-simulation reference" : "the converged monolithic run";
+}
+
 std::optional<double> restart_ratio(const std::vector<StudyRun>& runs, const std::string& restart) {
   std::optional<double> j, gs;
   for (const StudyRun& r : runs) {

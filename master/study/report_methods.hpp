@@ -24,6 +24,12 @@ inline const std::vector<double>& accuracy_levels() {
 // answer is per cut, against the converged run: report_front.hpp.)
 const StudyRun* cheapest_reaching(const std::vector<StudyRun>& runs, double level);
 
+// What the study's errors are measured against, as the report names it:
+// "the co-simulation reference" where its runs were judged against one (a
+// participant given by address, a soil of its own: no monolithic model stands
+// for its physics), else "the converged monolithic run".
+std::string reference_words(const std::vector<StudyRun>& runs);
+
 // Markdown sections: "Largest stable macro step per method" and "Restart convention and the paper's
 // 'almost 10'", headed at level `h` ("##", or "###" within a scene variant's section).
 void write_method_sections(std::ostream& md, const std::vector<StudyRun>& runs,

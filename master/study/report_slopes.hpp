@@ -1,5 +1,5 @@
 // The report's "error against H per input degree": for each case coupled
-// implicitly with IQN-ILS, the error against the converged monolithic run at
+// implicitly with IQN-ILS, the error against the study's reference at
 // each macro step H of the sweep, per kind of inputs (linear, waveform0..3),
 // and the slope of log(error) against log(H) fitted by least squares.
 #pragma once
@@ -39,7 +39,8 @@ void write_slopes_csv(const std::filesystem::path& file, const std::vector<Slope
 
 // The section "Error against H per input degree", headed at level `h`
 // (nothing when there are no rows).
-void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows,
-                          const std::string& h);
+// `against` names what the errors are measured against (reference_words()).
+void write_slopes_section(std::ostream& md, const std::vector<SlopeRow>& rows, const std::string& h,
+                          const std::string& against);
 
 }  // namespace railcosim::study

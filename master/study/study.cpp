@@ -190,7 +190,7 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
        "t_end_s,wall_s,macro_steps,micro_steps_monolithic,micro_steps_s1,micro_steps_s2,status,"
        "max_abs_error_m,rel_l2_error,history_error,rel_l2_error_converged,transport,message,"
        "coupling_method,inputs,accelerator,iterations_mean,iterations_max,restart,variant,"
-       "stability,error_growth,rho,rho_rate_per_s,rho_basis\n";
+       "stability,error_growth,rho,rho_rate_per_s,rho_basis,reference_kind,reference_folder\n";
   auto opt = [](const std::optional<std::string>& s) { return s ? *s : std::string(); };
   auto optd = [](const std::optional<double>& v) { return v ? format_double(*v) : std::string(); };
   auto steps = [](const RunRecord& r, const char* k) {
@@ -216,7 +216,8 @@ void write_summary_csv(const std::filesystem::path& file, const std::vector<Stud
       << opt(r.accelerator) << "," << optd(r.iterations_mean) << ","
       << (r.iterations_max ? std::to_string(*r.iterations_max) : std::string()) << "," << r.restart
       << "," << s.variant << "," << r.stability << "," << optd(r.error_growth) << ","
-      << optd(rho_of(r)) << "," << optd(rho_rate_of(r)) << "," << rho_basis_of(r) << "\n";
+      << optd(rho_of(r)) << "," << optd(rho_rate_of(r)) << "," << rho_basis_of(r) << ","
+      << r.reference_kind << "," << r.reference_folder << "\n";
   }
   write_file_atomically(file, f.str());
 }
@@ -310,6 +311,7 @@ void execute_run(const StudyPlan& plan, const StudyOptions& opt, const PlannedRu
 void execute_plan(const StudyPlan& plan, const StudyOptions& opt,
                   std::chrono::steady_clock::time_point deadline) {
   PlanScenes shared;
+  shared.cosim.write_below(plan.out);
   for (const PlannedRun& r : plan.runs)
     if (!shared.scenes.count(r.scene))
       shared.scenes.emplace(r.scene, load_scene((plan.out / r.scene).string()));

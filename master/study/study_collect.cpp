@@ -155,6 +155,7 @@ run::RunRecord record_of(const fs::path& json) {
     r.matrix_free_steps = static_cast<long>(*v);
   r.reference_kind = str("reference.kind").value_or("");
   r.reference_note = str("reference.note").value_or("");
+  r.reference_folder = str("reference.folder").value_or("");
   r.reference_macro_step = num("reference.macro_step_s");
   r.defect_growth = num("stability.defect_growth");
   r.defect_rate = num("stability.defect_rate_per_s");

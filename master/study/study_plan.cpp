@@ -154,7 +154,6 @@ std::string method_folder(const Method& m) {
   return f + m.spec.name();
 }
 
-// The words of a command line as a POSIX shell splits them (single quotes
 // The methods of the cases named (--cases); throws std::invalid_argument
 // for a name that is none of them.
 std::vector<Method> methods_of_cases(const std::vector<Method>& methods,
@@ -275,8 +274,9 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   if (!o.cases.empty()) methods = methods_of_cases(methods, o.cases);
   if (!o.nodes.empty()) methods = methods_with_nodes(scene, methods, o.nodes);
   if (scene.started_soil() != nullptr) methods = methods_with_started_soil(scene, methods);
-  // A soil of its own (FE, Green's functions, external) has no monolithic model.
-  const bool monolithic = !scene.outside_soil();
+  // A soil of its own (FE, Green's functions, external) has no monolithic model,
+  // and a node given by address runs physics of its own behind its role.
+  const bool monolithic = !scene.outside_soil() && o.nodes.empty();
   if (monolithic) to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
   for (const Method& m : methods)
     to.add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);
@@ -287,7 +287,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
       if (m.coupling.method != engine::CouplingMethod::kImplicit || H >= o.implicit_min_macro_step)
         to.add("sweep", "sweep/H_" + short_number(H) + "/", &m, H, scene.tolerance, scene_rel);
   }
-  if (!o.nodes.empty() || !monolithic) {  // every run against one co-simulation reference step
+  if (!monolithic) {  // every run against one co-simulation reference step
     const double smallest =
         std::min(*std::min_element(sweep.begin(), sweep.end()), scene.macro_step);
     for (PlannedRun& r : plan.runs)
