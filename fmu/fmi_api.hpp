@@ -42,6 +42,9 @@ using SetupExperimentFn = Status (*)(Component, Boolean tolerance_defined, Real 
 using ComponentFn = Status (*)(Component);  // enter/exit initialization, terminate
 using SetRealFn = Status (*)(Component, const ValueReference*, std::size_t, const Real*);
 using GetRealFn = Status (*)(Component, const ValueReference*, std::size_t, Real*);
+using Integer = int;
+using GetIntegerFn = Status (*)(Component, const ValueReference*, std::size_t, Integer*);
+using GetBooleanFn = Status (*)(Component, const ValueReference*, std::size_t, Boolean*);
 using DoStepFn = Status (*)(Component, Real t, Real h, Boolean no_set_state_before_t);
 using GetStateFn = Status (*)(Component, State*);
 using SetStateFn = Status (*)(Component, State);
@@ -77,6 +80,14 @@ using InstanceFn = Status (*)(Instance);  // exit initialization, terminate
 using SetFloat64Fn = Status (*)(Instance, const ValueReference*, std::size_t, const Float64*,
                                 std::size_t n_values);
 using GetFloat64Fn = Status (*)(Instance, const ValueReference*, std::size_t, Float64*,
+                                std::size_t n_values);
+using GetFloat32Fn = Status (*)(Instance, const ValueReference*, std::size_t, float*,
+                                std::size_t n_values);
+using GetInt32Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int32_t*,
+                              std::size_t n_values);
+using GetInt64Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int64_t*,
+                              std::size_t n_values);
+using GetBooleanFn = Status (*)(Instance, const ValueReference*, std::size_t, Boolean*,
                                 std::size_t n_values);
 using DoStepFn = Status (*)(Instance, Float64 t, Float64 h, Boolean no_set_state_before_t,
                             Boolean* event_handling_needed, Boolean* terminate,

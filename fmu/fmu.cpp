@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 
 #include "fmi_api.hpp"
 #include "fmu_error.hpp"
@@ -21,6 +22,8 @@ struct Fmu::Api {
     fmi2::ComponentFn enter_initialization, exit_initialization, terminate;
     fmi2::SetRealFn set_real;
     fmi2::GetRealFn get_real;
+    fmi2::GetIntegerFn get_integer;
+    fmi2::GetBooleanFn get_boolean;
     fmi2::DoStepFn do_step;
     fmi2::GetStateFn get_state;
     fmi2::SetStateFn set_state;
@@ -34,6 +37,10 @@ struct Fmu::Api {
     fmi3::InstanceFn exit_initialization, terminate;
     fmi3::SetFloat64Fn set_float64;
     fmi3::GetFloat64Fn get_float64;
+    fmi3::GetFloat32Fn get_float32;
+    fmi3::GetInt32Fn get_int32;
+    fmi3::GetInt64Fn get_int64;
+    fmi3::GetBooleanFn get_boolean;
     fmi3::DoStepFn do_step;
     fmi3::GetStateFn get_state;
     fmi3::SetStateFn set_state;
@@ -144,6 +151,8 @@ Fmu::Fmu(const fs::path& file, const ArchiveLimits& limits)
       resolve(library_, name_, "fmi2Terminate", f.terminate, true);
       resolve(library_, name_, "fmi2SetReal", f.set_real, true);
       resolve(library_, name_, "fmi2GetReal", f.get_real, true);
+      resolve(library_, name_, "fmi2GetInteger", f.get_integer, false);
+      resolve(library_, name_, "fmi2GetBoolean", f.get_boolean, false);
       resolve(library_, name_, "fmi2DoStep", f.do_step, true);
       resolve(library_, name_, "fmi2GetFMUstate", f.get_state, state);
       resolve(library_, name_, "fmi2SetFMUstate", f.set_state, state);
@@ -158,6 +167,10 @@ Fmu::Fmu(const fs::path& file, const ArchiveLimits& limits)
       resolve(library_, name_, "fmi3Terminate", f.terminate, true);
       resolve(library_, name_, "fmi3SetFloat64", f.set_float64, true);
       resolve(library_, name_, "fmi3GetFloat64", f.get_float64, true);
+      resolve(library_, name_, "fmi3GetFloat32", f.get_float32, false);
+      resolve(library_, name_, "fmi3GetInt32", f.get_int32, false);
+      resolve(library_, name_, "fmi3GetInt64", f.get_int64, false);
+      resolve(library_, name_, "fmi3GetBoolean", f.get_boolean, false);
       resolve(library_, name_, "fmi3DoStep", f.do_step, true);
       resolve(library_, name_, "fmi3GetFMUState", f.get_state, state);
       resolve(library_, name_, "fmi3SetFMUState", f.set_state, state);
@@ -264,6 +277,41 @@ std::vector<double> Fmu::get_real(const std::vector<std::uint32_t>& refs) {
           "fmi3GetFloat64");
   }
   return values;
+}
+
+bool Fmu::readable(FmiVersion version, const std::string& type) {
+  if (type == "Real" || type == "Float64" || type == "Boolean") return true;
+  if (version == FmiVersion::k2) return type == "Integer" || type == "Enumeration";
+  return type == "Float32" || type == "Int32" || type == "Int64" || type == "Enumeration";
+}
+
+double Fmu::get_value(const Variable& v) {
+  need_instance("get_value");
+  if (v.is_real()) return get_real({v.value_reference})[0];
+  auto call = [&](auto fn, const char* symbol, auto value) -> double {
+    if (fn == nullptr)
+      throw FmuError("FMU " + name_ + ": its binary does not export " + symbol + ", to read " +
+                     v.name);
+    const std::uint32_t vr = v.value_reference;
+    if constexpr (std::is_invocable_v<decltype(fn), void*, const std::uint32_t*, std::size_t,
+                                      decltype(&value), std::size_t>)
+      check(fn(instance_, &vr, 1, &value, 1), symbol);
+    else
+      check(fn(instance_, &vr, 1, &value), symbol);
+    return static_cast<double>(value);
+  };
+  const bool v2 = version() == FmiVersion::k2;
+  if (v2 && (v.type == "Integer" || v.type == "Enumeration"))
+    return call(api_->v2.get_integer, "fmi2GetInteger", fmi2::Integer{});
+  if (v2 && v.type == "Boolean")
+    return call(api_->v2.get_boolean, "fmi2GetBoolean", fmi2::Boolean{});
+  if (!v2 && v.type == "Float32") return call(api_->v3.get_float32, "fmi3GetFloat32", 0.0F);
+  if (!v2 && v.type == "Int32") return call(api_->v3.get_int32, "fmi3GetInt32", std::int32_t{});
+  if (!v2 && (v.type == "Int64" || v.type == "Enumeration"))
+    return call(api_->v3.get_int64, "fmi3GetInt64", std::int64_t{});
+  if (!v2 && v.type == "Boolean") return call(api_->v3.get_boolean, "fmi3GetBoolean", false);
+  throw FmuError("FMU " + name_ + ": " + v.name + " is of type " + v.type +
+                 ", which the host cannot read");
 }
 
 void Fmu::do_step(double t, double h) {

@@ -66,6 +66,12 @@ class Fmu {
   // Real (FMI 2) / Float64 (FMI 3) values by value reference.
   void set_real(const std::vector<std::uint32_t>& refs, const std::vector<double>& values);
   std::vector<double> get_real(const std::vector<std::uint32_t>& refs);
+  // One scalar of any type the host reads (readable()), as a double: Real,
+  // Integer, Enumeration, Boolean (0 or 1) in FMI 2; Float64, Float32,
+  // Int32, Int64, Enumeration, Boolean in FMI 3. Throws FmuError for another
+  // type or a getter the binary does not export.
+  double get_value(const Variable& v);
+  static bool readable(FmiVersion version, const std::string& type);
   // One communication step from t to t + h.
   void do_step(double t, double h);
   // State save and restore; refused with a message when the FMU's

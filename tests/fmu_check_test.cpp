@@ -38,8 +38,10 @@ TEST_P(FmuCheck, RunsTheDefaultExperimentToTheClosedFormAndRepeatsAStep) {
   EXPECT_TRUE(r.ran) << r.run_error;
   EXPECT_EQ(r.steps, 100);
   EXPECT_EQ(r.step, 0.1);
-  ASSERT_EQ(r.final_outputs.size(), 1u);
+  ASSERT_EQ(r.final_outputs.size(), 3u);  // x, steps (100), settled (1)
   EXPECT_EQ(r.final_outputs[0].first, "x");
+  EXPECT_EQ(r.final_outputs[1].second, 100.0);
+  EXPECT_EQ(r.final_outputs[2].second, 1.0);
   EXPECT_EQ(r.final_outputs[0].second, closed_form());  // bit for bit: the same products
   EXPECT_EQ(r.round_trip, FmuCheckReport::RoundTrip::kPass) << r.round_trip_detail;
   EXPECT_FALSE(r.explicit_only);

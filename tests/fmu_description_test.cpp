@@ -51,7 +51,9 @@ TEST(FmuDescription, ReadsTheFmi2TestFmu) {
   EXPECT_TRUE(d.capabilities.can_handle_variable_step);
   EXPECT_FALSE(d.capabilities.can_interpolate_inputs);
   EXPECT_EQ(d.capabilities.max_output_derivative_order, 0);
-  ASSERT_EQ(d.variables.size(), 3u);
+  ASSERT_EQ(d.variables.size(), 5u);
+  EXPECT_EQ(d.find("steps")->type, "Integer");
+  EXPECT_EQ(d.find("settled")->type, "Boolean");
   const Variable* k = d.find("k");
   ASSERT_NE(k, nullptr);
   EXPECT_EQ(k->value_reference, 1u);
@@ -75,7 +77,9 @@ TEST(FmuDescription, ReadsTheFmi3TestFmu) {
   EXPECT_EQ(d.token, "{railcosim-dahlquist3}");
   EXPECT_TRUE(d.capabilities.can_get_and_set_state);
   EXPECT_EQ(d.capabilities.fixed_internal_step, 0.1);
-  ASSERT_EQ(d.variables.size(), 3u);
+  ASSERT_EQ(d.variables.size(), 5u);
+  EXPECT_EQ(d.variables[3].type, "Int32");
+  EXPECT_EQ(d.variables[4].type, "Boolean");
   EXPECT_EQ(d.variables[0].name, "x");
   EXPECT_EQ(d.variables[0].type, "Float64");
   EXPECT_TRUE(d.variables[0].is_real());

@@ -19,6 +19,17 @@ void add_fmu_command(CLI::App& app, FmuArgs& a) {
       "step from a saved state bit for bit, and say which couplings it can take part in. The "
       "FMU's binary is native code that runs with your rights: check only FMUs you trust");
   a.check_command->add_option("FILE", a.file, "The .fmu file")->required();
+  a.check_command
+      ->add_option("--reference", a.reference,
+                   "A record of the FMU's outputs to hold its default experiment against: a "
+                   "CSV whose header names \"time\" and then variables (as the FMI reference "
+                   "models' <model>_ref.csv); each row at a communication point is compared")
+      ->check(CLI::ExistingFile);
+  a.check_command
+      ->add_option("--rtol", a.rtol,
+                   "The reference's tolerance, relative to each column's largest |value|")
+      ->default_val(1e-5)
+      ->check(CLI::PositiveNumber);
   add_check_flag(*a.check_command, a.check);
 }
 
@@ -35,9 +46,17 @@ int do_fmu(const FmuArgs& a) {
         throw fmu::FmuError(a.file + ": no binary for this platform (" + so.string() + ")");
       std::printf("check: would check FMU %s (FMI %s, %s, %zu variables)\n", a.file.c_str(),
                   fmu::version_name(d.version), so.c_str(), d.variables.size());
+      if (!a.reference.empty()) {
+        const ReferenceTable t = read_reference_csv(a.reference);
+        std::printf("check: and hold it against %s (%zu rows, %zu columns)\n",
+                    a.reference.c_str(), t.times.size(), t.names.size());
+      }
       return 0;
     }
-    return print_fmu_check(check_fmu(a.file));
+    FmuCheckOptions o;
+    o.reference = a.reference;
+    o.rtol = a.rtol;
+    return print_fmu_check(check_fmu(a.file, o));
   } catch (const fmu::FmuError& e) {
     std::fprintf(stderr, "master fmu check: refused: %s\n", e.what());
     return 2;

@@ -69,12 +69,20 @@ void round_trip(FmuCheckReport& r, Fmu& f, double t, const std::vector<std::uint
   }
 }
 
-void run_experiment(FmuCheckReport& r, Fmu& f) {
+// The recorded values at point n, where the reference wants them.
+void record_point(ReferenceRecorder* rec, Fmu& f, long n) {
+  if (rec == nullptr || !rec->wants(n)) return;
+  std::vector<double> values;
+  for (const Variable* v : rec->variables()) values.push_back(f.get_value(*v));
+  rec->record(n, std::move(values));
+}
+
+void run_experiment(FmuCheckReport& r, Fmu& f, ReferenceRecorder* rec) {
   std::vector<const Variable*> outputs, reals;
   for (const Variable& v : r.description.variables) {
-    if (!v.is_real()) continue;
-    reals.push_back(&v);
-    if (v.causality == "output") outputs.push_back(&v);
+    if (v.causality == "output" && Fmu::readable(r.description.version, v.type))
+      outputs.push_back(&v);
+    if (v.is_real()) reals.push_back(&v);
   }
   const bool state = r.description.capabilities.can_get_and_set_state;
   if (!state) r.round_trip_detail = "the FMU cannot save its state";
@@ -84,16 +92,16 @@ void run_experiment(FmuCheckReport& r, Fmu& f) {
     f.enter_initialization();
     f.exit_initialization();
     const std::vector<std::uint32_t> all = references(reals);
+    record_point(rec, f, 0);
     for (long n = 0; n < r.steps; ++n) {
       const double t = r.start + static_cast<double>(n) * r.step;
       if (state && n == r.steps / 2)
         round_trip(r, f, t, all);
       else
         f.do_step(t, r.step);
+      record_point(rec, f, n + 1);
     }
-    const std::vector<double> values = f.get_real(references(outputs));
-    for (std::size_t i = 0; i < outputs.size(); ++i)
-      r.final_outputs.emplace_back(outputs[i]->name, values[i]);
+    for (const Variable* v : outputs) r.final_outputs.emplace_back(v->name, f.get_value(*v));
     f.terminate();
     r.ran = true;
   } catch (const FmuError& e) {
@@ -130,15 +138,41 @@ void judge_couplings(FmuCheckReport& r) {
   r.explicit_only = !state;
 }
 
+void print_reference(const ReferenceComparison& c) {
+  std::printf(
+      "reference %s: %ld rows, %ld at communication points, %ld between them and %ld after "
+      "the stop time (not compared)\n",
+      c.file.c_str(), c.rows, c.on_grid, c.between, c.after_stop);
+  long compared = 0;
+  for (const ReferenceColumn& col : c.columns) {
+    if (!col.skipped.empty()) {
+      std::printf("  %-24s not compared: %s\n", col.name.c_str(), col.skipped.c_str());
+      continue;
+    }
+    ++compared;
+    std::printf(
+        "  %-24s %ld points, worst |difference| %.3g at t = %.9g s, tolerance %.3g "
+        "(rtol %.3g x max |reference| %.6g): %s\n",
+        col.name.c_str(), col.compared, col.worst, col.worst_t, c.rtol * col.scale, c.rtol,
+        col.scale, col.pass ? "PASS" : "FAIL");
+  }
+  std::printf("reference: %s (%ld of %zu columns compared)\n", c.pass() ? "PASS" : "FAIL", compared,
+              c.columns.size());
+}
+
 }  // namespace
 
-FmuCheckReport check_fmu(const std::string& file) {
+FmuCheckReport check_fmu(const std::string& file, const FmuCheckOptions& options) {
   Fmu f(file);
   FmuCheckReport r;
   r.file = file;
   r.description = f.description();
   plan_experiment(r);
-  run_experiment(r, f);
+  std::optional<ReferenceRecorder> rec;
+  if (!options.reference.empty())
+    rec.emplace(read_reference_csv(options.reference), r.description, r.start, r.step, r.steps);
+  run_experiment(r, f, rec ? &*rec : nullptr);
+  if (rec && r.ran) r.reference = rec->compare(options.rtol);
   judge_couplings(r);
   return r;
 }
@@ -175,7 +209,11 @@ int print_fmu_check(const FmuCheckReport& r) {
     std::printf("  %-62s %s\n", coupling.c_str(), verdict.c_str());
   std::printf("verdict: %s\n",
               r.explicit_only ? "explicit coupling only" : "explicit and implicit coupling");
-  return r.ran && r.round_trip != FmuCheckReport::RoundTrip::kFail ? 0 : 1;
+  if (r.reference) print_reference(*r.reference);
+  return r.ran && r.round_trip != FmuCheckReport::RoundTrip::kFail &&
+                 (!r.reference || r.reference->pass())
+             ? 0
+             : 1;
 }
 
 }  // namespace railcosim::cli

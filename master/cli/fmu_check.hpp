@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/fmu_reference.hpp"
 #include "description.hpp"
 
 namespace CLI {
@@ -20,7 +21,14 @@ struct FmuArgs {
   CLI::App* command = nullptr;        // master fmu
   CLI::App* check_command = nullptr;  // master fmu check
   std::string file;
-  bool check = false;  // --check: the archive and description read, no code of the FMU run
+  bool check = false;     // --check: the archive and description read, no code of the FMU run
+  std::string reference;  // --reference REF.csv
+  double rtol = 1e-5;     // --rtol
+};
+
+struct FmuCheckOptions {
+  std::string reference;  // a record of its outputs to hold the run against ("": none)
+  double rtol = 1e-5;     // of each column's largest |value|
 };
 
 // Adds `fmu check FILE.fmu` to the master's command line, filling `a`.
@@ -38,8 +46,10 @@ struct FmuCheckReport {
   long steps = 0;
   bool ran = false;
   std::string run_error;  // why the run stopped, when it did
-  // Every Real/Float64 output at the end of the run, by name.
+  // Every output the host can read (Fmu::readable) at the end of the run, by name.
   std::vector<std::pair<std::string, double>> final_outputs;
+  // The run against --reference, where one was given.
+  std::optional<ReferenceComparison> reference;
 
   // The step at the run's middle, taken, undone by restoring the state
   // saved before it, and taken again: every Real/Float64 variable the same
@@ -56,10 +66,10 @@ struct FmuCheckReport {
 // Checks the FMU at `file`. Throws fmu::FmuError when it is refused
 // (archive, description, platform binary); a failure of the run or of the
 // round trip is in the report.
-FmuCheckReport check_fmu(const std::string& file);
+FmuCheckReport check_fmu(const std::string& file, const FmuCheckOptions& options = {});
 
-// Prints the report on stdout; 0 when the run and the round trip (where
-// offered) pass, 1 otherwise.
+// Prints the report on stdout; 0 when the run, the round trip (where
+// offered) and the reference (where given) pass, 1 otherwise.
 int print_fmu_check(const FmuCheckReport& r);
 
 }  // namespace railcosim::cli

@@ -19,11 +19,15 @@
 #define WITH_STATE 1
 #endif
 
-enum { VR_X = 0, VR_K = 1, VR_U = 2 };
+/* Beside x: `steps`, the communication steps taken (an Integer / Int32),
+ * and `settled`, whether x < 1e-3 (a Boolean): after n steps of 0.1 s,
+ * steps = n and settled = (0.9^n < 1e-3), true from n = 66 on. */
+enum { VR_X = 0, VR_K = 1, VR_U = 2, VR_STEPS = 3, VR_SETTLED = 4 };
 static const double kH = 0.1;
 
 typedef struct {
   double x, k, u, t;
+  int steps;
 } Model;
 
 typedef struct {
@@ -59,7 +63,16 @@ static int step(Model* m, double t, double big_h) {
     return S_ERROR;
   for (long i = 0; i < (long)n; ++i) m->x = (1 - m->k * kH) * m->x + kH * m->u;
   m->t = t + big_h;
+  m->steps += 1;
   return S_OK;
+}
+
+static int get_discrete(const Model* m, unsigned vr, long* v) {
+  switch (vr) {
+    case VR_STEPS: *v = m->steps; return S_OK;
+    case VR_SETTLED: *v = m->x < 1e-3; return S_OK;
+    default: return S_ERROR;
+  }
 }
 
 static Instance* make(void) {
@@ -132,7 +145,7 @@ EXPORT int fmi2SetupExperiment(void* c, int tol_defined, double tol, double star
 EXPORT int fmi2EnterInitializationMode(void* c) { (void)c; return S_OK; }
 EXPORT int fmi2ExitInitializationMode(void* c) { (void)c; return S_OK; }
 EXPORT int fmi2Terminate(void* c) { (void)c; return S_OK; }
-EXPORT int fmi2Reset(void* c) { Instance* i = c; Model m = {1, 1, 0, 0}; i->m = m; return S_OK; }
+EXPORT int fmi2Reset(void* c) { Instance* i = c; Model m = {1, 1, 0, 0, 0}; i->m = m; return S_OK; }
 EXPORT int fmi2SetReal(void* c, const unsigned* vr, size_t n, const double* v) {
   for (size_t i = 0; i < n; ++i)
     if (set_value(&((Instance*)c)->m, vr[i], v[i]) != S_OK) return S_ERROR;
@@ -141,6 +154,22 @@ EXPORT int fmi2SetReal(void* c, const unsigned* vr, size_t n, const double* v) {
 EXPORT int fmi2GetReal(void* c, const unsigned* vr, size_t n, double* v) {
   for (size_t i = 0; i < n; ++i)
     if (get_value(&((Instance*)c)->m, vr[i], &v[i]) != S_OK) return S_ERROR;
+  return S_OK;
+}
+EXPORT int fmi2GetInteger(void* c, const unsigned* vr, size_t n, int* v) {
+  for (size_t i = 0; i < n; ++i) {
+    long x = 0;
+    if (vr[i] != VR_STEPS || get_discrete(&((Instance*)c)->m, vr[i], &x) != S_OK) return S_ERROR;
+    v[i] = (int)x;
+  }
+  return S_OK;
+}
+EXPORT int fmi2GetBoolean(void* c, const unsigned* vr, size_t n, int* v) {
+  for (size_t i = 0; i < n; ++i) {
+    long x = 0;
+    if (vr[i] != VR_SETTLED || get_discrete(&((Instance*)c)->m, vr[i], &x) != S_OK) return S_ERROR;
+    v[i] = (int)x;
+  }
   return S_OK;
 }
 EXPORT int fmi2DoStep(void* c, double t, double h, int no_set_prior) {
@@ -187,6 +216,24 @@ EXPORT int fmi3GetFloat64(void* c, const uint32_t* vr, size_t n, double* v, size
   if (nv != n) return S_ERROR;
   for (size_t i = 0; i < n; ++i)
     if (get_value(&((Instance*)c)->m, vr[i], &v[i]) != S_OK) return S_ERROR;
+  return S_OK;
+}
+EXPORT int fmi3GetInt32(void* c, const uint32_t* vr, size_t n, int32_t* v, size_t nv) {
+  if (nv != n) return S_ERROR;
+  for (size_t i = 0; i < n; ++i) {
+    long x = 0;
+    if (vr[i] != VR_STEPS || get_discrete(&((Instance*)c)->m, vr[i], &x) != S_OK) return S_ERROR;
+    v[i] = (int32_t)x;
+  }
+  return S_OK;
+}
+EXPORT int fmi3GetBoolean(void* c, const uint32_t* vr, size_t n, bool* v, size_t nv) {
+  if (nv != n) return S_ERROR;
+  for (size_t i = 0; i < n; ++i) {
+    long x = 0;
+    if (vr[i] != VR_SETTLED || get_discrete(&((Instance*)c)->m, vr[i], &x) != S_OK) return S_ERROR;
+    v[i] = x != 0;
+  }
   return S_OK;
 }
 EXPORT int fmi3DoStep(void* c, double t, double h, bool no_set_prior, bool* event, bool* stop,
