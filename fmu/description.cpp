@@ -93,7 +93,17 @@ Variable read_variable(const Reader& r, const pugi::xml_node& n, FmiVersion v) {
     var.type = typed.name();
   } else {
     var.type = n.name();
-    if (n.child("Dimension")) var.type += " array";  // arrays are not served yet
+    if (n.child("Dimension")) var.type += " array";  // arrays are read, not served
+    for (const pugi::xml_node d : n.children("Dimension")) {
+      Variable::Dimension dim;
+      if (d.attribute("start")) dim.start = r.unsigned_number(d, "start");
+      if (d.attribute("valueReference"))
+        dim.value_reference = r.unsigned_number(d, "valueReference");
+      if (!dim.start && !dim.value_reference)
+        r.refuse("variable '" + var.name +
+                 "' has a <Dimension> with neither start nor valueReference");
+      var.dimensions.push_back(dim);
+    }
   }
   var.unit = r.name(typed, "unit");
   if (var.is_real()) var.start = r.optional_number(typed, "start");
@@ -217,6 +227,29 @@ ModelDescription read_model_description(const std::filesystem::path& file,
   std::ostringstream text;
   text << in.rdbuf();
   return parse_model_description(text.str(), file.string(), limits);
+}
+
+std::optional<std::filesystem::path> reference_result(const std::filesystem::path& root) {
+  const std::filesystem::path dir = root / "extra" / "org.fmi-standard.fmi-ls-ref";
+  const std::filesystem::path manifest = dir / "fmi-ls-manifest.xml";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(manifest, ec)) return std::nullopt;
+  pugi::xml_document doc;
+  if (!doc.load_file(manifest.c_str()))
+    throw FmuError(manifest.filename().string() + " of the FMU: not readable XML");
+  for (const pugi::xml_node n : doc.document_element().children("Related")) {
+    if (std::string(n.attribute("role").as_string()) != "result" ||
+        std::string(n.attribute("type").as_string()) != "text/csv")
+      continue;
+    const std::string source = n.attribute("source").as_string();
+    if (source.empty() || source.find('/') != std::string::npos || source == "." || source == "..")
+      throw FmuError(
+          "extra/org.fmi-standard.fmi-ls-ref/fmi-ls-manifest.xml of the FMU: the "
+          "result's source '" +
+          source + "' is not a file name in that folder");
+    if (std::filesystem::is_regular_file(dir / source, ec)) return dir / source;
+  }
+  return std::nullopt;
 }
 
 }  // namespace railcosim::fmu

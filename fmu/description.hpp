@@ -40,6 +40,13 @@ struct Variable {
   std::optional<double> start;  // for a Real/Float64 with a start value
   std::string unit;             // empty when none is declared
   bool is_real() const { return type == "Real" || type == "Float64"; }
+  // FMI 3 arrays: per <Dimension>, its size given (start) or the value
+  // reference of the structural parameter that holds it. Empty: a scalar.
+  struct Dimension {
+    std::optional<std::uint64_t> start;
+    std::optional<std::uint32_t> value_reference;
+  };
+  std::vector<Dimension> dimensions;
 };
 
 struct DefaultExperiment {
@@ -73,5 +80,13 @@ ModelDescription read_model_description(const std::filesystem::path& file,
 // The same from text; `where` names it in errors.
 ModelDescription parse_model_description(const std::string& text, const std::string& where,
                                          const DescriptionLimits& limits = {});
+
+// The record of the default experiment's outputs an FMU carries under the
+// FMI layered standard for reference results: the `Related` entry of role
+// "result" and type text/csv in extra/org.fmi-standard.fmi-ls-ref/
+// fmi-ls-manifest.xml of the unpacked FMU at `root`; its path, or nothing
+// when the FMU carries none. A source that is not a plain file name in that
+// folder is refused (FmuError).
+std::optional<std::filesystem::path> reference_result(const std::filesystem::path& root);
 
 }  // namespace railcosim::fmu

@@ -43,6 +43,14 @@ using ComponentFn = Status (*)(Component);  // enter/exit initialization, termin
 using SetRealFn = Status (*)(Component, const ValueReference*, std::size_t, const Real*);
 using GetRealFn = Status (*)(Component, const ValueReference*, std::size_t, Real*);
 using Integer = int;
+enum StatusKind : int {
+  kDoStepStatus = 0,
+  kPendingStatus = 1,
+  kLastSuccessfulTime = 2,
+  kTerminated = 3
+};
+using GetRealStatusFn = Status (*)(Component, StatusKind, Real*);
+using GetBooleanStatusFn = Status (*)(Component, StatusKind, Boolean*);
 using GetIntegerFn = Status (*)(Component, const ValueReference*, std::size_t, Integer*);
 using GetBooleanFn = Status (*)(Component, const ValueReference*, std::size_t, Boolean*);
 using DoStepFn = Status (*)(Component, Real t, Real h, Boolean no_set_state_before_t);
@@ -85,6 +93,18 @@ using GetFloat32Fn = Status (*)(Instance, const ValueReference*, std::size_t, fl
                                 std::size_t n_values);
 using GetInt32Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int32_t*,
                               std::size_t n_values);
+using GetInt8Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int8_t*,
+                             std::size_t n_values);
+using GetUInt8Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::uint8_t*,
+                              std::size_t n_values);
+using GetInt16Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int16_t*,
+                              std::size_t n_values);
+using GetUInt16Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::uint16_t*,
+                               std::size_t n_values);
+using GetUInt32Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::uint32_t*,
+                               std::size_t n_values);
+using GetUInt64Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::uint64_t*,
+                               std::size_t n_values);
 using GetInt64Fn = Status (*)(Instance, const ValueReference*, std::size_t, std::int64_t*,
                               std::size_t n_values);
 using GetBooleanFn = Status (*)(Instance, const ValueReference*, std::size_t, Boolean*,

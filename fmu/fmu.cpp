@@ -9,44 +9,11 @@
 #include <type_traits>
 
 #include "fmi_api.hpp"
+#include "fmu_api_table.hpp"
 #include "fmu_error.hpp"
 
 namespace railcosim::fmu {
 namespace fs = std::filesystem;
-
-struct Fmu::Api {
-  struct {
-    fmi2::InstantiateFn instantiate;
-    fmi2::FreeInstanceFn free_instance;
-    fmi2::SetupExperimentFn setup_experiment;
-    fmi2::ComponentFn enter_initialization, exit_initialization, terminate;
-    fmi2::SetRealFn set_real;
-    fmi2::GetRealFn get_real;
-    fmi2::GetIntegerFn get_integer;
-    fmi2::GetBooleanFn get_boolean;
-    fmi2::DoStepFn do_step;
-    fmi2::GetStateFn get_state;
-    fmi2::SetStateFn set_state;
-    fmi2::FreeStateFn free_state;
-    fmi2::CallbackFunctions callbacks;
-  } v2{};
-  struct {
-    fmi3::InstantiateCoSimulationFn instantiate;
-    fmi3::FreeInstanceFn free_instance;
-    fmi3::EnterInitializationModeFn enter_initialization;
-    fmi3::InstanceFn exit_initialization, terminate;
-    fmi3::SetFloat64Fn set_float64;
-    fmi3::GetFloat64Fn get_float64;
-    fmi3::GetFloat32Fn get_float32;
-    fmi3::GetInt32Fn get_int32;
-    fmi3::GetInt64Fn get_int64;
-    fmi3::GetBooleanFn get_boolean;
-    fmi3::DoStepFn do_step;
-    fmi3::GetStateFn get_state;
-    fmi3::SetStateFn set_state;
-    fmi3::FreeStateFn free_state;
-  } v3{};
-};
 
 // The FMU's log callbacks: the last message is kept for the next error.
 struct LogSink {
@@ -153,6 +120,8 @@ Fmu::Fmu(const fs::path& file, const ArchiveLimits& limits)
       resolve(library_, name_, "fmi2GetReal", f.get_real, true);
       resolve(library_, name_, "fmi2GetInteger", f.get_integer, false);
       resolve(library_, name_, "fmi2GetBoolean", f.get_boolean, false);
+      resolve(library_, name_, "fmi2GetRealStatus", f.get_real_status, false);
+      resolve(library_, name_, "fmi2GetBooleanStatus", f.get_boolean_status, false);
       resolve(library_, name_, "fmi2DoStep", f.do_step, true);
       resolve(library_, name_, "fmi2GetFMUstate", f.get_state, state);
       resolve(library_, name_, "fmi2SetFMUstate", f.set_state, state);
@@ -170,6 +139,12 @@ Fmu::Fmu(const fs::path& file, const ArchiveLimits& limits)
       resolve(library_, name_, "fmi3GetFloat32", f.get_float32, false);
       resolve(library_, name_, "fmi3GetInt32", f.get_int32, false);
       resolve(library_, name_, "fmi3GetInt64", f.get_int64, false);
+      resolve(library_, name_, "fmi3GetInt8", f.get_int8, false);
+      resolve(library_, name_, "fmi3GetUInt8", f.get_uint8, false);
+      resolve(library_, name_, "fmi3GetInt16", f.get_int16, false);
+      resolve(library_, name_, "fmi3GetUInt16", f.get_uint16, false);
+      resolve(library_, name_, "fmi3GetUInt32", f.get_uint32, false);
+      resolve(library_, name_, "fmi3GetUInt64", f.get_uint64, false);
       resolve(library_, name_, "fmi3GetBoolean", f.get_boolean, false);
       resolve(library_, name_, "fmi3DoStep", f.do_step, true);
       resolve(library_, name_, "fmi3GetFMUState", f.get_state, state);
@@ -279,53 +254,34 @@ std::vector<double> Fmu::get_real(const std::vector<std::uint32_t>& refs) {
   return values;
 }
 
-bool Fmu::readable(FmiVersion version, const std::string& type) {
-  if (type == "Real" || type == "Float64" || type == "Boolean") return true;
-  if (version == FmiVersion::k2) return type == "Integer" || type == "Enumeration";
-  return type == "Float32" || type == "Int32" || type == "Int64" || type == "Enumeration";
-}
-
-double Fmu::get_value(const Variable& v) {
-  need_instance("get_value");
-  if (v.is_real()) return get_real({v.value_reference})[0];
-  auto call = [&](auto fn, const char* symbol, auto value) -> double {
-    if (fn == nullptr)
-      throw FmuError("FMU " + name_ + ": its binary does not export " + symbol + ", to read " +
-                     v.name);
-    const std::uint32_t vr = v.value_reference;
-    if constexpr (std::is_invocable_v<decltype(fn), void*, const std::uint32_t*, std::size_t,
-                                      decltype(&value), std::size_t>)
-      check(fn(instance_, &vr, 1, &value, 1), symbol);
-    else
-      check(fn(instance_, &vr, 1, &value), symbol);
-    return static_cast<double>(value);
-  };
-  const bool v2 = version() == FmiVersion::k2;
-  if (v2 && (v.type == "Integer" || v.type == "Enumeration"))
-    return call(api_->v2.get_integer, "fmi2GetInteger", fmi2::Integer{});
-  if (v2 && v.type == "Boolean")
-    return call(api_->v2.get_boolean, "fmi2GetBoolean", fmi2::Boolean{});
-  if (!v2 && v.type == "Float32") return call(api_->v3.get_float32, "fmi3GetFloat32", 0.0F);
-  if (!v2 && v.type == "Int32") return call(api_->v3.get_int32, "fmi3GetInt32", std::int32_t{});
-  if (!v2 && (v.type == "Int64" || v.type == "Enumeration"))
-    return call(api_->v3.get_int64, "fmi3GetInt64", std::int64_t{});
-  if (!v2 && v.type == "Boolean") return call(api_->v3.get_boolean, "fmi3GetBoolean", false);
-  throw FmuError("FMU " + name_ + ": " + v.name + " is of type " + v.type +
-                 ", which the host cannot read");
-}
-
 void Fmu::do_step(double t, double h) {
   need_instance("do_step");
   time_ = t;
   if (version() == FmiVersion::k2) {
-    check(api_->v2.do_step(instance_, t, h, 0), "fmi2DoStep");
+    const int status = api_->v2.do_step(instance_, t, h, 0);
+    fmi2::Boolean ended = 0;
+    fmi2::Real last = t;
+    if (status == fmi2::kDiscard && api_->v2.get_boolean_status != nullptr &&
+        api_->v2.get_boolean_status(instance_, fmi2::kTerminated, &ended) == fmi2::kOK && ended) {
+      if (api_->v2.get_real_status != nullptr)
+        api_->v2.get_real_status(instance_, fmi2::kLastSuccessfulTime, &last);
+      time_ = last;
+      throw FmuTerminated("FMU " + name_ + ": ended the simulation at t = " + format_time(last) +
+                              " s (fmi2DoStep from t = " + format_time(t) + " s: fmi2Discard)",
+                          last);
+    }
+    check(status, "fmi2DoStep");
   } else {
     fmi3::Boolean event = false, stop = false, early = false;
     fmi3::Float64 reached = t;
     check(api_->v3.do_step(instance_, t, h, false, &event, &stop, &early, &reached), "fmi3DoStep");
-    if (stop)
-      throw FmuError("FMU " + name_ + ": fmi3DoStep at t = " + format_time(t) +
-                     " s asked to end the simulation");
+    if (stop) {
+      time_ = reached;
+      throw FmuTerminated("FMU " + name_ + ": ended the simulation at t = " + format_time(reached) +
+                              " s (fmi3DoStep from t = " + format_time(t) +
+                              " s: terminateSimulation)",
+                          reached);
+    }
     if (early)
       throw FmuError("FMU " + name_ + ": fmi3DoStep at t = " + format_time(t) +
                      " s returned early at t = " + format_time(reached) +

@@ -50,6 +50,8 @@ class Fmu {
   Fmu& operator=(const Fmu&) = delete;
 
   const ModelDescription& description() const { return description_; }
+  // The folder the FMU is unpacked into (removed with the Fmu).
+  const std::filesystem::path& root() const { return archive_.root(); }
   FmiVersion version() const { return description_.version; }
   // The FMU's file name, as errors name it.
   const std::string& name() const { return name_; }
@@ -67,10 +69,15 @@ class Fmu {
   void set_real(const std::vector<std::uint32_t>& refs, const std::vector<double>& values);
   std::vector<double> get_real(const std::vector<std::uint32_t>& refs);
   // One scalar of any type the host reads (readable()), as a double: Real,
-  // Integer, Enumeration, Boolean (0 or 1) in FMI 2; Float64, Float32,
-  // Int32, Int64, Enumeration, Boolean in FMI 3. Throws FmuError for another
+  // Integer, Enumeration, Boolean (0 or 1) in FMI 2; Float64, Float32, the
+  // signed and unsigned integers of 8 to 64 bits, Enumeration, Boolean in
+  // FMI 3. Throws FmuError for another
   // type or a getter the binary does not export.
   double get_value(const Variable& v);
+  // Every value of a variable: one for a scalar, the array's in its order
+  // (FMI 3 arrays; the sizes of their dimensions read where a structural
+  // parameter holds them, at most 10,000,000 values).
+  std::vector<double> get_values(const Variable& v);
   static bool readable(FmiVersion version, const std::string& type);
   // One communication step from t to t + h.
   void do_step(double t, double h);
@@ -87,6 +94,7 @@ class Fmu {
   void free_state(void* state) noexcept;
   void check(int status, const char* function) const;
   void need_instance(const char* function) const;
+  std::size_t array_size(const Variable& v);
 
   std::string name_;
   UnpackedArchive archive_;

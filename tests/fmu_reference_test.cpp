@@ -5,8 +5,11 @@
 // between points and after the stop time are counted and not compared, an
 // event's two rows at one time match either, a column the FMU lacks is
 // named; one value off by 1e-3 fails at its time; bad files are refused
-// naming the line.
+// naming the line. An FMU that carries its record (FMI layered standard for
+// reference results) is held against it without --reference; FMUs that end
+// the simulation at t = 5 s are compared up to there.
 #include <gtest/gtest.h>
+#include <zip.h>
 
 #include <cmath>
 #include <cstdio>
@@ -38,7 +41,7 @@ std::string closed_form_csv(double off = 1) {
   for (int n = 0; n <= 100; ++n) {
     const double t = n * 0.1;
     if (n == 1) csv += row(0.05, 1, 0, false);  // between two points: counted, not compared
-    if (n == 66) csv += row(t, x, n, false);  // an event's row before: the FMU matches the after
+    if (n == 66) csv += row(t, x, n, false);    // an event's row before: the FMU matches the after
     csv += row(t, n == 5 ? x * off : x, n, x < 1e-3);
     x = 0.9 * x;
   }
@@ -134,5 +137,92 @@ TEST(FmuReferenceCli, BadFilesAreRefusedNamingTheLine) {
             std::string::npos);
   EXPECT_NE(refused("time,x\n").find("bad.csv: no rows under the header"), std::string::npos);
 }
+
+// dahlquist3.fmu again with `extra` entries added.
+std::string with_extra(const std::string& name,
+                       const std::vector<std::pair<std::string, std::string>>& extra) {
+  const std::string out = (railcosim::test::temp_dir("fmu_reference_zip") / name).string();
+  int error = 0;
+  zip_t* in = zip_open((kFmus + "dahlquist3.fmu").c_str(), ZIP_RDONLY, &error);
+  zip_t* z = zip_open(out.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+  std::vector<std::string> keep;  // the buffers live until zip_close
+  keep.reserve(64);
+  for (zip_int64_t i = 0; i < zip_get_num_entries(in, 0); ++i) {
+    zip_stat_t st;
+    zip_stat_index(in, static_cast<zip_uint64_t>(i), 0, &st);
+    std::string data(st.size, '\0');
+    zip_file_t* f = zip_fopen_index(in, static_cast<zip_uint64_t>(i), 0);
+    zip_fread(f, data.data(), st.size);
+    zip_fclose(f);
+    keep.push_back(std::move(data));
+    zip_file_add(z, st.name, zip_source_buffer(z, keep.back().data(), keep.back().size(), 0), 0);
+  }
+  for (const auto& [entry, text] : extra)
+    zip_file_add(z, entry.c_str(), zip_source_buffer(z, text.data(), text.size(), 0), 0);
+  zip_close(z);
+  zip_close(in);
+  return out;
+}
+
+std::string manifest(const std::string& source) {
+  return "<fmiReferences><Related type=\"text/csv\" source=\"" + source +
+         "\" role=\"result\"/></fmiReferences>";
+}
+
+TEST(FmuReferenceEmbedded, AnFmuCarryingItsRecordIsHeldAgainstIt) {
+  const std::string dir = "extra/org.fmi-standard.fmi-ls-ref/";
+  const std::string fmu =
+      with_extra("carries.fmu", {{dir + "fmi-ls-manifest.xml", manifest("d_out.csv")},
+                                 {dir + "d_out.csv", closed_form_csv()}});
+  const auto r = check_fmu(fmu);
+  ASSERT_TRUE(r.reference.has_value()) << r.run_error;
+  EXPECT_EQ(r.reference->file, dir + "d_out.csv (the FMU's own)");
+  EXPECT_TRUE(r.reference->pass());
+  EXPECT_EQ(r.reference->columns[0].compared, 101);
+  // A record off by a thousandth at t = 0.5 s fails the check.
+  const std::string off =
+      with_extra("carries_off.fmu", {{dir + "fmi-ls-manifest.xml", manifest("d_out.csv")},
+                                     {dir + "d_out.csv", closed_form_csv(1 + 1e-3)}});
+  const auto out = run_master("fmu check " + off);
+  EXPECT_EQ(out.status, 1) << out.output;
+  EXPECT_NE(out.output.find("reference extra/org.fmi-standard.fmi-ls-ref/d_out.csv (the FMU's "
+                            "own): 104 rows"),
+            std::string::npos)
+      << out.output;
+  // A manifest whose source climbs out of its folder is refused.
+  const std::string climbs =
+      with_extra("climbs.fmu", {{dir + "fmi-ls-manifest.xml", manifest("../x.csv")}});
+  const auto refused = run_master("fmu check " + climbs);
+  EXPECT_EQ(refused.status, 2) << refused.output;
+  EXPECT_NE(refused.output.find("the result's source '../x.csv' is not a file name in that folder"),
+            std::string::npos)
+      << refused.output;
+  // Without a record, no reference section.
+  EXPECT_FALSE(check_fmu(kFmus + "dahlquist3.fmu").reference.has_value());
+}
+
+class FmuStops : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FmuStops, AnFmuThatEndsTheSimulationIsComparedUpToWhereItEnded) {
+  FmuCheckOptions o;
+  o.reference = write("dahlquist_ref.csv", closed_form_csv());
+  const auto r = check_fmu(kFmus + GetParam() + ".fmu", o);
+  EXPECT_TRUE(r.ran) << r.run_error;
+  ASSERT_TRUE(r.ended_at.has_value());
+  EXPECT_NEAR(*r.ended_at, 5.0, 1e-12);
+  EXPECT_EQ(r.final_outputs.at(1).second, 50.0);  // steps: 50 of the 100
+  ASSERT_TRUE(r.reference.has_value());
+  EXPECT_EQ(r.reference->columns[0].compared, 51);  // t = 0 to 5 s
+  EXPECT_EQ(r.reference->columns[0].worst, 0.0);
+  EXPECT_TRUE(r.reference->pass());
+  const auto out = run_master("fmu check " + kFmus + GetParam() + ".fmu");
+  EXPECT_EQ(out.status, 0) << out.output;
+  EXPECT_NE(out.output.find(": PASS (the FMU ended the simulation at t = 5 s)"), std::string::npos)
+      << out.output;
+  EXPECT_NE(out.output.find("  steps = 50 at t = 5 s"), std::string::npos) << out.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(BothVersions, FmuStops,
+                         ::testing::Values("dahlquist2_stops", "dahlquist3_stops"));
 
 }  // namespace fmu_reference_test

@@ -72,8 +72,8 @@ void round_trip(FmuCheckReport& r, Fmu& f, double t, const std::vector<std::uint
 // The recorded values at point n, where the reference wants them.
 void record_point(ReferenceRecorder* rec, Fmu& f, long n) {
   if (rec == nullptr || !rec->wants(n)) return;
-  std::vector<double> values;
-  for (const Variable* v : rec->variables()) values.push_back(f.get_value(*v));
+  std::vector<std::vector<double>> values;
+  for (const Variable* v : rec->variables()) values.push_back(f.get_values(*v));
   rec->record(n, std::move(values));
 }
 
@@ -95,13 +95,26 @@ void run_experiment(FmuCheckReport& r, Fmu& f, ReferenceRecorder* rec) {
     record_point(rec, f, 0);
     for (long n = 0; n < r.steps; ++n) {
       const double t = r.start + static_cast<double>(n) * r.step;
-      if (state && n == r.steps / 2)
-        round_trip(r, f, t, all);
-      else
-        f.do_step(t, r.step);
+      try {
+        if (state && n == r.steps / 2)
+          round_trip(r, f, t, all);
+        else
+          f.do_step(t, r.step);
+      } catch (const fmu::FmuTerminated& e) {  // its values stand at the time it reached
+        r.ended_at = e.time;
+        const double k = std::round((e.time - r.start) / r.step);
+        if (std::abs(r.start + k * r.step - e.time) <= 1e-6 * r.step)
+          record_point(rec, f, static_cast<long>(k));
+        break;
+      }
       record_point(rec, f, n + 1);
     }
-    for (const Variable* v : outputs) r.final_outputs.emplace_back(v->name, f.get_value(*v));
+    for (const Variable* v : outputs) {
+      const std::vector<double> values = f.get_values(*v);
+      for (std::size_t i = 0; i < values.size(); ++i)  // an array's as NAME[i]
+        r.final_outputs.emplace_back(
+            v->dimensions.empty() ? v->name : v->name + "[" + std::to_string(i) + "]", values[i]);
+    }
     f.terminate();
     r.ran = true;
   } catch (const FmuError& e) {
@@ -150,6 +163,10 @@ void print_reference(const ReferenceComparison& c) {
       continue;
     }
     ++compared;
+    if (!std::isfinite(col.worst)) {
+      std::printf("  %-24s FAIL: %s\n", col.name.c_str(), col.mismatch.c_str());
+      continue;
+    }
     std::printf(
         "  %-24s %ld points, worst |difference| %.3g at t = %.9g s, tolerance %.3g "
         "(rtol %.3g x max |reference| %.6g): %s\n",
@@ -169,8 +186,19 @@ FmuCheckReport check_fmu(const std::string& file, const FmuCheckOptions& options
   r.description = f.description();
   plan_experiment(r);
   std::optional<ReferenceRecorder> rec;
-  if (!options.reference.empty())
-    rec.emplace(read_reference_csv(options.reference), r.description, r.start, r.step, r.steps);
+  // The given record, else the one the FMU carries (FMI layered standard for reference results).
+  std::string reference = options.reference;
+  std::string shown = reference;
+  if (reference.empty() && options.embedded_reference)
+    if (const auto own = fmu::reference_result(f.root())) {
+      reference = own->string();
+      shown = "extra/org.fmi-standard.fmi-ls-ref/" + own->filename().string() + " (the FMU's own)";
+    }
+  if (!reference.empty()) {
+    ReferenceTable table = read_reference_csv(reference);
+    table.file = shown;
+    rec.emplace(std::move(table), r.description, r.start, r.step, r.steps);
+  }
   run_experiment(r, f, rec ? &*rec : nullptr);
   if (rec && r.ran) r.reference = rec->compare(options.rtol);
   judge_couplings(r);
@@ -196,10 +224,16 @@ int print_fmu_check(const FmuCheckReport& r) {
       c.can_get_and_set_state ? "yes" : "no", c.can_handle_variable_step ? "yes" : "no",
       c.can_interpolate_inputs ? "yes" : "no", c.max_output_derivative_order,
       c.provides_directional_derivatives ? "yes" : "no");
-  std::printf("default experiment: %.9g s to %.9g s, %ld steps of %.9g s: %s\n", r.start, r.stop,
-              r.steps, r.step, r.ran ? "PASS" : ("FAIL: " + r.run_error).c_str());
+  std::string ended;
+  if (r.ended_at) {
+    char at[96];
+    std::snprintf(at, sizeof at, " (the FMU ended the simulation at t = %.9g s)", *r.ended_at);
+    ended = at;
+  }
+  std::printf("default experiment: %.9g s to %.9g s, %ld steps of %.9g s: %s%s\n", r.start, r.stop,
+              r.steps, r.step, r.ran ? "PASS" : ("FAIL: " + r.run_error).c_str(), ended.c_str());
   for (const auto& [name, value] : r.final_outputs)
-    std::printf("  %s = %.17g at t = %.9g s\n", name.c_str(), value, r.stop);
+    std::printf("  %s = %.17g at t = %.9g s\n", name.c_str(), value, r.ended_at.value_or(r.stop));
   const char* trip = r.round_trip == FmuCheckReport::RoundTrip::kPass   ? "PASS"
                      : r.round_trip == FmuCheckReport::RoundTrip::kFail ? "FAIL"
                                                                         : "SKIP";

@@ -29,6 +29,8 @@ struct FmuArgs {
 struct FmuCheckOptions {
   std::string reference;  // a record of its outputs to hold the run against ("": none)
   double rtol = 1e-5;     // of each column's largest |value|
+  // Without `reference`: the record the FMU carries, if any (fmu::reference_result).
+  bool embedded_reference = true;
 };
 
 // Adds `fmu check FILE.fmu` to the master's command line, filling `a`.
@@ -46,6 +48,8 @@ struct FmuCheckReport {
   long steps = 0;
   bool ran = false;
   std::string run_error;  // why the run stopped, when it did
+  // Where the FMU ended the simulation itself (fmu::FmuTerminated), before the stop time.
+  std::optional<double> ended_at;
   // Every output the host can read (Fmu::readable) at the end of the run, by name.
   std::vector<std::pair<std::string, double>> final_outputs;
   // The run against --reference, where one was given.

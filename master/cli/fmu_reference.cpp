@@ -43,6 +43,18 @@ double number(const std::string& s) {
   return v;
 }
 
+// A cell's numbers: one, or an array's separated by spaces; empty when one is not a number.
+std::vector<double> cell_values(const std::string& s) {
+  std::vector<double> out;
+  std::istringstream in(s);
+  for (std::string word; in >> word;) {
+    const double v = number(word);
+    if (std::isnan(v)) return {};
+    out.push_back(v);
+  }
+  return out;
+}
+
 }  // namespace
 
 ReferenceTable read_reference_csv(const std::string& file) {
@@ -82,8 +94,8 @@ ReferenceTable read_reference_csv(const std::string& file) {
     if (std::isnan(time)) throw bad("the time '" + c[0] + "' is not a number");
     if (!t.times.empty() && time < t.times.back()) throw bad("the time goes back");
     t.times.push_back(time);
-    std::vector<double> row;
-    for (std::size_t i = 1; i < c.size(); ++i) row.push_back(number(c[i]));
+    std::vector<std::vector<double>> row;
+    for (std::size_t i = 1; i < c.size(); ++i) row.push_back(cell_values(c[i]));
     t.rows.push_back(std::move(row));
   }
   if (t.names.empty()) throw FmuError(file + ": no header (\"time\",NAME,...)");
@@ -113,7 +125,7 @@ ReferenceRecorder::ReferenceRecorder(ReferenceTable table, const fmu::ModelDescr
       why = "of type " + v->type + ", which the host cannot read";
     else
       for (const auto& row : table_.rows)
-        if (std::isnan(row[c])) why = "a cell that is not a number";
+        if (row[c].empty()) why = "a cell that is not a number";
     skipped_.push_back(why);
     column_var_.push_back(why.empty() ? static_cast<int>(vars_.size()) : -1);
     if (why.empty()) vars_.push_back(v);
@@ -147,7 +159,8 @@ ReferenceComparison ReferenceRecorder::compare(double rtol) const {
     col.skipped = skipped_[c];
     if (col.skipped.empty()) {
       for (std::size_t i = 0; i < point_.size(); ++i)
-        if (point_[i] >= 0) col.scale = std::max(col.scale, std::abs(table_.rows[i][c]));
+        if (point_[i] >= 0)
+          for (double x : table_.rows[i][c]) col.scale = std::max(col.scale, std::abs(x));
       const auto k = static_cast<std::size_t>(column_var_[c]);
       // Rows of one point (an event's before and after): the nearer counts.
       for (std::size_t i = 0; i < point_.size();) {
@@ -156,8 +169,19 @@ ReferenceComparison ReferenceRecorder::compare(double rtol) const {
         const auto it = recorded_.find(point_[i]);
         if (point_[i] >= 0 && it != recorded_.end()) {
           double d = std::numeric_limits<double>::infinity();
-          for (std::size_t m = i; m < j; ++m)
-            d = std::min(d, std::abs(it->second[k] - table_.rows[m][c]));
+          const std::vector<double>& ours = it->second[k];
+          for (std::size_t m = i; m < j; ++m) {
+            const std::vector<double>& ref = table_.rows[m][c];
+            if (ref.size() != ours.size()) {
+              col.mismatch = "the FMU gives " + std::to_string(ours.size()) +
+                             " values where the record has " + std::to_string(ref.size());
+              continue;
+            }
+            double e = 0;
+            for (std::size_t q = 0; q < ref.size(); ++q)
+              e = std::max(e, std::abs(ours[q] - ref[q]));
+            d = std::min(d, e);
+          }
           ++col.compared;
           if (d > col.worst || col.compared == 1) {
             col.worst = d;
@@ -166,7 +190,7 @@ ReferenceComparison ReferenceRecorder::compare(double rtol) const {
         }
         i = j;
       }
-      col.pass = col.worst <= rtol * col.scale;
+      col.pass = col.worst <= rtol * col.scale && std::isfinite(col.worst);
     }
     r.columns.push_back(std::move(col));
   }

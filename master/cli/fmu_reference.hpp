@@ -27,7 +27,9 @@ struct ReferenceTable {
   std::string file;
   std::vector<std::string> names;  // the columns after the time
   std::vector<double> times;
-  std::vector<std::vector<double>> rows;  // rows[i][c]; NaN where a cell is not a number
+  // rows[i][c]: the cell's numbers (several, space-separated, for an array);
+  // empty where a cell is not numbers.
+  std::vector<std::vector<std::vector<double>>> rows;
 };
 
 // Reads the file; throws fmu::FmuError naming the file, the line and what
@@ -43,6 +45,7 @@ struct ReferenceColumn {
   double worst_t = 0;   // where it is
   double scale = 0;     // max |reference| over the compared rows: the tolerance is rtol x scale
   bool pass = true;
+  std::string mismatch;  // where the FMU's values and the record's differ in number
 };
 
 struct ReferenceComparison {
@@ -64,7 +67,8 @@ class ReferenceRecorder {
   // The variables to read at a point the table needs (in the table's column order).
   const std::vector<const fmu::Variable*>& variables() const { return vars_; }
   bool wants(long n) const { return wanted_.count(n) != 0; }
-  void record(long n, std::vector<double> values) { recorded_[n] = std::move(values); }
+  // The values of variables() at point n, each variable's in its order.
+  void record(long n, std::vector<std::vector<double>> values) { recorded_[n] = std::move(values); }
   ReferenceComparison compare(double rtol) const;
 
  private:
@@ -75,7 +79,7 @@ class ReferenceRecorder {
   std::vector<int> column_var_;             // per column: index into vars_, -1 skipped
   std::vector<std::string> skipped_;        // per column: why not compared
   std::map<long, bool> wanted_;
-  std::map<long, std::vector<double>> recorded_;
+  std::map<long, std::vector<std::vector<double>>> recorded_;
 };
 
 }  // namespace railcosim::cli

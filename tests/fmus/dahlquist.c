@@ -40,19 +40,33 @@ enum { S_OK = 0, S_ERROR = 3 };
 
 static int set_value(Model* m, unsigned vr, double v) {
   switch (vr) {
-    case VR_X: m->x = v; return S_OK;
-    case VR_K: m->k = v; return S_OK;
-    case VR_U: m->u = v; return S_OK;
-    default: return S_ERROR;
+    case VR_X:
+      m->x = v;
+      return S_OK;
+    case VR_K:
+      m->k = v;
+      return S_OK;
+    case VR_U:
+      m->u = v;
+      return S_OK;
+    default:
+      return S_ERROR;
   }
 }
 
 static int get_value(const Model* m, unsigned vr, double* v) {
   switch (vr) {
-    case VR_X: *v = m->x; return S_OK;
-    case VR_K: *v = m->k; return S_OK;
-    case VR_U: *v = m->u; return S_OK;
-    default: return S_ERROR;
+    case VR_X:
+      *v = m->x;
+      return S_OK;
+    case VR_K:
+      *v = m->k;
+      return S_OK;
+    case VR_U:
+      *v = m->u;
+      return S_OK;
+    default:
+      return S_ERROR;
   }
 }
 
@@ -69,10 +83,26 @@ static int step(Model* m, double t, double big_h) {
 
 static int get_discrete(const Model* m, unsigned vr, long* v) {
   switch (vr) {
-    case VR_STEPS: *v = m->steps; return S_OK;
-    case VR_SETTLED: *v = m->x < 1e-3; return S_OK;
-    default: return S_ERROR;
+    case VR_STEPS:
+      *v = m->steps;
+      return S_OK;
+    case VR_SETTLED:
+      *v = m->x < 1e-3;
+      return S_OK;
+    default:
+      return S_ERROR;
   }
+}
+
+/* Built with STOP_AT=T, the FMU ends the simulation once it reaches T:
+ * FMI 2 fmi2Discard with fmi2Terminated, FMI 3 terminateSimulation. */
+static int ends(const Model* m) {
+#ifdef STOP_AT
+  return m->t >= STOP_AT - 1e-9;
+#else
+  (void)m;
+  return 0;
+#endif
 }
 
 static Instance* make(void) {
@@ -135,17 +165,33 @@ EXPORT void* fmi2Instantiate(const char* name, int type, const char* guid, const
   if (c != NULL && cb != NULL) c->env = cb->env;
   return c;
 }
-EXPORT void fmi2FreeInstance(void* c) { free(c); }
+EXPORT void fmi2FreeInstance(void* c) {
+  free(c);
+}
 EXPORT int fmi2SetupExperiment(void* c, int tol_defined, double tol, double start, int stop_defined,
                                double stop) {
   (void)tol_defined, (void)tol, (void)stop_defined, (void)stop;
   ((Instance*)c)->m.t = start;
   return S_OK;
 }
-EXPORT int fmi2EnterInitializationMode(void* c) { (void)c; return S_OK; }
-EXPORT int fmi2ExitInitializationMode(void* c) { (void)c; return S_OK; }
-EXPORT int fmi2Terminate(void* c) { (void)c; return S_OK; }
-EXPORT int fmi2Reset(void* c) { Instance* i = c; Model m = {1, 1, 0, 0, 0}; i->m = m; return S_OK; }
+EXPORT int fmi2EnterInitializationMode(void* c) {
+  (void)c;
+  return S_OK;
+}
+EXPORT int fmi2ExitInitializationMode(void* c) {
+  (void)c;
+  return S_OK;
+}
+EXPORT int fmi2Terminate(void* c) {
+  (void)c;
+  return S_OK;
+}
+EXPORT int fmi2Reset(void* c) {
+  Instance* i = c;
+  Model m = {1, 1, 0, 0, 0};
+  i->m = m;
+  return S_OK;
+}
 EXPORT int fmi2SetReal(void* c, const unsigned* vr, size_t n, const double* v) {
   for (size_t i = 0; i < n; ++i)
     if (set_value(&((Instance*)c)->m, vr[i], v[i]) != S_OK) return S_ERROR;
@@ -174,19 +220,37 @@ EXPORT int fmi2GetBoolean(void* c, const unsigned* vr, size_t n, int* v) {
 }
 EXPORT int fmi2DoStep(void* c, double t, double h, int no_set_prior) {
   (void)no_set_prior;
-  return step(&((Instance*)c)->m, t, h);
+  const int s = step(&((Instance*)c)->m, t, h);
+  return s == S_OK && ends(&((Instance*)c)->m) ? 2 /* fmi2Discard */ : s;
 }
-EXPORT int fmi2GetFMUstate(void* c, void** s) { return save(c, s); }
-EXPORT int fmi2SetFMUstate(void* c, void* s) { return restore(c, s); }
-EXPORT int fmi2FreeFMUstate(void* c, void** s) { (void)c; return drop(s); }
+EXPORT int fmi2GetBooleanStatus(void* c, int kind, int* v) {
+  if (kind != 3 /* fmi2Terminated */) return S_ERROR;
+  *v = ends(&((Instance*)c)->m);
+  return S_OK;
+}
+EXPORT int fmi2GetRealStatus(void* c, int kind, double* v) {
+  if (kind != 2 /* fmi2LastSuccessfulTime */) return S_ERROR;
+  *v = ((Instance*)c)->m.t;
+  return S_OK;
+}
+EXPORT int fmi2GetFMUstate(void* c, void** s) {
+  return save(c, s);
+}
+EXPORT int fmi2SetFMUstate(void* c, void* s) {
+  return restore(c, s);
+}
+EXPORT int fmi2FreeFMUstate(void* c, void** s) {
+  (void)c;
+  return drop(s);
+}
 #else
 typedef void (*Logger3)(void*, int, const char*, const char*);
 
-EXPORT void* fmi3InstantiateCoSimulation(const char* name, const char* token,
-                                         const char* resources, bool visible, bool logging,
-                                         bool event_mode, bool early_return,
-                                         const uint32_t* intermediate, size_t n_intermediate,
-                                         void* env, Logger3 log, void* update) {
+EXPORT void* fmi3InstantiateCoSimulation(const char* name, const char* token, const char* resources,
+                                         bool visible, bool logging, bool event_mode,
+                                         bool early_return, const uint32_t* intermediate,
+                                         size_t n_intermediate, void* env, Logger3 log,
+                                         void* update) {
   (void)name, (void)resources, (void)visible, (void)logging, (void)intermediate;
   (void)n_intermediate, (void)update;
   if (token == NULL || strcmp(token, MODEL_TOKEN) != 0 || event_mode || early_return) {
@@ -197,15 +261,23 @@ EXPORT void* fmi3InstantiateCoSimulation(const char* name, const char* token,
   if (c != NULL) c->env = env;
   return c;
 }
-EXPORT void fmi3FreeInstance(void* c) { free(c); }
+EXPORT void fmi3FreeInstance(void* c) {
+  free(c);
+}
 EXPORT int fmi3EnterInitializationMode(void* c, bool tol_defined, double tol, double start,
                                        bool stop_defined, double stop) {
   (void)tol_defined, (void)tol, (void)stop_defined, (void)stop;
   ((Instance*)c)->m.t = start;
   return S_OK;
 }
-EXPORT int fmi3ExitInitializationMode(void* c) { (void)c; return S_OK; }
-EXPORT int fmi3Terminate(void* c) { (void)c; return S_OK; }
+EXPORT int fmi3ExitInitializationMode(void* c) {
+  (void)c;
+  return S_OK;
+}
+EXPORT int fmi3Terminate(void* c) {
+  (void)c;
+  return S_OK;
+}
 EXPORT int fmi3SetFloat64(void* c, const uint32_t* vr, size_t n, const double* v, size_t nv) {
   if (nv != n) return S_ERROR;
   for (size_t i = 0; i < n; ++i)
@@ -244,9 +316,17 @@ EXPORT int fmi3DoStep(void* c, double t, double h, bool no_set_prior, bool* even
   *early = false;
   const int s = step(&((Instance*)c)->m, t, h);
   *last = ((Instance*)c)->m.t;
+  *stop = s == S_OK && ends(&((Instance*)c)->m);
   return s;
 }
-EXPORT int fmi3GetFMUState(void* c, void** s) { return save(c, s); }
-EXPORT int fmi3SetFMUState(void* c, void* s) { return restore(c, s); }
-EXPORT int fmi3FreeFMUState(void* c, void** s) { (void)c; return drop(s); }
+EXPORT int fmi3GetFMUState(void* c, void** s) {
+  return save(c, s);
+}
+EXPORT int fmi3SetFMUState(void* c, void* s) {
+  return restore(c, s);
+}
+EXPORT int fmi3FreeFMUState(void* c, void** s) {
+  (void)c;
+  return drop(s);
+}
 #endif
