@@ -47,6 +47,8 @@ KINDS = ("trench", "infilled_trench", "wall")
 GEOMETRY_KEYS = {"name", "kind", "distance", "depth", "width", "length", "x0"}
 MATERIAL_KEYS = {"young_modulus", "shear_wave_speed", "poisson", "density", "damping"}
 REFERENCE = "reference"  # the variant without any measure
+NEIGHBOURS = 3  # intervals beside a measure's face spaced again (refine_axis)
+GROWTH = 1.25  # an element beside a measure's face grows by at most this much (refine_axis)
 
 
 @dataclass
@@ -192,28 +194,39 @@ def place(measures, all_measures, rx, shift, p, footprints):
     return out
 
 
+def _respace(xs, a, b, n):
+    """xs with the nodes strictly between a and b replaced by n equal steps."""
+    kept = [x for x in xs if not a < x < b]
+    return sorted(set(kept) | {a + (b - a) * i / n for i in range(1, n)})
+
+
 def refine_axis(nodes, lo, hi, h_in, protect=()):
-    """Node coordinates with planes at lo and hi, at most h_in apart between
-    them; nodes outside closer than half their spacing to lo or hi are
-    dropped (not the ends, nor `protect`), and an interval that grows
-    beyond the spacing it had is halved, so that no element outside the
-    measure grows and none is under half its neighbours' size."""
+    """Node coordinates with planes at lo and hi and at most h_in apart
+    between them; on each side the NEIGHBOURS intervals beside the face
+    (back to the nearest end or `protect`ed plane, if closer) are spaced
+    again evenly at about their mean, so that an element beside a face is
+    between 5/6 and GROWTH times its neighbours' size (the smallest sets the
+    explicit step)."""
     xs = sorted(float(x) for x in nodes)
-    keep = set(xs[:1] + xs[-1:]) | {float(x) for x in protect}
-    spacing = {}  # the spacing each node saw: the larger of its two intervals
-    for a, b in zip(xs, xs[1:]):
-        spacing[a] = max(spacing.get(a, 0.0), b - a)
-        spacing[b] = max(spacing.get(b, 0.0), b - a)
-    out = [x for x in xs if x in keep or not (lo < x < hi) and min(abs(x - lo), abs(x - hi))
-           >= 0.5 * spacing[x] - 1e-12]
-    out = sorted(set(out) | {lo, hi})
+    fixed = set(xs[:1] + xs[-1:]) | {float(x) for x in protect} | {lo, hi}
+    below = [x for x in xs if x < lo]
+    above = [x for x in xs if x > hi]
+    out = sorted(set(x for x in xs if not lo <= x <= hi or x in fixed) | {lo, hi})
+    for side, face in ((below, lo), (above, hi)):
+        if not side:
+            continue
+        reach = side[-NEIGHBOURS:] if face == lo else side[:NEIGHBOURS]
+        anchor = reach[0] if face == lo else reach[-1]
+        stops = [x for x in fixed if min(anchor, face) < x < max(anchor, face)]
+        if stops:
+            anchor = max(stops) if face == lo else min(stops)
+        inside = [x for x in xs if min(anchor, face) <= x <= max(anchor, face)] + [face]
+        mean = abs(face - anchor) / max(1, len(set(inside)) - 1)
+        n = max(1, round(abs(face - anchor) / mean))
+        out = _respace(out, min(anchor, face), max(anchor, face), n)
     res = [out[0]]
     for a, b in zip(out, out[1:]):
-        if lo - 1e-12 <= a and b <= hi + 1e-12:
-            n = max(1, math.ceil((b - a) / h_in - 1e-9))
-        else:
-            near = [s for x, s in spacing.items() if a - s <= x <= b + s]
-            n = 2 if near and b - a > max(near) * (1.0 + 1e-9) else 1
+        n = max(1, math.ceil((b - a) / h_in - 1e-9)) if lo - 1e-12 <= a and b <= hi + 1e-12 else 1
         res.extend(a + (b - a) * i / n for i in range(1, n + 1))
     return res
 
@@ -234,12 +247,16 @@ def element_size(m, h_soil, c_soil, f_max, n):
 def refine(p, measures, h_soil, c_soil, f_max=None, n=None, protect_z=()):
     """p's node planes (x_nodes, y_nodes, z_nodes) refined so that the mesh
     resolves each measure (the module's docstring)."""
-    for m in measures:
+    faces = ([q.x_lo for q in measures] + [q.x_hi for q in measures],
+             [q.y_lo for q in measures] + [q.y_hi for q in measures],
+             [q.z_lo for q in measures] + list(protect_z))
+    # the coarsest first: where two measures share planes the finer spacing wins
+    for m in sorted(measures, key=lambda q: -element_size(q, h_soil, c_soil, f_max, n)):
         h = element_size(m, h_soil, c_soil, f_max, n)
         across = h if m.material is None else min(h, 0.5 * m.width)
-        p.x_nodes = refine_axis(p.x_nodes, m.x_lo, m.x_hi, h)
-        p.y_nodes = refine_axis(p.y_nodes, m.y_lo, m.y_hi, across)
-        p.z_nodes = refine_axis(p.z_nodes, m.z_lo, 0.0, h, protect=protect_z)
+        p.x_nodes = refine_axis(p.x_nodes, m.x_lo, m.x_hi, h, protect=faces[0])
+        p.y_nodes = refine_axis(p.y_nodes, m.y_lo, m.y_hi, across, protect=faces[1])
+        p.z_nodes = refine_axis(p.z_nodes, m.z_lo, 0.0, h, protect=faces[2])
     return p
 
 
