@@ -47,7 +47,8 @@ from .soil_table import ConfigError
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
             "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
-            "footprint_compliance", "damping_cutoff", "measures", "variant"}
+            "footprint_compliance", "damping_cutoff", "measures", "variant",
+            "mitigation"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 12.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01,
@@ -127,6 +128,9 @@ def parse(table):
                          else max(out["receivers"]))
     out["layers"] = soil_table.layers(table, damping_hi=1.0)
     out["measures"], out["variant"] = path_measures.parse(table)
+    if "mitigation" in table:  # the mitigation study's load; the soil itself ignores it
+        from .mitigation import load_keys
+        load_keys(table["mitigation"])
     above = sum(l.thickness for l in out["layers"][:-1])
     if above >= out["depth"]:
         raise ConfigError("[soil] depth %g m must exceed the layers above the last one (%g m)"
