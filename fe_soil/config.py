@@ -233,7 +233,7 @@ def block_params(cfg, footprints):
         p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
     measures = path_measures.selected(cfg.get("measures", []), cfg.get("variant"))
     if measures:
-        p.measures = path_measures.place(measures, cfg["measures"], rx, x0 - along, p, fps)
+        p.measures = path_measures.place(measures, cfg["measures"], rx, x0 - along, p, fps, h)
         c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
         rule = cfg["mesh_size"] is None
         path_measures.refine(p, p.measures, h, c_min, cfg["f_max"] if rule else None,

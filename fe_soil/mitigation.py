@@ -42,9 +42,11 @@ from . import config as fe_config
 from . import measures, path_measures, resolution, soil_table
 from .soil_table import ConfigError
 
-LOAD_KEYS = {"sleepers": (25, 1, 400), "frequency": (15.0, 0.0, None),
-             "amplitude": (1e4, 0.0, None), "duration": (0.4, 0.0, 60.0),
-             "step": (2e-3, 0.0, 0.05)}
+# key: (default, lower bound (refused itself), upper bound (refused itself))
+LOAD_KEYS = {"sleepers": (25, 0, 401), "frequency": (15.0, 0.1, 500.0),
+             "amplitude": (1e4, 1e-3, 1e9), "duration": (0.4, 0.0, 60.0),
+             "step": (2e-3, 1e-5, 0.05)}
+MIN_SAMPLES = 10  # the record holds at least this many steps
 BAND_TOP = 80.0  # Hz, the highest band centre reported
 CONTENT_DB = 40.0  # bands more than this below the reference's highest are not judged
 
@@ -65,6 +67,9 @@ def load_keys(table):
         raise ConfigError("[soil] mitigation.sleepers must be a whole number (got %g)"
                           % out["sleepers"])
     out["sleepers"] = int(out["sleepers"])
+    if out["duration"] < MIN_SAMPLES * out["step"]:
+        raise ConfigError("[soil] mitigation.duration %g s holds fewer than %d steps of %g s "
+                          "([soil] mitigation.step)" % (out["duration"], MIN_SAMPLES, out["step"]))
     return out
 
 

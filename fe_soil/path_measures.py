@@ -47,6 +47,7 @@ KINDS = ("trench", "infilled_trench", "wall")
 GEOMETRY_KEYS = {"name", "kind", "distance", "depth", "width", "length", "x0"}
 MATERIAL_KEYS = {"young_modulus", "shear_wave_speed", "poisson", "density", "damping"}
 REFERENCE = "reference"  # the variant without any measure
+MIN_SIZE = 0.1  # of the element size: the smallest width, depth or length of a measure
 NEIGHBOURS = 3  # intervals beside a measure's face spaced again (refine_axis)
 GROWTH = 1.25  # an element beside a measure's face grows by at most this much (refine_axis)
 
@@ -157,13 +158,20 @@ def _key(m, measures, key):
     return "[soil] measures[%d].%s" % (measures.index(m) + 1, key)
 
 
-def place(measures, all_measures, rx, shift, p, footprints):
+def place(measures, all_measures, rx, shift, p, footprints, h=None):
     """The measures in the block's frame (x shifted by `shift`, centred on
     x0 or the receivers' line rx), checked against the block: inside it
     and outside its absorbing layers, clear of the track's footprints and
-    of every receiver. `all_measures` numbers the keys in messages."""
+    of every receiver, none of its sizes below MIN_SIZE of the element size
+    h (if given). `all_measures` numbers the keys in messages."""
     out = []
     for m in measures:
+        for key in ("width", "depth", "length"):
+            if h is not None and getattr(m, key) < MIN_SIZE * h:
+                raise ConfigError("%s %g m is below %g of the element size (%g m): the mesh "
+                                  "cannot hold it without elements that small, which would "
+                                  "shorten the explicit step as much" % (
+                                      _key(m, all_measures, key), getattr(m, key), MIN_SIZE, h))
         xc = (rx if m.x0 is None else m.x0) - shift
         q = Measure(**{**m.__dict__, "x_lo": xc - 0.5 * m.length, "x_hi": xc + 0.5 * m.length})
         x_lo, x_hi, y_hi, z_lo = ((0.0, p.length, p.half_width, -p.depth) if p.absorbing is None

@@ -105,8 +105,10 @@ class Mitigation(unittest.TestCase):
     def test_keys_of_the_load_are_refused_by_name(self):
         for table, pattern in (({"sleeper": 3}, r"\[soil\] mitigation\.sleeper is not a key"),
                                ({"sleepers": 2.5}, r"\[soil\] mitigation\.sleepers must be a whole"),
-                               ({"step": 0.0}, r"\[soil\] mitigation\.step must be > 0"),
-                               ({"frequency": -1.0}, r"\[soil\] mitigation\.frequency must be > 0")):
+                               ({"step": 0.0}, r"\[soil\] mitigation\.step must be > 1e-05 \(got 0\)"),
+                               ({"frequency": -1.0}, r"\[soil\] mitigation\.frequency must be > 0\.1"),
+                               ({"step": 1e-30}, r"\[soil\] mitigation\.step must be > 1e-05"),
+                               ({"duration": 0.01}, r"\[soil\] mitigation\.duration 0\.01 s holds")):
             with self.assertRaisesRegex(config.ConfigError, pattern):
                 mitigation.load_keys(table)
         with self.assertRaisesRegex(config.ConfigError, r"\[soil\] measures: the scene lists none"):

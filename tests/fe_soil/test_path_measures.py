@@ -77,6 +77,8 @@ class Refusals(unittest.TestCase):
                          [{**TRENCH, key: 0.0}])
             self.refused(r"\[soil\] measures\[1\]\.%s must be > 0 \(got -1\)" % key,
                          [{**TRENCH, key: -1.0}])
+        self.refused(r"\[soil\] measures\[1\]\.width 0\.01 m is below 0\.1 of the element size",
+                     [{**TRENCH, "width": 0.01}])
         self.refused(r"\[soil\] measures\[1\]\.shear_wave_speed is missing",
                      [{k: v for k, v in FOAM.items() if k != "shear_wave_speed"}])
         self.refused(r"\[soil\] measures\[1\]\.young_modulus and shear_wave_speed both",
