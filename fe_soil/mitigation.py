@@ -217,6 +217,12 @@ def figure(path, names, fc, losses):
             ax.semilogx(fc, il["band"], color="C%d" % (k % 10), ls=styles[j % 4], marker="o",
                         ms=3, label="%s, %s" % (name, rec))
     ax.axhline(0.0, color="k", lw=0.8)
+    judged = [f for i, f in enumerate(fc)
+              if any(math.isfinite(il["band"][i]) for per in losses.values() for il in per)]
+    if judged:  # the judged bands' centres as the ticks, in plain numbers
+        ax.set_xticks(judged)
+        ax.set_xticklabels(["%.3g" % f for f in judged])
+        ax.minorticks_off()
     ax.set_xlabel("one-third-octave band centre (Hz)")
     ax.set_ylabel("insertion loss IL = L_ref - L_measure (dB)")
     ax.text(0.02, 0.03, "above 0: the measure reduces; below 0: it amplifies",

@@ -1,5 +1,6 @@
 """The insertion-loss study (fe_soil/mitigation.py) on
-scenes/ground_vibration_trench_ci.toml, its record shortened to 0.3 s (the bands from 16 Hz up judged): the
+scenes/ground_vibration_trench_ci.toml, its record shortened to 0.3 s
+(the bands from 16 Hz up judged): the
 reference variant equals a plain run of the scene's soil without any
 measure, built and driven here on its own, to 1e-12 of each receiver's
 peak over the whole record; insertion_loss.csv holds the differences of

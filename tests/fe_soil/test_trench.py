@@ -64,7 +64,9 @@ def amplitudes(p):
     T = CYCLES / F0
 
     def force(t):
-        return FORCE * math.sin(2 * math.pi * F0 * t) * math.sin(math.pi * t / T) ** 2 if t < T else 0.0
+        if t >= T:
+            return 0.0
+        return FORCE * math.sin(2 * math.pi * F0 * t) * math.sin(math.pi * t / T) ** 2
 
     far = max(math.hypot(x - p.footprints[MIDDLE].x, y) for x, y in p.receivers)
     a, b = np.zeros(N_SLEEPERS), np.zeros(N_SLEEPERS)
