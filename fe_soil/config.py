@@ -26,6 +26,10 @@ the checks run without dolfinx.
     damping_band = [5.0, 50.0]   # Hz, the damping fit: each layer's ratio matched at both
     damping_cutoff = 100.0       # Hz, >= the band's top: the stiffness-proportional part acts on
                                  # the velocity filtered above it (0: Rayleigh damping as before)
+    variant = "reference"        # optional: which [[soil.measures]] a run builds
+                                 # (fe_soil/path_measures.py; default all of them)
+    [soil.mitigation]            # optional: the insertion-loss study's load (fe_soil/mitigation.py)
+    [[soil.measures]]            # optional: trenches and walls (fe_soil/path_measures.py)
     [[soil.layers]]              # top down; the last reaches the bottom
     thickness = 2.0              # m
     density = 1800.0             # kg/m^3
