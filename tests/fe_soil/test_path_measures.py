@@ -1,7 +1,8 @@
 """Path measures in the FE soil (fe_soil/path_measures.py): the keys of
 [[soil.measures]] and each refusal naming its key, the node planes that
 resolve a measure, and the cells an open trench takes out and a wall or an
-in-fill takes over: exactly those inside the box."""
+in-fill takes over: exactly those inside the box; the static state with
+a trench at rest."""
 import math
 import unittest
 from types import SimpleNamespace
@@ -204,6 +205,25 @@ class Cells(unittest.TestCase):
         self.assertTrue(np.all(np.isfinite(self.soil.u)))
         self.assertTrue(np.all(self.soil.u[strict] == 0.0))
         self.assertTrue(math.isfinite(self.soil.dt) and self.soil.dt > 0.0)
+
+
+class Statics(unittest.TestCase):
+    def test_the_static_state_with_a_trench_is_at_rest(self):
+        # with the static far field and the footprints' compliance on: the
+        # static state under a constant load stays at rest, exactly, and the
+        # held nodes (the trench's inner ones, the symmetry plane's u_y) at
+        # zero
+        p, _ = block([TRENCH], static_reach=5.0, footprint_compliance=True)
+        soil = FESoil(p)
+        forces = np.full(21, 1e4)
+        self.assertTrue(np.all(soil.statics(forces) > 0.0))
+        held = soil.mask == 0.0
+        for k in range(10):
+            soil.advance(k * 1e-3, 1e-3, forces, forces)
+        self.assertEqual(float(np.abs(soil.v).max()), 0.0)
+        # held: zero to the static solver's round-off (the symmetry plane's
+        # u_y comes out of it at about 1e-31 m, as without a trench)
+        self.assertLessEqual(float(np.abs(soil.u[held]).max()), 1e-20 * np.abs(soil.u).max())
 
 
 if __name__ == "__main__":
