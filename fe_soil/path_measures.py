@@ -155,7 +155,7 @@ def selected(measures, variant):
 
 
 def _key(m, measures, key):
-    return "[soil] measures[%d].%s" % (measures.index(m) + 1, key)
+    return "[soil] measures[%d].%s" % ([a.name for a in measures].index(m.name) + 1, key)
 
 
 def place(measures, all_measures, rx, shift, p, footprints, h=None):
@@ -198,6 +198,11 @@ def place(measures, all_measures, rx, shift, p, footprints, h=None):
                 raise ConfigError("%s: the %s (%g to %g m from the track) holds the receiver at "
                                   "%g m: move the measure or the receiver"
                                   % (_key(m, all_measures, "distance"), m.kind, q.y_lo, q.y_hi, y))
+        for o in out:
+            if (q.x_lo < o.x_hi and o.x_lo < q.x_hi and q.y_lo < o.y_hi and o.y_lo < q.y_hi):
+                raise ConfigError("%s: the %s overlaps %r (%s): measures may touch, not overlap"
+                                  % (_key(m, all_measures, "distance"), m.kind, o.name,
+                                     _key(o, all_measures, "distance")[7:]))
         out.append(q)
     return out
 

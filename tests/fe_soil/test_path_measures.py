@@ -106,6 +106,9 @@ class Refusals(unittest.TestCase):
                      [{**TRENCH, "distance": 11.5}])
         self.refused(r"\[soil\] measures\[1\]\.x0: the trench .* must lie inside the block",
                      [{**TRENCH, "x0": 14.0}])
+        self.refused(r"\[soil\] measures\[2\]\.distance: the infilled_trench overlaps 'open' "
+                     r"\(measures\[1\]\.distance\)", [TRENCH, {**FOAM, "distance": 5.0}])
+        block([TRENCH, {**FOAM, "distance": 5.5}])  # touching: taken
         # a graded block: the absorbing layers begin at resolve_to across
         self.refused(r"\[soil\] measures\[1\]\.distance: .* inside the region inside the absorbing",
                      [TRENCH], mesh_size=None, f_max=10.0, growth=1.1, resolve_to=4.5,
