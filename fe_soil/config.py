@@ -26,6 +26,10 @@ the checks run without dolfinx.
     damping_band = [5.0, 50.0]   # Hz, the damping fit: each layer's ratio matched at both
     damping_cutoff = 100.0       # Hz, >= the band's top: the stiffness-proportional part acts on
                                  # the velocity filtered above it (0: Rayleigh damping as before)
+    variant = "reference"        # optional: which [[soil.measures]] a run builds
+                                 # (fe_soil/path_measures.py; default all of them)
+    [soil.mitigation]            # optional: the insertion-loss study's load (fe_soil/mitigation.py)
+    [[soil.measures]]            # optional: trenches and walls (fe_soil/path_measures.py)
     [[soil.layers]]              # top down; the last reaches the bottom
     thickness = 2.0              # m
     density = 1800.0             # kg/m^3
@@ -38,7 +42,7 @@ from __future__ import annotations
 import math
 import os
 
-from . import soil_table
+from . import path_measures, soil_table
 from .params import (Footprint, SoilParams, graded_nodes, rayleigh_speed,
                      uniform_nodes)
 from .soil_table import ConfigError
@@ -47,7 +51,8 @@ from .soil_table import ConfigError
 TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "depth", "margin",
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
             "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
-            "footprint_compliance", "damping_cutoff"}
+            "footprint_compliance", "damping_cutoff", "measures", "variant",
+            "mitigation"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 12.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01,
@@ -126,6 +131,10 @@ def parse(table):
     out["resolve_to"] = (soil_table.number(table, "resolve_to", "", lo=0.0) if "resolve_to" in table
                          else max(out["receivers"]))
     out["layers"] = soil_table.layers(table, damping_hi=1.0)
+    out["measures"], out["variant"] = path_measures.parse(table)
+    if "mitigation" in table:  # the mitigation study's load; the soil itself ignores it
+        from .mitigation import load_keys
+        load_keys(table["mitigation"])
     above = sum(l.thickness for l in out["layers"][:-1])
     if above >= out["depth"]:
         raise ConfigError("[soil] depth %g m must exceed the layers above the last one (%g m)"
@@ -226,6 +235,14 @@ def block_params(cfg, footprints):
         p.x_nodes = uniform_nodes(0.0, length, h)
         p.y_nodes = uniform_nodes(0.0, half_width, h)
         p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
+    measures = path_measures.selected(cfg.get("measures", []), cfg.get("variant"))
+    if measures:
+        p.measures = path_measures.place(measures, cfg["measures"], rx, x0 - along, p, fps, h)
+        c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
+        rule = cfg["mesh_size"] is None
+        path_measures.refine(p, p.measures, h, c_min, cfg["f_max"] if rule else None,
+                             cfg["elements_per_wavelength"] if rule else None,
+                             protect_z=layered_nodes(cfg["layers"], cfg["depth"], math.inf))
     check_size(cfg, h, [length, half_width, cfg["depth"]],
                [len(p.x_nodes) - 1, len(p.y_nodes) - 1, len(p.z_nodes) - 1])
     return p, x0 - along

@@ -12,7 +12,7 @@ from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.mesh
 
-from . import absorbing, forms
+from . import absorbing, forms, path_measures
 from .params import damping_law, rayleigh_coefficients
 
 
@@ -34,7 +34,7 @@ def operators(soil, f, ds):
     if p.absorbing is not None:
         a0 = a0 + absorbing.damping_field(soil.mesh, p, soil.nodes, f["cs"])
     c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
-    xis = {layer.damping for layer in p.layers}
+    xis = {layer.damping for layer in p.layers} | set(path_measures.damping_ratios(p.measures))
     a1_max = rayleigh_coefficients(max(xis), *p.damping_band, p.damping_cutoff)[1]
     # The stiffness-proportional part a1 K: the a1 of the most common
     # damping ratio (by cells) is folded into the product K (u + a1 v)

@@ -8,6 +8,7 @@ import dolfinx.mesh
 from dolfinx import fem
 from mpi4py import MPI
 
+from . import path_measures
 from .params import SoilParams, axis_nodes
 
 SURFACE = 1  # z = 0
@@ -58,7 +59,8 @@ def facet_tags(mesh, nodes):
 
 def layer_fields(mesh, params: SoilParams):
     """Cell-wise (DG0) density, Lame parameters, P and S speeds and the
-    layer's damping ratio."""
+    layer's damping ratio; a path measure's cells its own (an open
+    trench's: no stiffness, no mass)."""
     Q = fem.FunctionSpace(mesh, ("DG", 0))
     tdim = mesh.topology.dim
     n_cells = mesh.topology.index_map(tdim).size_local + mesh.topology.index_map(tdim).num_ghosts
@@ -68,8 +70,11 @@ def layer_fields(mesh, params: SoilParams):
     dofs = Q.dofmap.list.array.reshape(-1)[:n_cells]  # one DOF per cell
     bottoms = np.cumsum([layer.thickness for layer in params.layers[:-1]])
     layer_of = np.searchsorted(bottoms, -mid[:, 2], side="right")
+    values = {}
     for name, attr in (("rho", "density"), ("mu", "shear_modulus"), ("lam", "lame_lambda"),
                        ("cp", "p_speed"), ("cs", "shear_speed"), ("xi", "damping")):
-        values = np.array([getattr(layer, attr) for layer in params.layers])
-        fields[name].x.array[dofs] = values[layer_of]
+        values[name] = np.array([getattr(layer, attr) for layer in params.layers])[layer_of]
+    path_measures.assign(values, mid, params.measures)  # trenches and walls (none: no change)
+    for name in names:
+        fields[name].x.array[dofs] = values[name]
     return fields

@@ -68,19 +68,25 @@ class FESoil:
         n_owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
         self.n_owned = n_owned
         self.mask = np.ones(n_owned)
-        rows = np.array([], dtype=np.int32)
+        self.m = forms.lumped_mass(V, f)
+        # The nodes inside an open trench touch no soil (no mass, no
+        # stiffness): held at zero like the symmetry plane's u_y, their mass
+        # set to 1 so that the update divides by none (path_measures.py).
+        held = np.flatnonzero(self.m <= 0.0)
+        self.mask[held] = 0.0
+        self.m[held] = 1.0
         if p.symmetric:
             Vy, _ = V.sub(1).collapse()
             dofs = fem.locate_dofs_topological((V.sub(1), Vy), 2, tags.find(SYMMETRY))[0]
             dofs = dofs[dofs < n_owned]
             self.mask[dofs] = 0.0
-            rows = (dofs + K.getOwnershipRange()[0]).astype(np.int32)
+            held = np.union1d(held, dofs)
+        rows = (held + K.getOwnershipRange()[0]).astype(np.int32)
         # Statics: u_y = 0 on the symmetry plane, K's rows and columns there
         # replaced by the identity (the same operator as dolfinx's BCs).
         self.K_static = K.convert("aij")  # GAMG needs AIJ
         self.K_static.zeroRowsColumns(rows, 1.0)
         self.K = K
-        self.m = forms.lumped_mass(V, f)
         self.c, self.tau, self.a1_max, self.a1, self.Ka1 = damping.operators(self, f, ds)
         self.U, self.W = self.K.createVecs()
         self.KU, self.KV, self.VH = (self.U.duplicate() for _ in range(3))

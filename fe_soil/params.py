@@ -80,6 +80,9 @@ class SoilParams:
     # The static compliance the mesh cannot hold under each footprint, added
     # to its outputs (fe_soil/near_field.py); off: the FE alone.
     footprint_compliance: bool = False
+    # Measures on the path (fe_soil/path_measures.py, placed in the block's
+    # frame): trenches and walls whose cells take their own material.
+    measures: Sequence = ()
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
     x_nodes: Sequence[float] | None = None

@@ -1,0 +1,300 @@
+"""The insertion loss of the path measures of a scene's FE soil.
+
+    /usr/bin/python3 -m fe_soil.mitigation --scene SCENE --out DIR
+
+Runs the scene's FE soil ([soil] model = "fe") once without any measure
+(the reference) and once with each [[soil.measures]] entry alone, under the
+same load and at the same receivers, and writes
+
+- DIR/insertion_loss.csv: per measure and receiver the insertion loss
+  IL = L_ref - L_measure (dB; positive: the measure reduces the vibration)
+  of the vertical velocity in each one-third-octave band from 1 to 80 Hz,
+  of its PPV and KB_Fmax (20 log10 of the ratio) and of its overall level
+  (the bands' energies summed);
+- DIR/REPORT.md: a table per measure, and where a measure amplifies (IL < 0);
+- DIR/figures/insertion_loss.png: IL against band, a line per measure and
+  receiver;
+- DIR/runs/VARIANT/receivers.npz: each run's record (t, v[time, receiver,
+  component]), in full precision.
+
+The load is that of [soil.mitigation] (the FE soil ignores the table):
+
+    [soil.mitigation]
+    sleepers = 25       # footprints at [sleepers] spacing, as the track's
+    frequency = 15.0    # Hz: the centre of a Ricker force on the middle one
+    amplitude = 1e4     # N, its peak (at 1.2 / frequency)
+    duration = 0.4      # s, the record
+    step = 2e-3         # s, the record's sampling (the soil steps below it)
+
+A band is judged where the soil resolves it at the receiver
+(resolution.receiver_bands) and the reference's level lies within
+CONTENT_DB of its highest band; elsewhere its IL is left empty.
+"""
+import argparse
+import math
+import os
+import sys
+import tomllib
+
+import numpy as np
+
+from . import config as fe_config
+from . import measures, path_measures, resolution, soil_table
+from .soil_table import ConfigError
+
+# key: (default, lower bound (refused itself), upper bound (refused itself))
+LOAD_KEYS = {"sleepers": (25, 0, 401), "frequency": (15.0, 0.1, 500.0),
+             "amplitude": (1e4, 1e-3, 1e9), "duration": (0.4, 0.0, 60.0),
+             "step": (2e-3, 1e-5, 0.05)}
+MIN_SAMPLES = 10  # the record holds at least this many steps
+BAND_TOP = 80.0  # Hz, the highest band centre reported
+CONTENT_DB = 40.0  # bands more than this below the reference's highest are not judged
+
+
+def load_keys(table):
+    """The checked [soil.mitigation] keys as a dict."""
+    table = table or {}
+    if not isinstance(table, dict):
+        raise ConfigError("[soil] mitigation must be a table ([soil.mitigation])")
+    unknown = sorted(set(table) - set(LOAD_KEYS))
+    if unknown:
+        raise ConfigError("[soil] mitigation.%s is not a key of [soil.mitigation] (its keys: %s)"
+                          % (unknown[0], ", ".join(sorted(LOAD_KEYS))))
+    out = {}
+    for key, (default, lo, hi) in LOAD_KEYS.items():
+        out[key] = soil_table.number(table, key, "mitigation.", lo=lo, hi=hi, default=default)
+    if out["sleepers"] != int(out["sleepers"]):
+        raise ConfigError("[soil] mitigation.sleepers must be a whole number (got %g)"
+                          % out["sleepers"])
+    out["sleepers"] = int(out["sleepers"])
+    if out["duration"] < MIN_SAMPLES * out["step"]:
+        raise ConfigError("[soil] mitigation.duration %g s holds fewer than %d steps of %g s "
+                          "([soil] mitigation.step)" % (out["duration"], MIN_SAMPLES, out["step"]))
+    return out
+
+
+def footprints(scene, n):
+    """n footprints at the scene's sleeper spacing (one rail's half, as the
+    ss cut sends them: fe_soil/two_step.py)."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sdk",
+                                    "python"))
+    from railcosim_sdk import Footprint
+
+    spacing = scene["sleepers"]["spacing"]
+    length = scene["sleepers"].get("length", 2.6)
+    return [Footprint(spacing * i, length / 4.0, 0.0, spacing, length / 2.0) for i in range(n)]
+
+
+def variant_block(cfg, fps, variant):
+    """SoilParams of the scene's block with the measures of `variant`."""
+    return fe_config.block_params(dict(cfg, variant=variant), fps)[0]
+
+
+def drive(soil, load):
+    """The soil from rest under the Ricker force on the middle footprint:
+    (t, v[time, receiver, component]) every `step` s."""
+    fc, amp, H = load["frequency"], load["amplitude"], load["step"]
+    t0 = 1.2 / fc
+    n = len(soil.p.footprints)
+
+    def force(t):
+        a = (math.pi * fc * (t - t0)) ** 2
+        out = np.zeros(n)
+        out[n // 2] = amp * (1.0 - 2.0 * a) * math.exp(-a)
+        return out
+
+    soil.reset()
+    for k in range(int(round(load["duration"] / H))):
+        soil.advance(k * H, H, force(k * H), force((k + 1) * H))
+    return soil.receiver_series()
+
+
+def levels(v, dt):
+    """Per receiver: band centres, vertical band levels (1-80 Hz), PPV,
+    KB_Fmax and the overall level of v_z."""
+    out = []
+    for k in range(v.shape[1]):
+        vz = v[:, k, 2]
+        fc, rms = measures.band_rms(vz, dt, 1.0, BAND_TOP)
+        with np.errstate(divide="ignore"):
+            lv = 20.0 * np.log10(rms / measures.V_REF)
+            overall = 10.0 * np.log10(np.sum(rms**2)) - 20.0 * math.log10(measures.V_REF)
+        out.append({"fc": fc, "lv": lv, "ppv": measures.ppv(vz), "kb": measures.kb_fmax(vz, dt),
+                    "overall": overall})
+    return out
+
+
+def insertion_loss(ref, var, bands):
+    """Per receiver {band: IL per band (nan where not judged), ppv, kb_fmax,
+    overall} = reference minus measure (dB); bands: the (lowest, highest)
+    resolved band centre per receiver."""
+    out = []
+    for r, m, (lo, hi) in zip(ref, var, bands):
+        ok = (r["fc"] >= lo * (1 - 1e-6)) & (r["fc"] <= hi * (1 + 1e-6))
+        ok &= np.isfinite(r["lv"]) & (r["lv"] >= np.max(r["lv"][np.isfinite(r["lv"])]) - CONTENT_DB)
+        with np.errstate(invalid="ignore"):
+            band = np.where(ok, r["lv"] - m["lv"], math.nan)
+        out.append({"band": band, "ppv": 20.0 * math.log10(r["ppv"] / m["ppv"]),
+                    "kb_fmax": 20.0 * math.log10(r["kb"] / m["kb"]),
+                    "overall": r["overall"] - m["overall"]})
+    return out
+
+
+def csv_text(names, distances, fc, losses):
+    """insertion_loss.csv: measure, receiver, distance_m, quantity (band,
+    ppv, kb_fmax, overall), band_hz (the centre; empty but for bands),
+    IL_dB (empty where not judged)."""
+    rows = ["measure,receiver,distance_m,quantity,band_hz,IL_dB"]
+    for name, per in losses.items():
+        for rec, d, il in zip(names, distances, per):
+            for f, x in zip(fc, il["band"]):
+                rows.append("%s,%s,%g,band,%.4g,%s" % (name, rec, d, f,
+                                                        "" if math.isnan(x) else "%.4f" % x))
+            for q in ("ppv", "kb_fmax", "overall"):
+                rows.append("%s,%s,%g,%s,,%.4f" % (name, rec, d, q, il[q]))
+    return "\n".join(rows) + "\n"
+
+
+def amplifications(names, fc, per):
+    """A sentence naming where a measure's IL < 0 (bands and measures)."""
+    where = []
+    for rec, il in zip(names, per):
+        bands = [f for f, x in zip(fc, il["band"]) if x < 0.0]
+        whole = [q for q in ("ppv", "kb_fmax", "overall") if il[q] < 0.0]
+        if bands or whole:
+            worst = min([x for x in il["band"] if x < 0.0] + [il[q] for q in whole])
+            where.append("%s (%s; down to %.1f dB)" % (
+                rec, ", ".join(["%.3g Hz" % f for f in bands] + whole), worst))
+    return ("It amplifies (IL < 0) at " + "; ".join(where) + "." if where else
+            "It amplifies nowhere: IL >= 0 in every judged band and measure.")
+
+
+def report(path, info, fc, losses):
+    lines = ["# Insertion loss of the path measures: %s" % info["name"], "",
+             "IL = L_ref - L_measure in dB, the vertical velocity at each receiver: positive "
+             "where the measure reduces the vibration, negative where it amplifies. The "
+             "reference is the scene's FE soil without any measure; each measure is run alone "
+             "under the same load: a Ricker force of %g N peaking at %.3g s, centre %g Hz, on "
+             "the middle one of %d footprints, recorded over %g s every %g s. A band is judged "
+             "where the soil resolves it at the receiver and the reference lies within %g dB "
+             "of its highest band (`-` elsewhere)." % (
+                 info["load"]["amplitude"], 1.2 / info["load"]["frequency"],
+                 info["load"]["frequency"], info["load"]["sleepers"], info["load"]["duration"],
+                 info["load"]["step"], CONTENT_DB), ""]
+    for name, per in losses.items():
+        m = info["measures"][name]
+        lines += ["## %s: %s" % (name, m.kind.replace("_", " ")), "",
+                  "%g m from the track, %g m deep, %g m wide, %g m long%s (%d DOFs, the "
+                  "reference %d)." % (m.distance, m.depth, m.width, m.length,
+                                       "" if m.material is None else
+                                       ", c_S %g m/s, rho %g kg/m^3" % (m.material.shear_speed,
+                                                                        m.material.density),
+                                       info["dofs"][name], info["dofs"]["reference"]), "",
+                  "| band (Hz) | " + " | ".join(info["receivers"]) + " |",
+                  "|---:|" + "---:|" * len(per)]
+        for i, f in enumerate(fc):
+            cells = ["-" if math.isnan(il["band"][i]) else "%+.1f" % il["band"][i] for il in per]
+            if any(c != "-" for c in cells):
+                lines.append("| %.3g | %s |" % (f, " | ".join(cells)))
+        for q, label in (("ppv", "PPV"), ("kb_fmax", "KB_Fmax"), ("overall", "overall level")):
+            lines.append("| %s | %s |" % (label, " | ".join("%+.1f" % il[q] for il in per)))
+        lines += ["", amplifications(info["receivers"], fc, per), ""]
+    lines += ["![Insertion loss per band](figures/insertion_loss.png)", ""]
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+
+
+def figure(path, names, fc, losses):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    styles = ["-", "--", "-.", ":"]
+    for j, (name, per) in enumerate(losses.items()):
+        for k, (rec, il) in enumerate(zip(names, per)):
+            ax.semilogx(fc, il["band"], color="C%d" % (k % 10), ls=styles[j % 4], marker="o",
+                        ms=3, label="%s, %s" % (name, rec))
+    ax.axhline(0.0, color="k", lw=0.8)
+    judged = [f for i, f in enumerate(fc)
+              if any(math.isfinite(il["band"][i]) for per in losses.values() for il in per)]
+    if judged:  # the judged bands' centres as the ticks, in plain numbers
+        ax.set_xticks(judged)
+        ax.set_xticklabels(["%.3g" % f for f in judged])
+        ax.minorticks_off()
+    ax.set_xlabel("one-third-octave band centre (Hz)")
+    ax.set_ylabel("insertion loss IL = L_ref - L_measure (dB)")
+    ax.text(0.02, 0.03, "above 0: the measure reduces; below 0: it amplifies",
+            transform=ax.transAxes, fontsize=9)
+    ax.legend(loc="upper left", fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def study(scene, out, name="scene"):
+    """Runs the reference and every measure; writes the outputs into out."""
+    from .model import FESoil
+
+    cfg = fe_config.parse(scene["soil"])
+    load = load_keys(scene["soil"].get("mitigation"))
+    if not cfg["measures"]:
+        raise ConfigError("[soil] measures: the scene lists none ([[soil.measures]]): there is "
+                          "nothing to compare with the reference")
+    fps = footprints(scene, load["sleepers"])
+    variants = [path_measures.REFERENCE] + [m.name for m in cfg["measures"]]
+    records, dofs, bands = {}, {}, None
+    for v in variants:
+        print("mitigation: %s" % v, flush=True)
+        soil = FESoil(variant_block(cfg, fps, v))
+        t, vel = drive(soil, load)
+        records[v], dofs[v] = vel, soil.global_dofs()
+        os.makedirs(os.path.join(out, "runs", v), exist_ok=True)
+        np.savez(os.path.join(out, "runs", v, "receivers.npz"), t=t, v=vel)
+        if bands is None:  # the reference's mesh judges the bands
+            bands = resolution.receiver_bands(soil, cfg, load["duration"])
+    names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
+    ref = levels(records[path_measures.REFERENCE], load["step"])
+    losses = {v: insertion_loss(ref, levels(records[v], load["step"]), bands)
+              for v in variants[1:]}
+    fc = ref[0]["fc"]
+    with open(os.path.join(out, "insertion_loss.csv"), "w") as f:
+        f.write(csv_text(names, cfg["receivers"], fc, losses))
+    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    figure(os.path.join(out, "figures", "insertion_loss.png"), names, fc, losses)
+    info = {"name": name, "load": load, "receivers": names, "dofs": dofs,
+            "measures": {m.name: m for m in cfg["measures"]}}
+    report(os.path.join(out, "REPORT.md"), info, fc, losses)
+    return records, losses
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scene", required=True, help="a scene with [soil] model = \"fe\" and "
+                    "[[soil.measures]]")
+    ap.add_argument("--out", required=True, help="the study's folder")
+    a = ap.parse_args(argv)
+    try:
+        with open(a.scene, "rb") as f:
+            scene = tomllib.load(f)
+    except (OSError, tomllib.TOMLDecodeError) as e:
+        sys.exit("%s: %s" % (a.scene, e))
+    if scene.get("soil", {}).get("model") != "fe":
+        sys.exit("%s: [soil] model must be \"fe\" (got %r)"
+                 % (a.scene, scene.get("soil", {}).get("model")))
+    if "sleepers" not in scene or "spacing" not in scene["sleepers"]:
+        sys.exit("%s: [sleepers] spacing is missing (the footprints' spacing)" % a.scene)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    out = os.path.abspath(a.out)
+    os.makedirs(out, exist_ok=True)
+    try:
+        study(scene, out, scene.get("scene", {}).get("name", a.scene))
+    except ConfigError as e:
+        sys.exit("%s: %s" % (a.scene, e))
+    print("mitigation: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)
+
+
+if __name__ == "__main__":
+    main()
