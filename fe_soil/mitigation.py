@@ -34,10 +34,10 @@ import argparse
 import math
 import os
 import sys
-import tomllib
 
 import numpy as np
 
+from .scene_file import read_scene
 from . import config as fe_config
 from . import measures, path_measures, resolution, soil_table
 from .soil_table import ConfigError
@@ -276,14 +276,7 @@ def main(argv=None):
                     "[[soil.measures]]")
     ap.add_argument("--out", required=True, help="the study's folder")
     a = ap.parse_args(argv)
-    try:
-        with open(a.scene, "rb") as f:
-            scene = tomllib.load(f)
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        sys.exit("%s: %s" % (a.scene, e))
-    if scene.get("soil", {}).get("model") != "fe":
-        sys.exit("%s: [soil] model must be \"fe\" (got %r)"
-                 % (a.scene, scene.get("soil", {}).get("model")))
+    scene = read_scene(a.scene, "fe")
     if "sleepers" not in scene or "spacing" not in scene["sleepers"]:
         sys.exit("%s: [sleepers] spacing is missing (the footprints' spacing)" % a.scene)
     os.environ.setdefault("OMP_NUM_THREADS", "1")

@@ -27,10 +27,10 @@ import shutil
 import subprocess
 import sys
 import time
-import tomllib
 
 import numpy as np
 
+from .scene_file import read_scene
 from . import config as fe_config
 from . import measures, resolution, spectrum, two_step
 from . import progress as fe_progress
@@ -229,15 +229,8 @@ def main(argv=None):
     ap.add_argument("--snapshots", type=int, default=6,
                     help="surface velocity snapshots of the two-step run (default 6)")
     a = ap.parse_args(argv)
-    try:
-        with open(a.scene, "rb") as f:
-            scene = tomllib.load(f)
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        sys.exit("%s: %s" % (a.scene, e))
-    if scene.get("soil", {}).get("model") != "fe":
-        sys.exit("%s: [soil] model must be \"fe\" (got %r); a scene on the lumped soil is "
-                 "studied by `master study --scene %s`"
-                 % (a.scene, scene.get("soil", {}).get("model"), a.scene))
+    scene = read_scene(a.scene, "fe", "; a scene on the lumped soil is studied by "
+                       "`master study --scene %s`" % a.scene)
     windows = cut_windows(scene.get("coupling", {}))
     others = sorted(set(scene.get("coupling", {})) - {cut + WINDOW_SUFFIX for cut in windows})
     if others:

@@ -36,6 +36,7 @@ import numpy as np
 from fe_soil import measures, two_step
 from fe_soil import study as fe_study
 from fe_soil.config import channel_names
+from fe_soil.scene_file import read_scene
 
 from . import config as green_config
 from . import outputs, resolution
@@ -262,15 +263,8 @@ def parse_args(argv):
                     help="also run the FE soil (python3-dolfinx) with these [soil] mesh keys, "
                          "e.g. 'mesh_size = 1.0, depth = 6.0, margin = 2.0'")
     a = ap.parse_args(argv)
-    try:
-        with open(a.scene, "rb") as f:
-            scene = tomllib.load(f)
-    except (OSError, tomllib.TOMLDecodeError) as e:
-        sys.exit("%s: %s" % (a.scene, e))
-    if scene.get("soil", {}).get("model") != "green":
-        sys.exit('%s: [soil] model must be "green" (got %r); a scene on the FE soil is studied '
-                 "by `python3 -m fe_soil.study`, one on the lumped soil by `master study`"
-                 % (a.scene, scene.get("soil", {}).get("model")))
+    scene = read_scene(a.scene, "green", "; a scene on the FE soil is studied by `python3 -m "
+                       "fe_soil.study`, one on the lumped soil by `master study`")
     other = sorted(set(scene.get("coupling", {})) - {"ss_macro_step"})
     if other:
         sys.exit("%s: [coupling] %s: this study runs its own couplings and takes only the "
