@@ -67,6 +67,13 @@ std::string FmuParticipant::name() const {
 void FmuParticipant::map_ports(const ParticipantSetup& setup) {
   const OwnConfig& config = setup.config;
   std::set<std::string> known{"file", "peak_history"};
+  // The scene's own [soil] table (model = "external") may carry the mapping.
+  if (config.has("model")) {
+    if (config.string("model") != "external")
+      throw BadRequestError(config.where("model") + ": \"" + config.string("model") +
+                            "\": an FMU is the scene's soil as model = \"external\"");
+    known.insert("model");
+  }
   for (std::size_t k = 0; k < setup.interfaces.size(); ++k) {
     const Interface& itf = setup.interfaces[k];
     for (bool in : {true, false}) {
@@ -105,10 +112,11 @@ void FmuParticipant::map_ports(const ParticipantSetup& setup) {
   for (const std::string& key : config.keys())
     if (!known.count(key) && key.rfind("set_", 0) != 0 && key.rfind("result_", 0) != 0 &&
         key.rfind("history_", 0) != 0)
-      throw BadRequestError(config.where(key) +
-                            ": not a key of the FMU participant (file, "
-                            "CUT_in_QUANTITY and CUT_out_QUANTITY of its interfaces, set_NAME, "
-                            "peak_history, history_NAME, result_NAME)");
+      throw BadRequestError(
+          config.where(key) +
+          ": not a key of the FMU participant (file, "
+          "CUT_in_QUANTITY and CUT_out_QUANTITY of its interfaces, set_NAME, "
+          "peak_history, history_NAME, result_NAME; model = \"external\" in a scene)");
 }
 
 void FmuParticipant::set_parameters(const OwnConfig& config) {

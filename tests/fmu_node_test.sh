@@ -9,6 +9,8 @@
 #   co-simulation reference with held inputs (the FMU takes no ramps);
 # - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
 #   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0);
+# - the same soil mapped by the scene's own [soil] table (model = "external"),
+#   sent to a node started without --config: equal bit for bit;
 # - the lumped soil that cannot save its state: explicit runs, not judged
 #   for that reason; implicit refused, saying so.
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
@@ -65,6 +67,23 @@ for coupling in explicit implicit; do
   grep -q '^agree: ' "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
   cat "$work/compare.log"
 done
+
+# The mapping in the scene itself: the soil `external`, its [soil] table the
+# FMU's configuration, which the master sends the node (no --config): the
+# same run bit for bit.
+awk -v fmu="$work/fmu.toml" '
+  /^\[soil\]/ { print; print "model = \"external\""
+                while ((getline line < fmu) > 0) if (line !~ /^\[soil\]/) print line
+                skip = 1; next }
+  /^\[/ { skip = 0 }
+  !skip { print }' "$work/soil.toml" >"$work/external.toml"
+grep -q '^model = "external"' "$work/external.toml" || fail "the external scene was not written"
+start scene "$bin/fmu_node" --role soil --listen 127.0.0.1:0
+"$bin/master" run --scene "$work/external.toml" --case ss-xx-jacobi --node "soil=$address" \
+  --out "$work/fmu-scene" >"$work/run.log" 2>&1 || fail "the run with the scene's mapping failed" "$work/run.log"
+"$bin/master" compare "$work/fmu-explicit" "$work/fmu-scene" --tolerance 0 >"$work/compare.log" 2>&1 ||
+  fail "the scene's mapping differs from the node's configuration" "$work/compare.log"
+echo "the mapping in the scene: $(tail -1 "$work/compare.log")"
 
 sed 's/lumped_soil3.fmu/lumped_soil3_nostate.fmu/' "$work/fmu.toml" >"$work/nostate.toml"
 start nostate "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/nostate.toml"
