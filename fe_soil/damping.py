@@ -42,7 +42,7 @@ def operators(soil, f, ds):
     # the other layers' excess, (a1 - a1_ref) K, is a second matrix
     # assembled over their cells only. On a graded block the half-space
     # holds most cells, so the second product covers the top layers'
-    # rows only (measured in docs/ground-vibration.md).
+    # rows only (measured in docs/fe-soil.md).
     n_cells = soil.mesh.topology.index_map(3).size_local
     cell_xi = xi.x.array[xi.function_space.dofmap.list.array.reshape(-1)[:n_cells]]
     values, counts = np.unique(cell_xi, return_counts=True)

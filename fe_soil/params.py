@@ -149,7 +149,7 @@ def damping_law(f1: float, f2: float, cutoff: float = 0.0) -> Tuple[float, float
     constant tau = 1/(2 pi f_c)): its damping ratio is A1 g(w) xi / 2 with
     g(w) = w / (1 + (w tau)^2), which stops growing at f_c and falls above
     it, so it no longer bounds the explicit step (the filtered term adds at
-    most A1 xi / tau to the stiffness there: docs/ground-vibration.md,
+    most A1 xi / tau to the stiffness there: docs/fe-soil.md,
     "Damping"). Solving the two matching conditions:
     A1 = 2 (w2 - w1) / (g2 w2 - g1 w1), A0 = A1 w1 w2 (g2 - g1) / (w2 - w1),
     Rayleigh's 2 / (w1 + w2) and 2 w1 w2 / (w1 + w2) at tau = 0."""
@@ -241,7 +241,7 @@ def resolved_frequency(h: float, dt: float, layer: Layer, distance: float,
     of linear elements with a lumped mass and central differences,
     sin(w dt/2) = (c dt/h) sin(k_h h/2), at the layer's Rayleigh speed. An
     estimate: the 3D mesh adds direction-dependent error (measured in
-    docs/ground-vibration.md)."""
+    docs/fe-soil.md)."""
     c = rayleigh_speed(layer.shear_speed, layer.poisson)
     courant = c * dt / h
 

@@ -10,7 +10,7 @@ bands that follows: what its study's report and vibration.csv state.
 - The bands: the highest resolved band is the highest whose upper edge lies
   at or below the resolved frequency; the lowest is the lowest whose width
   holds a spectral line of the T-second record (1/T at most its width,
-  docs/ground-vibration.md, "Vibration measures").
+  docs/fe-soil.md, "Vibration measures").
 """
 from __future__ import annotations
 

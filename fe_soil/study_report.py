@@ -75,7 +75,7 @@ def answer(runs, info):
          "Resolution, per receiver: the largest element on the surface path from the track, "
          "the frequency up to which it has 10 elements per Rayleigh wavelength of the softest "
          "layer (c_R = %.4g m/s: the rule for band levels within about 1 dB, "
-         "docs/ground-vibration.md) and the 45-degree phase-error estimate: %s. Bands above "
+         "docs/fe-soil.md, \"The model\") and the 45-degree phase-error estimate: %s. Bands above "
          "are rough, in both methods alike (they share the mesh)." % (
              info["resolution"][0],
              "; ".join("%g m: %.2g m, %.3g Hz (phase %.3g Hz)" % (x, h, f, g) if f > 0.0 else

@@ -3,4 +3,4 @@ horizontally layered viscoelastic half-space in the frequency-wavenumber
 domain (`spectral`), its Hankel transform and footprint averages
 (`greens`), footprint-to-footprint and footprint-to-point responses in the
 frequency and time domains with a cache (`responses`). numpy and scipy
-only; see docs/ground-vibration.md."""
+only; see docs/green-soil.md."""

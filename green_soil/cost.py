@@ -4,7 +4,7 @@ build would outlast the master's wait (numpy and the standard library).
 
 Each key is bounded alone in config.py; their product is bounded here,
 from the sizes of the arrays the soil allocates (greens.py, responses.py,
-track.py, convolution.py; docs/ground-vibration.md, "Joint bounds"):
+track.py, convolution.py; docs/green-soil.md, "Joint bounds"):
 
 - the wavenumber grid of greens.k_grid: n_k points up to k_max (3 times
   the top layer's shear wavenumber at f_max, at least 8 / its thickness),

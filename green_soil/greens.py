@@ -34,7 +34,7 @@ from .spectral import surface_flexibility, top_static
 
 @dataclass(frozen=True)
 class Discretisation:
-    """The numerical parameters (chosen by convergence: docs/ground-vibration.md,
+    """The numerical parameters (chosen by convergence: docs/green-soil.md,
     tests/green_soil/test_convergence.py). The wavenumber grid's step is
     min(max(k_ratio k, dk_min), dk_max) up to k_max: k_ratio resolves a
     surface-wave pole of width about xi k, dk_max = 2 pi / (per_period

@@ -8,7 +8,7 @@ receiver, and why: what its study's report states per receiver.
   min(0.8 f_max, 1 / (2 H)).
 - Below: the record of T seconds has spectral lines 1/T apart; a band of
   width 0.23 f_m always holds one when 1/T is at most its width (the rule
-  docs/ground-vibration.md gives under "Vibration measures"). And where the
+  docs/fe-soil.md gives under "Vibration measures"). And where the
   receivers' memory T_r is shorter than the record, their kernels stop
   T_r after each force increment: at a receiver d metres away the slowest
   surface wave (the Rayleigh wave of the softest layer, c_R) arrives

@@ -14,7 +14,7 @@ it runs the same vehicle and track on
   a lumped soil cannot give free-field levels by itself);
 - with --fe, the FE soil two-way on the same layers and receivers, its mesh
   keys given by the option (a TOML inline table's content; the FE soil's
-  [soil] keys, docs/ground-vibration.md). Without it the FE soil is not run.
+  [soil] keys, docs/fe-soil.md). Without it the FE soil is not run.
 
 The most complete run is the reference: the FE soil's if it ran, else the
 Green's-function soil's. OUT/REPORT.md holds the levels, the differences per
@@ -232,7 +232,7 @@ def fe_two_way(a, scene, out):
 def fe_resolved(scene, fe_keys, cfg):
     """{receiver distance: Hz}: the highest frequency the FE mesh of --fe
     holds with 10 elements per Rayleigh wavelength of the softest layer
-    (its mesh-size rule, docs/ground-vibration.md) at each receiver; 0
+    (its mesh-size rule, docs/fe-soil.md) at each receiver; 0
     beyond resolve_to on a graded mesh, whose elements grow there."""
     from fe_soil import config as fe_config
     from fe_soil.params import rayleigh_speed

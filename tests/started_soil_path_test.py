@@ -70,7 +70,7 @@ class StartedSoilPath(unittest.TestCase):
     def test_shipped_scenes_pass_check(self):
         # The train scene's soil steps at its ss window (1 ms, [coupling]
         # ss_macro_step): checked at that step, it fits; at H = 0.1 ms it
-        # would not (docs/ground-vibration.md, "Joint bounds").
+        # would not (docs/green-soil.md, "Joint bounds").
         for name in ("ground_vibration_green_ci", "ground_vibration_green",
                      "ground_vibration_train"):
             with self.subTest(scene=name):
