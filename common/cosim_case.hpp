@@ -18,7 +18,7 @@ struct Scene;
 
 enum class Coupling { kXX, kXT };               // "xx", "xt"
 enum class Scheme { kJacobi, kGaussSeidel };    // "jacobi", "gauss-seidel"
-enum class Feedthrough { kLagged, kResolved };  // see shared model, "Outputs"
+enum class Feedthrough { kLagged, kResolved };  // see docs/model.md
 
 std::string to_string(Coupling c);
 std::string to_string(Scheme s);

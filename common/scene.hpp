@@ -134,7 +134,7 @@ struct Scene {
   // static stiffness under each rail node over a sleeper.
   double support_stiffness() const;
 
-  // [soil] (see the shared model, "Soil"): "fixed" (the ballast rests on the
+  // [soil] (see docs/model.md): "fixed" (the ballast rests on the
   // ground), "lumped" (a soil mass under each sleeper), "external" (a
   // participant the product does not model serves it, through the ss cut)
   // or a soil the master starts itself over TCP, through the ss cut

@@ -2,7 +2,7 @@
 // holds (see model.hpp), integrated with its own adaptive micro steps between
 // communication points.
 //
-// Per interface (one side of a cut), following the shared model's rules:
+// Per interface (one side of a cut), following the model's rules (docs/model.md):
 //   upper side   receives the lower side's displacements (and velocities
 //                through a damped layer) and computes the layer's force;
 //                sends its own displacements (X-X) or that force (X-T)

@@ -1,4 +1,4 @@
-// The lumped soil of the shared model ("Soil", lumped): a soil mass under
+// The lumped soil of docs/model.md (`[soil] model = "lumped"`): a soil mass under
 // each sleeper on a spring and damper to the ground, tied to its
 // neighbours, loaded through the ballast from the sleepers above (the lower
 // side of the ss cut). It knows the coupling from the interface the master

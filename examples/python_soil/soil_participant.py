@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""A soil participant for railcosim on the Python SDK: the lumped soil of the
-shared model (a soil mass under each sleeper on a spring and damper to the
+"""A soil participant for railcosim on the Python SDK: the lumped soil of
+docs/model.md (a soil mass under each sleeper on a spring and damper to the
 ground, tied to its neighbours), the lower side of the ss cut.
 
   soil_participant.py --config scenes/soil.toml [--listen 127.0.0.1:0]
