@@ -49,6 +49,10 @@ def main():
     work = tempfile.mkdtemp(prefix="node_judge_cost_")
     with open(os.path.join(a.source_dir, "scenes", "soil.toml")) as f:
         text = re.sub(r"(?m)^end_time = .*$", "end_time = %r" % a.end_time, f.read())
+    # The example soil integrates with fixed micro steps, 10 a macro step
+    # (as tests/study_any_test.py runs it); the soil's own window is left out.
+    text = re.sub(r"(?m)^ss_macro_step = .*$", "", text)
+    text = re.sub(r"(?m)^(tolerance = .*)$", r"\1\nmicro_steps = 10", text)
     scene = os.path.join(work, "soil.toml")
     with open(scene, "w") as f:
         f.write(text)
