@@ -137,7 +137,8 @@ def paper_figures(study, cases, reference, out):
                 ax.plot(x, [(a - b) * 1e3 for a, b in zip(w, w_ref)], color=c, ls=d, label=k)
         ax.axhline(0, color="k", lw=0.5)
         ax.set_title(f"{cut_title(cut)}, {scheme}")
-        ax.set_ylabel("w - w_reference (mm)")
+        ax.set_ylabel("w - w_monolithic (mm)" if reference(usable[next(iter(usable))])[1] == "monolithic"
+                      else "w - w_reference (mm)")
         ax.set_xlabel("x (m)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
