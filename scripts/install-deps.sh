@@ -30,6 +30,7 @@ base=(
   libcli11-dev
   libzip-dev libpugixml-dev  # FMUs as participants: the archive and its modelDescription.xml
   libspectra-dev    # the verdict's Arnoldi method on Eigen (master/verdict/)
+  liblapack-dev     # the verdict's dense eigenvalues (multishift QR, master/verdict/)
   python3 python3-matplotlib python3-protobuf python3-numpy
 )
 fe=(

@@ -4,12 +4,14 @@
 // track's; its budget and its stop.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <complex>
 #include <random>
 
 #include <Eigen/Dense>
 
+#include "verdict/dense_eigen.hpp"
 #include "verdict/spectrum.hpp"
 
 namespace railcosim::verdict_spectrum_test {
@@ -137,6 +139,49 @@ TEST(VerdictSpectrum, ASmallMapIsTakenWhole) {
   ASSERT_TRUE(s.converged);
   EXPECT_EQ(s.method, "dense");
   EXPECT_NEAR(s.rho, 0.9, 1e-7);
+}
+
+// The dense measure's eigenvalues (LAPACK's multishift QR) are the closed
+// form's: every one of a crowded spectrum, not only the largest.
+// Both solvers: Eigen's below kLapackFrom coordinates, LAPACK's above.
+TEST(VerdictSpectrum, TheDenseEigenvaluesAreTheClosedFormsEveryOne) {
+  for (const int pairs : {200, 600}) {
+    const Known k = crowded(pairs, 1.0000229, 17);
+    const verdict::Spectrum d = verdict::dense_spectrum(product_of(k.A));
+    ASSERT_TRUE(d.converged) << d.why_not;
+    ASSERT_EQ(d.leading.size(), static_cast<std::size_t>(2 * pairs));
+    EXPECT_NEAR(d.rho, k.rho, 1e-12) << pairs;
+    // The moduli come in conjugate pairs, each pair one rotation block's.
+    for (std::size_t i = 0; i + 1 < d.leading.size(); i += 2)
+      EXPECT_NEAR(std::abs(d.leading[i]), std::abs(d.leading[i + 1]), 1e-12) << pairs << " " << i;
+  }
+}
+
+// A large matrix's eigenvalues take seconds: the stop and the time budget
+// end the wait within a fraction of a second, the stop by Stopped and the
+// budget with the reason.
+TEST(VerdictSpectrum, TheStopAndTheBudgetEndTheDenseEigenvaluesWithinASecond) {
+  std::mt19937_64 gen(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int n = 1600;
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = u(gen);
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  bool stopped = false;
+  const auto stop_after = [t0] {
+    return std::chrono::duration<double>(Clock::now() - t0).count() > 0.2;
+  };
+  EXPECT_FALSE(verdict::dense_eigenvalues(A, stop_after, 0, stopped).has_value());
+  EXPECT_TRUE(stopped);
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 1.0);
+  const auto t1 = Clock::now();
+  const auto late = verdict::dense_eigenvalues(A, {}, 0.2, stopped);
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t1).count(), 1.0);
+  ASSERT_TRUE(late.has_value());
+  EXPECT_FALSE(stopped);
+  EXPECT_NE(late->why_not.find("budget of 0.2 s"), std::string::npos) << late->why_not;
 }
 
 }  // namespace

@@ -194,15 +194,10 @@ RunOptions map_options(RunOptions o) {
   return o;
 }
 
-}  // namespace
-
-MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
-                                const MapSettings& settings) {
-  MapSpectrum s;
-  s.method = settings.method == MapMethod::kDense ? "dense" : "krylov";
-  const RunOptions o = map_options(options);
-  const auto t0 = std::chrono::steady_clock::now();
-  // A step of the map: the macro step, or a multirate plan's slow window.
+// The scene parked for the map: its step the map's (a multirate plan's slow
+// window), its micro steps those the step at rest takes, fixed.
+Scene parked_for_map(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                     const RunOptions& o) {
   const double window =
       options.macro_step * static_cast<double>(rate_plan(scene, spec, options).ratio);
   Scene parked = parked_scene(scene, window);
@@ -215,6 +210,28 @@ MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const 
     at_rest.step(at_rest.rest());
     parked.micro_steps = static_cast<int>(std::max(1L, at_rest.micro_steps()));
   }
+  return parked;
+}
+
+}  // namespace
+
+Eigen::MatrixXd macro_step_matrix(const Scene& scene, const CaseSpec& spec,
+                                  const RunOptions& options) {
+  const RunOptions o = map_options(options);
+  const Scene parked = parked_for_map(scene, spec, options, o);
+  ParkedCoupling c(parked, spec, o);
+  return verdict::dense_matrix(map_operator(c, options.macro_step));
+}
+
+MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
+                                const MapSettings& settings) {
+  MapSpectrum s;
+  s.method = settings.method == MapMethod::kDense ? "dense" : "krylov";
+  const RunOptions o = map_options(options);
+  const auto t0 = std::chrono::steady_clock::now();
+  const double window =
+      options.macro_step * static_cast<double>(rate_plan(scene, spec, options).ratio);
+  const Scene parked = parked_for_map(scene, spec, options, o);
   ParkedCoupling c(parked, spec, o);
   s.states = static_cast<long>(c.state().size());
   const verdict::LinearOperator a = map_operator(c, options.macro_step);

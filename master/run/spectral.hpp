@@ -28,6 +28,7 @@
 // run's own defect check (stability.hpp) complements.
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <string>
 #include <vector>
@@ -77,17 +78,17 @@ enum class MapMethod {
   // of the paper scene: moduli 2e-6 apart) it does not converge within any
   // affordable budget, and the verdict then says "not judged".
   kKrylov,
-  // Every column and every eigenvalue (Eigen's real Schur form): exact, O(N^2) memory and
+  // Every column and every eigenvalue (LAPACK's multishift QR): exact, O(N^2) memory and
   // O(N^3) work; the oracle of the tests and the measure of small models.
   kDense,
 };
 // The largest map the default measures densely: 4000 coordinates before the
 // step's ignored ones are dropped. The shipped scenes' maps (636 to 1209)
 // take a few tenths of a second; the dense eigen-solve's O(N^3) work passes
-// the run's own time well before the limit (155 sleepers, 2954
-// coordinates: about a minute against a run of a second), which keeps the
-// models the tests and studies judge exactly; above it (600 sleepers:
-// 11,409) Arnoldi's method within its budget.
+// the run's own time well before the limit (155 sleepers, 2,176 coordinates
+// kept: about 10 s against a run of half a second), which keeps the models
+// the tests and studies judge exactly; above it (600 sleepers: 11,409)
+// Arnoldi's method within its budget.
 inline constexpr long kDenseMapLimit = 4000;
 struct MapSettings {
   MapMethod method = MapMethod::kAuto;
@@ -96,5 +97,10 @@ struct MapSettings {
 };
 MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
                                 const MapSettings& settings = {});
+
+// The same map's matrix, column by column (what the dense measure takes
+// whole): for the benchmarks and the tests that hold solvers against it.
+Eigen::MatrixXd macro_step_matrix(const Scene& scene, const CaseSpec& spec,
+                                  const RunOptions& options);
 
 }  // namespace railcosim::run

@@ -1,6 +1,8 @@
 #include "verdict/spectrum.hpp"
 
-#include <Eigen/Eigenvalues>
+#include "verdict/dense_eigen.hpp"
+
+#include <Eigen/Core>
 // GCC 12 reports a use after free inside Spectra's Hessenberg eigen-solver
 // where Eigen frees a temporary it no longer reads (a false positive of
 // its inlining); clang has no such warning.
@@ -85,6 +87,18 @@ void take(Spectrum& s, const Eigen::VectorXcd& values) {
 
 }  // namespace
 
+Eigen::MatrixXd dense_matrix(const LinearOperator& a) {
+  const auto N = static_cast<Eigen::Index>(a.dimension);
+  Eigen::MatrixXd A(N, N);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(N);
+  for (Eigen::Index j = 0; j < N; ++j) {
+    e(j) = 1;
+    a.apply(e.data(), A.col(j).data());
+    e(j) = 0;
+  }
+  return A;
+}
+
 Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
   Spectrum s;
   s.method = "dense";
@@ -107,13 +121,17 @@ Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
         R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
     s.dimension = K;
     if (K > 0) {
-      const Eigen::EigenSolver<Eigen::MatrixXd> eig(R, false);
-      if (eig.info() != Eigen::Success) {
-        s.why_not = "the eigenvalue iteration of the map's matrix did not converge";
+      const double left =
+          budget.max_seconds > 0 ? std::max(1e-3, budget.max_seconds - op.seconds()) : 0.0;
+      bool stopped = false;
+      auto eig = dense_eigenvalues(std::move(R), budget.stop, left, stopped);
+      if (stopped) throw Stopped("stopped by a signal");
+      if (!eig->why_not.empty()) {
+        s.why_not = eig->why_not;
         finish(s, op);
         return s;
       }
-      take(s, eig.eigenvalues());
+      take(s, eig->values);
     } else {
       s.converged = true;
     }

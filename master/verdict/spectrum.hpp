@@ -16,6 +16,7 @@
 // radius it has not converged to.
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <functional>
 #include <stdexcept>
@@ -67,6 +68,9 @@ struct Spectrum {
 
 Spectrum dominant_spectrum(const LinearOperator& a, const Budget& budget,
                            const KrylovSettings& settings = {});
+
+// The matrix of the map: every column A e_j (no budget, no stop).
+Eigen::MatrixXd dense_matrix(const LinearOperator& a);
 
 // Every column A e_j; columns that are zero are dropped with their rows
 // (their eigenvalues are 0).
