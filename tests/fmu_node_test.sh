@@ -7,6 +7,7 @@
 #   FMU solves its tridiagonal systems by Thomas' algorithm, the built-in
 #   soil otherwise: round-off apart); the explicit run judged `ok` against a
 #   co-simulation reference with held inputs (the FMU takes no ramps);
+# - on both data planes (direct and relayed), each run the same;
 # - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
 #   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0);
 # - the same soil mapped by the scene's own [soil] table (model = "external"),
@@ -66,6 +67,13 @@ for coupling in explicit implicit; do
     >"$work/compare.log" 2>&1 || fail "the FMU soil differs from the built-in one ($coupling)" "$work/compare.log"
   grep -q '^agree: ' "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
   cat "$work/compare.log"
+  # The master's relay: the same run as the nodes' own exchange, bit for bit.
+  "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling "$coupling" \
+    --data-plane relay --node "soil=$soil" --out "$work/fmu-$coupling-relay" >"$work/run.log" 2>&1 ||
+    fail "the relayed run with the FMU soil failed ($coupling)" "$work/run.log"
+  "$bin/master" compare "$work/fmu-$coupling" "$work/fmu-$coupling-relay" --tolerance 0 \
+    >"$work/compare.log" 2>&1 || fail "the relayed FMU soil run differs ($coupling)" "$work/compare.log"
+  echo "soil FMU, $coupling, relay against direct: $(tail -1 "$work/compare.log")"
 done
 
 # The mapping in the scene itself: the soil `external`, its [soil] table the
@@ -113,16 +121,20 @@ start vehicle "$bin/fmu_node" --role vehicle --listen 127.0.0.1:0 --config "$wor
 vehicle=$address
 for coupling in explicit implicit; do
   "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
-    --node "vehicle=$vehicle" --out "$work/vfmu-$coupling" >"$work/run.log" 2>&1 ||
-    fail "the run with the vehicle FMU failed ($coupling)" "$work/run.log"
-  grep -m1 "^wr-xx-jacobi: " "$work/run.log" || fail "no summary line ($coupling)" "$work/run.log"
-  "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
     --out "$work/vbuiltin-$coupling" >"$work/run.log" 2>&1 ||
     fail "the built-in run failed ($coupling)" "$work/run.log"
-  "$bin/master" compare "$work/vbuiltin-$coupling" "$work/vfmu-$coupling" --tolerance 0 \
-    >"$work/compare.log" 2>&1 || fail "the vehicle FMU differs from the built-in one ($coupling)" "$work/compare.log"
-  grep -q '^agree: 1 run(s), 2 file(s), 0 over the tolerance 0; worst relative difference 0 ' \
-    "$work/compare.log" || fail "unexpected verdict" "$work/compare.log"
-  cat "$work/compare.log"
+  # Both data planes: the nodes' own exchange and the master's relay.
+  for plane in direct relay; do
+    "$bin/master" run --scene "$work/paper.toml" --case wr-xx-jacobi --coupling "$coupling" \
+      --data-plane "$plane" --node "vehicle=$vehicle" --out "$work/vfmu-$coupling-$plane" \
+      >"$work/run.log" 2>&1 || fail "the run with the vehicle FMU failed ($coupling, $plane)" "$work/run.log"
+    grep -m1 "^wr-xx-jacobi: " "$work/run.log" || fail "no summary line ($coupling, $plane)" "$work/run.log"
+    "$bin/master" compare "$work/vbuiltin-$coupling" "$work/vfmu-$coupling-$plane" --tolerance 0 \
+      >"$work/compare.log" 2>&1 ||
+      fail "the vehicle FMU differs from the built-in one ($coupling, $plane)" "$work/compare.log"
+    grep -q '^agree: 1 run(s), 2 file(s), 0 over the tolerance 0; worst relative difference 0 ' \
+      "$work/compare.log" || fail "unexpected verdict ($coupling, $plane)" "$work/compare.log"
+    echo "vehicle FMU, $coupling, $plane plane: $(tail -1 "$work/compare.log")"
+  done
 done
 echo "1 passed, 0 failed"
