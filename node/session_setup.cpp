@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "session.hpp"
+#include "setup_from_configure.hpp"
 
 namespace railcosim {
 namespace {
@@ -61,15 +62,32 @@ Interface interface_from_wire(const wire::Interface& w, std::size_t k) {
 
 }  // namespace
 
-ParticipantSetup NodeSession::configured_setup(const wire::Configure& c) const {
-  if (c.participant() != participant_)
-    throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
-                                                     " participant, the hello the " + participant_);
+ParticipantSetup setup_from_configure(const wire::Configure& c, const std::string& participant,
+                                      long max_micro_steps) {
   if (!(c.macro_step() > 0) || !(c.tolerance() >= 0) || c.micro_steps() < 0 ||
       c.micro_steps() > 65536)
     throw ProtocolError(wire::Error::BAD_REQUEST,
                         "configure: macro_step must be positive, tolerance not negative, "
                         "micro_steps between 0 and 65536");
+  ParticipantSetup s;
+  s.participant = participant;
+  for (int k = 0; k < c.interfaces_size(); ++k)
+    s.interfaces.push_back(interface_from_wire(c.interfaces(k), static_cast<std::size_t>(k)));
+  s.run.macro_step = c.macro_step();
+  s.run.end_time = c.end_time();
+  s.run.tolerance = c.tolerance();
+  s.run.micro_steps = c.micro_steps();
+  s.run.max_micro_steps = c.max_micro_steps() > 0
+                              ? std::min<long>(c.max_micro_steps(), max_micro_steps)
+                              : max_micro_steps;
+  s.run.carry_acceleration = c.carry_acceleration();
+  return s;
+}
+
+ParticipantSetup NodeSession::configured_setup(const wire::Configure& c) const {
+  if (c.participant() != participant_)
+    throw ProtocolError(wire::Error::WRONG_ROLE, "configure names the " + c.participant() +
+                                                     " participant, the hello the " + participant_);
   if (options_.pinned_scene) {  // the scene of the hello, which the pinned one matched
     Scene sent;
     sent.text = c.scene();
@@ -78,18 +96,7 @@ ParticipantSetup NodeSession::configured_setup(const wire::Configure& c) const {
       throw ProtocolError(wire::Error::SCENE_MISMATCH,
                           "the configured scene does not match the fingerprint of the hello");
   }
-  ParticipantSetup s;
-  s.participant = participant_;
-  for (int k = 0; k < c.interfaces_size(); ++k)
-    s.interfaces.push_back(interface_from_wire(c.interfaces(k), static_cast<std::size_t>(k)));
-  s.run.macro_step = c.macro_step();
-  s.run.end_time = c.end_time();
-  s.run.tolerance = c.tolerance();
-  s.run.micro_steps = c.micro_steps();
-  s.run.max_micro_steps = c.max_micro_steps() > 0
-                              ? std::min<long>(c.max_micro_steps(), options_.max_micro_steps)
-                              : options_.max_micro_steps;
-  s.run.carry_acceleration = c.carry_acceleration();
+  ParticipantSetup s = setup_from_configure(c, participant_, options_.max_micro_steps);
   if (const auto& file = options_.config_file)
     s.config = OwnConfig::table_of(file->text, file->path,
                                    file->table.empty() ? participant_ : file->table);

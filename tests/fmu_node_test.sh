@@ -11,7 +11,8 @@
 # - the built-in vehicle exported as an FMU (fmu_export/) as the vehicle of
 #   scenes/paper.toml, wr-xx-jacobi, equal bit for bit (tolerance 0);
 # - the same soil mapped by the scene's own [soil] table (model = "external"),
-#   sent to a node started without --config: equal bit for bit;
+#   sent to a node started without --config: equal bit for bit; and hosted
+#   in the master's process (--transport inproc): equal bit for bit;
 # - the lumped soil that cannot save its state: explicit runs, not judged
 #   for that reason; implicit refused, saying so.
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
@@ -92,6 +93,30 @@ start scene "$bin/fmu_node" --role soil --listen 127.0.0.1:0
 "$bin/master" compare "$work/fmu-explicit" "$work/fmu-scene" --tolerance 0 >"$work/compare.log" 2>&1 ||
   fail "the scene's mapping differs from the node's configuration" "$work/compare.log"
 echo "the mapping in the scene: $(tail -1 "$work/compare.log")"
+
+# The same scene in the master's own process (--transport inproc): the FMU
+# hosted there, no node, the same run bit for bit, explicit and implicit,
+# and the explicit run judged as over TCP.
+"$bin/master" run --scene "$work/external.toml" --case ss-xx-jacobi --transport inproc \
+  --out "$work/fmu-inproc" >"$work/run.log" 2>&1 || fail "the run with the FMU in process failed" "$work/run.log"
+grep -q '^ss-xx-jacobi: ok, ' "$work/run.log" || fail "the in-process FMU soil's run is not ok" "$work/run.log"
+"$bin/master" compare "$work/fmu-explicit" "$work/fmu-inproc" --tolerance 0 >"$work/compare.log" 2>&1 ||
+  fail "the FMU in process differs from the FMU over TCP" "$work/compare.log"
+echo "the FMU in process, explicit: $(tail -1 "$work/compare.log")"
+"$bin/master" run --scene "$work/external.toml" --case ss-xx-jacobi --transport inproc \
+  --coupling implicit --out "$work/fmu-inproc-implicit" >"$work/run.log" 2>&1 ||
+  fail "the implicit run with the FMU in process failed" "$work/run.log"
+"$bin/master" compare "$work/fmu-implicit" "$work/fmu-inproc-implicit" --tolerance 0 \
+  >"$work/compare.log" 2>&1 || fail "the implicit FMU in process differs from over TCP" "$work/compare.log"
+echo "the FMU in process, implicit: $(tail -1 "$work/compare.log")"
+# Without the FMU's file, an external soil in process is refused, saying why.
+grep -v '^file = ' "$work/external.toml" >"$work/nofile.toml"
+if "$bin/master" run --scene "$work/nofile.toml" --case ss-xx-jacobi --transport inproc \
+  --out "$work/nofile" >"$work/run.log" 2>&1; then
+  fail "an external soil without an FMU ran in process" "$work/run.log"
+fi
+grep -q 'give its address with --node soil=HOST:PORT (and --transport tcp)' "$work/run.log" ||
+  fail "the refusal does not say what to do" "$work/run.log"
 
 sed 's/lumped_soil3.fmu/lumped_soil3_nostate.fmu/' "$work/fmu.toml" >"$work/nostate.toml"
 start nostate "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/nostate.toml"

@@ -7,12 +7,14 @@
 #include <stdexcept>
 
 #include "log.hpp"
+#include "remote/inproc_fmu.hpp"
 #include "remote/remote_participant.hpp"
 
 namespace railcosim::remote {
 
 ParticipantFactory inproc_factory(const Scene& scene) {
   return [scene](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
+    if (auto fmu = inproc_fmu(scene, c)) return fmu;  // the scene's soil FMU
     return std::make_unique<Subsystem>(scene, c);
   };
 }

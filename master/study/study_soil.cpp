@@ -37,7 +37,8 @@ void check_study_scene(const Scene& scene, const StudyOptions& o) {
         scene.source +
         ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
         "nodes and cannot reach that program; run each case with master run --node "
-        "soil=HOST:PORT");
+        "soil=HOST:PORT (or, for a soil FMU the scene's [soil] table names, master run "
+        "--transport inproc)");
   if (scene.started_soil() != nullptr && !remote::is_remote_transport(o.transport))
     throw std::invalid_argument(
         scene.source + ": the scene's soil is " + scene.started_soil()->title +

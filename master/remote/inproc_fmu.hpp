@@ -1,0 +1,29 @@
+// An FMU in the master's own process: the soil of a scene whose [soil]
+// table says model = "external" and names an FMU (file = "soil.fmu", with
+// the FMU participant's keys, docs/fmu.md), under --transport inproc. The
+// participant is the one fmu_node serves (fmu_node/fmu_participant.hpp),
+// given the setup a node would be given (the Configure the master would
+// send it, read as a node reads it), so that the run is the same run bit
+// for bit, without a socket. The FMU's binary runs in the master's process
+// with the user's rights; a relative `file` is the scene file's neighbour.
+#pragma once
+
+#include <memory>
+
+#include "cosim_case.hpp"
+#include "participant.hpp"
+#include "scene.hpp"
+#include "subsystem.hpp"
+
+namespace railcosim::remote {
+
+// True when the scene's soil is external and its [soil] table names an FMU
+// (a `file` key): the in-process transport then hosts it.
+bool soil_fmu_in_process(const Scene& scene);
+
+// The participant for `config` when it is that soil; nullptr otherwise.
+// Throws std::invalid_argument naming the scene's key for a mapping the FMU
+// participant refuses.
+std::unique_ptr<Participant> inproc_fmu(const Scene& scene, const SubsystemConfig& config);
+
+}  // namespace railcosim::remote
