@@ -135,9 +135,12 @@ std::vector<std::string> paper_case_names() {
 
 std::vector<std::string> case_names(const Scene& scene) {
   std::vector<std::string> names;
-  if (!scene.outside_soil()) names.push_back("monolithic");
+  if (!scene.outside_model()) names.push_back("monolithic");
   std::vector<std::string> cuts;
-  if (!scene.outside_soil()) cuts = {"wr", "rs"};
+  if (scene.outside_vehicle() && !scene.outside_soil())
+    cuts = {"wr"};
+  else if (!scene.outside_soil())
+    cuts = {"wr", "rs"};
   if (scene.has_soil()) cuts.push_back("ss");
   const char* types[] = {"xx", "xt"};
   const char* schemes[] = {"jacobi", "gauss-seidel"};
@@ -159,6 +162,10 @@ void check_case_for_scene(const CaseSpec& spec, const Scene& scene) {
                                   scene.soil_model +
                                   "\"): there is no monolithic reference, only cases that cut "
                                   "through the ballast (ss)");
+    if (scene.outside_vehicle())
+      throw std::invalid_argument(
+          "the scene's vehicle is an FMU ([vehicle.fmu]): there is no monolithic reference, only "
+          "cases that cut at the wheel/rail contact (wr)");
     return;
   }
   partition(scene, spec);  // throws if a cut needs a component the scene lacks

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <numbers>
+#include <sstream>
 
 #include "section_reader.hpp"
 
@@ -88,6 +89,11 @@ VehicleParams parse_vehicle(const toml::table& t, const std::string& source) {
     p.cars = read_cars(r, source);
   } else {
     set_car_keys(p, read_car(r, p.type == VehicleType::car));
+  }
+  if (const toml::table* fmu = r.subtable("fmu")) {
+    std::ostringstream text;
+    text << *fmu;
+    p.fmu_config = text.str();
   }
   r.reject_unknown();
   return p;

@@ -159,6 +159,12 @@ std::vector<ParticipantSpec> partition(const Scene& scene, const CaseSpec& spec)
       throw std::invalid_argument("case " + spec.name() + ": the " + kind.title + " cut (" +
                                   kind.name + ") " + missing);
   }
+  if (scene.outside_vehicle() &&
+      (spec.cuts.empty() ||
+       cut_kinds()[static_cast<std::size_t>(spec.cuts.front().cut)].upper != Component::kVehicle))
+    throw std::invalid_argument("case " + spec.name() +
+                                ": the scene's vehicle is an FMU ([vehicle.fmu]), so the case must "
+                                "cut at the wheel/rail contact (wr) to reach it");
   if (scene.outside_soil() && !cuts_soil)
     throw std::invalid_argument(
         "case " + spec.name() + ": the scene's soil is " +

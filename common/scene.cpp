@@ -364,6 +364,14 @@ Scene parse_scene(const std::string& toml_text, const std::string& source_name,
   return sc;
 }
 
+std::string Scene::fmu_mapping(const std::string& role) const {
+  if (role == "vehicle") return vehicle.fmu_config;
+  if (role == "soil" && soil_model == "external" && !soil_config.empty() &&
+      toml::parse(soil_config).contains("file"))
+    return soil_config;
+  return "";
+}
+
 Scene load_scene(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw SceneError(path + ": cannot open the scene file");

@@ -156,6 +156,16 @@ struct Scene {
   // The soil is a participant of its own ("external" or one the master
   // starts): no monolithic reference, only cases through the ss cut.
   bool outside_soil() const { return soil_model == "external" || started_soil() != nullptr; }
+  // The vehicle is an FMU ([vehicle.fmu]): a participant of its own at the
+  // wheel/rail cut, whose physics the built-in model need not share.
+  bool outside_vehicle() const { return !vehicle.fmu_config.empty(); }
+  // A participant the product does not model itself: no monolithic run or
+  // reference, the co-simulation reference instead.
+  bool outside_model() const { return outside_soil() || outside_vehicle(); }
+  // The FMU mapping of a role's participant as TOML text (docs/fmu.md): the
+  // vehicle's [vehicle.fmu]; the soil's table when it is external and names
+  // an FMU (a `file` key); empty otherwise.
+  std::string fmu_mapping(const std::string& role) const;
   // The soil the master starts itself (outside_soil.hpp), or nullptr.
   const OutsideSoil* started_soil() const { return find_outside_soil(soil_model); }
 

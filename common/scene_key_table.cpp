@@ -83,6 +83,13 @@ void vehicle_keys(std::vector<Entry>& v) {
                   "run of identical cars, with count)")
                   .note("1 … " + std::to_string(kMaxTrainCars) + " cars in all")
                   .when(kTrain));
+  Entry fmu = key("vehicle", "fmu", KeyType::table, "",
+                  "an FMU that is the vehicle participant: its mapping keys ([vehicle.fmu]: file, "
+                  "CUT_in_QUANTITY, CUT_out_QUANTITY, set_NAME, history_NAME; docs/fmu.md), "
+                  "handed to it whole as TOML text; the cases then cut at wr and have no "
+                  "monolithic run");
+  fmu.k.required = false;
+  v.push_back(fmu);
 }
 
 // An entry of [[vehicle.cars]]: the car model's keys and where its ends are.

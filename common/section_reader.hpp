@@ -82,6 +82,17 @@ class SectionReader {
     return table_.get(key) != nullptr;
   }
 
+  // An optional sub-table ([table.key]), read whole by its own reader;
+  // nullptr when absent.
+  const toml::table* subtable(const std::string& key) {
+    const SceneKey& k = scene_key(name_, key);
+    const toml::node* n = find(k);
+    if (n == nullptr) return nullptr;
+    const toml::table* t = n->as_table();
+    if (t == nullptr) fail(key, "must be a table ([" + shown_ + "." + key + "])");
+    return t;
+  }
+
   // A number: required, or its entry's default when absent; in its range.
   double number(const std::string& key) {
     const SceneKey& k = scene_key(name_, key);

@@ -78,6 +78,11 @@ struct VehicleParams {
   // written out); their overhangs place them, the keys above stay zero.
   std::vector<CarParams> cars;
 
+  // The FMU that is the vehicle participant ([vehicle.fmu]: its mapping
+  // keys, docs/fmu.md) as TOML text, handed to it whole; empty: the
+  // built-in vehicle. The keys above still give the speed, the start and
+  // the contact the other participants and the statics need.
+  std::string fmu_config;
   bool operator==(const VehicleParams&) const = default;
 };
 

@@ -143,6 +143,7 @@ wire::Envelope configure_envelope(const Scene& scene, const SubsystemConfig& con
     }
   }
   if (config.participant.role == "soil") c->set_own_config(scene.soil_config);
+  if (config.participant.role == "vehicle") c->set_own_config(scene.vehicle.fmu_config);
   return e;
 }
 

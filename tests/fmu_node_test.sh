@@ -13,6 +13,8 @@
 # - the same soil mapped by the scene's own [soil] table (model = "external"),
 #   sent to a node started without --config: equal bit for bit; and hosted
 #   in the master's process (--transport inproc): equal bit for bit;
+# - the vehicle FMU mapped by the scene ([vehicle.fmu]), in process and
+#   over TCP with a node the master starts: equal bit for bit;
 # - the lumped soil that cannot save its state: explicit runs, not judged
 #   for that reason; implicit refused, saying so.
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
@@ -109,6 +111,12 @@ echo "the FMU in process, explicit: $(tail -1 "$work/compare.log")"
 "$bin/master" compare "$work/fmu-implicit" "$work/fmu-inproc-implicit" --tolerance 0 \
   >"$work/compare.log" 2>&1 || fail "the implicit FMU in process differs from over TCP" "$work/compare.log"
 echo "the FMU in process, implicit: $(tail -1 "$work/compare.log")"
+# Over TCP without --node: the master starts an fmu_node for the soil itself.
+"$bin/master" run --scene "$work/external.toml" --case ss-xx-jacobi --out "$work/fmu-started" \
+  >"$work/run.log" 2>&1 || fail "the run with an fmu_node the master started failed" "$work/run.log"
+"$bin/master" compare "$work/fmu-explicit" "$work/fmu-started" --tolerance 0 >"$work/compare.log" 2>&1 ||
+  fail "the FMU served by a node the master started differs" "$work/compare.log"
+echo "the FMU on a node the master started: $(tail -1 "$work/compare.log")"
 # Without the FMU's file, an external soil in process is refused, saying why.
 grep -v '^file = ' "$work/external.toml" >"$work/nofile.toml"
 if "$bin/master" run --scene "$work/nofile.toml" --case ss-xx-jacobi --transport inproc \
@@ -162,4 +170,35 @@ for coupling in explicit implicit; do
     echo "vehicle FMU, $coupling, $plane plane: $(tail -1 "$work/compare.log")"
   done
 done
+
+# The vehicle's mapping in the scene ([vehicle.fmu]): hosted in process, or
+# served by an fmu_node the master starts itself (no --node), explicit and
+# implicit, each equal to the built-in vehicle bit for bit; its judgement
+# says why it is not judged (this FMU steps only at the scene's macro step,
+# so no reference at H / 2 can be made); no monolithic case.
+cp "$work/paper.toml" "$work/vfmu.toml"
+{
+  echo "[vehicle.fmu]"
+  grep -v '^\[vehicle\]' "$work/vehicle.toml"
+} >>"$work/vfmu.toml"
+for coupling in explicit implicit; do
+  for transport in inproc tcp; do
+    "$bin/master" run --scene "$work/vfmu.toml" --case wr-xx-jacobi --coupling "$coupling" \
+      --transport "$transport" --out "$work/vscene-$coupling-$transport" >"$work/run.log" 2>&1 ||
+      fail "the scene's vehicle FMU failed ($coupling, $transport)" "$work/run.log"
+    grep -q 'not judged: no co-simulation reference: .*the communication step must be the scene' \
+      "$work/run.log" || fail "the judgement does not say why ($coupling, $transport)" "$work/run.log"
+    "$bin/master" compare "$work/vbuiltin-$coupling" "$work/vscene-$coupling-$transport" \
+      --tolerance 0 >"$work/compare.log" 2>&1 ||
+      fail "the scene's vehicle FMU differs from the built-in one ($coupling, $transport)" \
+        "$work/compare.log"
+    echo "the scene's vehicle FMU, $coupling, $transport: $(tail -1 "$work/compare.log")"
+  done
+done
+if "$bin/master" run --scene "$work/vfmu.toml" --case monolithic --out "$work/vmono" \
+  >"$work/run.log" 2>&1; then
+  fail "a monolithic run of a scene whose vehicle is an FMU was made" "$work/run.log"
+fi
+grep -q 'vehicle is an FMU (\[vehicle.fmu\]): there is no monolithic reference' "$work/run.log" ||
+  fail "the monolithic refusal does not say why" "$work/run.log"
 echo "1 passed, 0 failed"

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cosim_case.hpp"
 #include "scene_text.hpp"
 #include "test_support.hpp"
 
@@ -169,6 +170,32 @@ TEST(SceneText, TheEditorMakesTablesAndNamesAPathThroughAValue) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "scene key 'scene.name.x': name is not a table");
   }
+}
+
+// [vehicle.fmu]: the vehicle participant is an FMU; its table is handed on
+// whole (it goes into the node's own configuration and the fingerprint),
+// only wheel/rail cases remain and there is no monolithic one.
+TEST(Scene, AVehicleFmuTableIsHandedOnWholeAndLeavesOnlyWheelRailCases) {
+  const Scene s = parse_scene(paper_text() +
+                                  "\n[vehicle.fmu]\nfile = \"vehicle.fmu\"\n"
+                                  "wr_in_displacement = \"u\"\n",
+                              "vfmu.toml");
+  EXPECT_TRUE(s.outside_vehicle());
+  EXPECT_TRUE(s.outside_model());
+  EXPECT_NE(s.fmu_mapping("vehicle").find("wr_in_displacement = 'u'"), std::string::npos)
+      << s.fmu_mapping("vehicle");
+  EXPECT_EQ(s.fmu_mapping("soil"), "");
+  for (const std::string& name : case_names(s)) EXPECT_EQ(name.rfind("wr-", 0), 0u) << name;
+  EXPECT_THROW(check_case_for_scene(parse_case("monolithic"), s), std::invalid_argument);
+  EXPECT_THROW(check_case_for_scene(parse_case("rs-xx-jacobi"), s), std::invalid_argument);
+  EXPECT_NO_THROW(check_case_for_scene(parse_case("wr-xx-jacobi"), s));
+  EXPECT_NE(error_of(paper_text() + "\n[vehicle]\nfmu = 3\n"), "");
+  const std::string not_table = error_of(with_line("mass = 11250.0", "mass = 11250.0\nfmu = 3"));
+  EXPECT_NE(not_table.find("key 'vehicle.fmu': must be a table ([vehicle.fmu])"), std::string::npos)
+      << not_table;
+  const Scene plain = parse_scene(paper_text(), "paper.toml");
+  EXPECT_FALSE(plain.outside_vehicle());
+  EXPECT_EQ(plain.fmu_mapping("vehicle"), "");
 }
 
 }  // namespace

@@ -25,7 +25,6 @@
 #include "cosim_case.hpp"
 #include "log.hpp"
 #include "model.hpp"
-#include "remote/inproc_fmu.hpp"
 #include "remote/node_launcher.hpp"
 #include "remote/peer_text.hpp"
 #include "remote/remote_participant.hpp"
@@ -72,10 +71,9 @@ std::map<std::string, Address> given_nodes(const RunArgs& a, const Scene& scene,
     given[n.substr(0, eq)] = parse_address(n.substr(eq + 1), "--node " + n.substr(0, eq));
   }
   // An external soil is a program the master cannot start: its address must be given.
-  // (In process, a soil FMU named by the scene's [soil] table is hosted here.)
-  const bool hosted =
-      !remote::is_remote_transport(a.transport) && remote::soil_fmu_in_process(scene);
-  if (scene.soil_model == "external" && !spec.monolithic && !hosted)
+  // (A soil FMU named by the scene's [soil] table is hosted in process, or
+  // served by an fmu_node the master starts.)
+  if (scene.soil_model == "external" && !spec.monolithic && scene.fmu_mapping("soil").empty())
     for (const auto& p : partition(scene, spec))
       if (p.parts.has(Component::kSoil) && given.count(p.role) == 0)
         throw std::invalid_argument(

@@ -1,6 +1,8 @@
-// An FMU in the master's own process: the soil of a scene whose [soil]
-// table says model = "external" and names an FMU (file = "soil.fmu", with
-// the FMU participant's keys, docs/fmu.md), under --transport inproc. The
+// An FMU in the master's own process under --transport inproc: a
+// participant the scene maps to an FMU (Scene::fmu_mapping: the vehicle's
+// [vehicle.fmu]; a soil whose [soil] table says model = "external" and
+// names an FMU, file = "soil.fmu", with the FMU participant's keys,
+// docs/fmu.md). The
 // participant is the one fmu_node serves (fmu_node/fmu_participant.hpp),
 // given the setup a node would be given (the Configure the master would
 // send it, read as a node reads it), so that the run is the same run bit
@@ -17,11 +19,8 @@
 
 namespace railcosim::remote {
 
-// True when the scene's soil is external and its [soil] table names an FMU
-// (a `file` key): the in-process transport then hosts it.
-bool soil_fmu_in_process(const Scene& scene);
-
-// The participant for `config` when it is that soil; nullptr otherwise.
+// The participant for `config` when the scene maps its role to an FMU;
+// nullptr otherwise.
 // Throws std::invalid_argument naming the scene's key for a mapping the FMU
 // participant refuses.
 std::unique_ptr<Participant> inproc_fmu(const Scene& scene, const SubsystemConfig& config);

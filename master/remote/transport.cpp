@@ -99,7 +99,7 @@ LaunchCommand soil_check_command(const FeSoilLaunch& fe) {
   return c;
 }
 
-const Address& NodePool::address(const std::string& role) {
+const Address& NodePool::address(const std::string& role, const std::string& given_program) {
   auto it = nodes_.find(role);
   if (it == nodes_.end() && role == "soil" && fe_) {
     auto node = std::make_unique<LaunchedNode>(fe_soil_command(*fe_, token_file_), kFeSoilStart);
@@ -108,7 +108,7 @@ const Address& NodePool::address(const std::string& role) {
     it = nodes_.emplace(role, std::move(node)).first;
   }
   if (it == nodes_.end()) {
-    const std::string program = node_program(role);
+    const std::string program = given_program.empty() ? node_program(role) : given_program;
     std::vector<std::string> extra;
     if (fe_) extra = {"--idle-timeout", std::to_string(kIdleBesideFeSoil.count())};
     auto node =
@@ -160,7 +160,11 @@ class TcpTransport final : public Transport {
     return [scene, given = setup.given, pool = setup.pool, token = setup.token, base,
             reply](const SubsystemConfig& c) -> std::unique_ptr<Participant> {
       const auto it = given.find(c.participant.role);
-      const Address address = it != given.end() ? it->second : pool->address(c.participant.role);
+      // A participant the scene maps to an FMU is served by fmu_node, sent
+      // the mapping at Configure.
+      const std::string program = scene.fmu_mapping(c.participant.role).empty() ? "" : "fmu_node";
+      const Address address =
+          it != given.end() ? it->second : pool->address(c.participant.role, program);
       RemoteTimeouts timeouts = base;
       if (scene.started_soil() != nullptr && c.participant.parts.has(Component::kSoil))
         timeouts.reply = kFeSoilReply;  // a mesh or Green's functions to build

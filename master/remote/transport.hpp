@@ -74,7 +74,10 @@ class NodePool {
  public:
   // With a `token_file`, the nodes it starts require that shared secret.
   explicit NodePool(std::string token_file = "") : token_file_(std::move(token_file)) {}
-  const Address& address(const std::string& role);
+  // The node of `role`, started on first use: `program` (default: the
+  // role's node program, node_program()) with --role where its name is not
+  // the role's.
+  const Address& address(const std::string& role, const std::string& program = "");
   // The soil role is then served by the FE soil, started on first use.
   void use_fe_soil(FeSoilLaunch fe) { fe_ = std::move(fe); }
 

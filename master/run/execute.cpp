@@ -37,7 +37,7 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   }
   if (o.judge.mode == JudgeMode::kStability) {
     r.reference_kind = "none";
-    const bool own_model = !given_node && scene.soil_model != "external" && !started;
+    const bool own_model = !given_node && !scene.outside_model();
     if (own_model)
       assess_growth(r, scene, job.spec, o);
     else
@@ -45,7 +45,8 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
     judge_unmeasured(r, "errors not measured (--judge stability)");
     return r;
   }
-  if (given_node || scene.soil_model == "external" || (started && job.reference_step > 0)) {
+  if (given_node || scene.soil_model == "external" || scene.outside_vehicle() ||
+      (started && job.reference_step > 0)) {
     judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
     assess_against_cosim(r, scene, job.spec, o, factory, t.name, job.reference_step,
                          job.cosim_references);

@@ -276,7 +276,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   if (scene.started_soil() != nullptr) methods = methods_with_started_soil(scene, methods);
   // A soil of its own (FE, Green's functions, external) has no monolithic model,
   // and a node given by address runs physics of its own behind its role.
-  const bool monolithic = !scene.outside_soil() && o.nodes.empty();
+  const bool monolithic = !scene.outside_model() && o.nodes.empty();
   if (monolithic) to.add("case", "", nullptr, scene.macro_step, scene.tolerance, scene_rel);
   for (const Method& m : methods)
     to.add("case", "", &m, scene.macro_step, scene.tolerance, scene_rel);

@@ -32,6 +32,12 @@ std::vector<Method> methods_with_started_soil(const Scene& scene,
 }
 
 void check_study_scene(const Scene& scene, const StudyOptions& o) {
+  if (scene.outside_vehicle())
+    throw std::invalid_argument(
+        scene.source +
+        ": the scene's vehicle is an FMU ([vehicle.fmu]): a study's plan holds methods (ramped "
+        "inputs, waveforms, forces at xt cuts) an FMU may not serve, so it is not planned yet; "
+        "run each case with master run");
   if (scene.soil_model == "external")
     throw std::invalid_argument(
         scene.source +
