@@ -46,6 +46,10 @@ struct Vehicle {
   double in[3] = {0, 0, 0};  // displacement, velocity, force
   std::vector<Quantity> receives, sends;
   bool init_mode = false;
+  // The outputs are those of the inputs now set: no input was set since
+  // they were computed (a step's end, initialization), so a read takes them
+  // as they are.
+  bool fresh = false;
   long next = 0;                // the next macro step
   CouplingData outputs;         // the last ones computed
   std::vector<double> history;  // wheel_m, contact_force_N at the last point
@@ -155,6 +159,7 @@ FMU_EXPORT int fmi3ExitInitializationMode(void* c) {
     v.outputs = r.outputs;
     v.history = r.history;
     v.init_mode = false;
+    v.fresh = true;
   });
 }
 FMU_EXPORT int fmi3Terminate(void*) {
@@ -170,6 +175,7 @@ FMU_EXPORT int fmi3SetFloat64(void* c, const std::uint32_t* vr, std::size_t n, c
                                     " is not an input");
       v.in[vr[i] - 10] = x[i];
     }
+    v.fresh = false;
   });
 }
 FMU_EXPORT int fmi3GetFloat64(void* c, const std::uint32_t* vr, std::size_t n, double* x,
@@ -178,9 +184,10 @@ FMU_EXPORT int fmi3GetFloat64(void* c, const std::uint32_t* vr, std::size_t n, d
     if (n != nx) throw std::invalid_argument("fmi3GetFloat64: one value per reference");
     if (v.init_mode) {
       v.outputs = v.sub->statics(v.inputs());
-    } else {  // the outputs with the inputs now set (a force output depends on them)
+    } else if (!v.fresh) {  // the outputs with the inputs now set (a force output depends on them)
       v.sub->set_inputs(v.next, v.inputs());
       v.outputs = v.sub->outputs();
+      v.fresh = true;
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (vr[i] >= 10 && vr[i] <= 12)
@@ -211,6 +218,7 @@ FMU_EXPORT int fmi3DoStep(void* c, double t, double h, bool, bool* event, bool* 
     v.outputs = r.outputs;
     v.history = r.history;
     v.next = n + 1;
+    v.fresh = true;
     *last = t + h;
   });
 }
@@ -241,6 +249,7 @@ FMU_EXPORT int fmi3SetFMUState(void* c, void* s) {
     v.next = saved->next;
     v.history = saved->history;
     std::memcpy(v.in, saved->in, sizeof v.in);
+    v.fresh = false;
   });
 }
 FMU_EXPORT int fmi3FreeFMUState(void*, void** s) {
