@@ -14,7 +14,8 @@
 #   sent to a node started without --config: equal bit for bit; and hosted
 #   in the master's process (--transport inproc): equal bit for bit;
 # - the vehicle FMU mapped by the scene ([vehicle.fmu]), in process and
-#   over TCP with a node the master starts: equal bit for bit;
+#   over TCP with a node the master starts, at wr-xx-jacobi and (its xt
+#   export) wr-xt-jacobi: equal bit for bit;
 # - the lumped soil that cannot save its state: explicit runs, not judged
 #   for that reason; implicit refused, saying so.
 # Usage: fmu_node_test.sh BIN_DIR SOURCE_DIR
@@ -193,6 +194,39 @@ for coupling in explicit implicit; do
       fail "the scene's vehicle FMU differs from the built-in one ($coupling, $transport)" \
         "$work/compare.log"
     echo "the scene's vehicle FMU, $coupling, $transport: $(tail -1 "$work/compare.log")"
+  done
+done
+# The vehicle FMU cut for wr-xt-jacobi (it receives the rail's displacement
+# and sends the contact force): equal to the built-in vehicle bit for bit,
+# and the explicit run, unstable, found so through the FMU's state save as
+# the built-in run is by its map.
+cp "$work/paper.toml" "$work/vfmu_xt.toml"
+cat >>"$work/vfmu_xt.toml" <<TOML
+[vehicle.fmu]
+file = "$bin/fmus/railcosim_vehicle_xt.fmu"
+wr_in_displacement = "wr_in_displacement"
+wr_out_force = "wr_out_force"
+history_wheel_m = "wheel_m"
+history_contact_force_N = "contact_force_N"
+TOML
+for coupling in explicit implicit; do
+  "$bin/master" run --scene "$work/paper.toml" --case wr-xt-jacobi --coupling "$coupling" \
+    --out "$work/xtbuiltin-$coupling" >"$work/builtin.log" 2>&1 ||
+    fail "the built-in wr-xt-jacobi run failed ($coupling)" "$work/builtin.log"
+  for transport in inproc tcp; do
+    "$bin/master" run --scene "$work/vfmu_xt.toml" --case wr-xt-jacobi --coupling "$coupling" \
+      --transport "$transport" --out "$work/xt-$coupling-$transport" >"$work/run.log" 2>&1 ||
+      fail "the xt vehicle FMU failed ($coupling, $transport)" "$work/run.log"
+    if [[ $coupling == explicit ]]; then
+      grep -Eq '^wr-xt-jacobi: (amplified|diverged|unstable), ' "$work/builtin.log" &&
+        grep -q 'unstable: at rest: ρ = 1.10[0-9]* per macro step' "$work/run.log" ||
+        fail "the xt vehicle FMU's run is not found unstable as the built-in one" "$work/run.log"
+    fi
+    "$bin/master" compare "$work/xtbuiltin-$coupling" "$work/xt-$coupling-$transport" \
+      --tolerance 0 >"$work/compare.log" 2>&1 ||
+      fail "the xt vehicle FMU differs from the built-in one ($coupling, $transport)" \
+        "$work/compare.log"
+    echo "the xt vehicle FMU, $coupling, $transport: $(tail -1 "$work/compare.log")"
   done
 done
 if "$bin/master" run --scene "$work/vfmu.toml" --case monolithic --out "$work/vmono" \
