@@ -2,7 +2,8 @@
 # FMUs served by fmu_node over TCP against the built-in participants,
 # explicit and implicit (the implicit run saves and restores the FMU's
 # state in lock step):
-# - the lumped soil as an FMI 3.0 FMU (tests/fmus/lumped_soil.c) as the soil
+# - the lumped soil as an FMI 3.0 FMU (tests/fmus/lumped_soil.c; and as FMI
+#   2.0, the same runs bit for bit, over TCP and in process) as the soil
 #   of scenes/soil.toml, ss-xx-jacobi, within 1e-9 by `master compare` (the
 #   FMU solves its tridiagonal systems by Thomas' algorithm, the built-in
 #   soil otherwise: round-off apart); the explicit run judged `ok` against a
@@ -80,6 +81,20 @@ for coupling in explicit implicit; do
   echo "soil FMU, $coupling, relay against direct: $(tail -1 "$work/compare.log")"
 done
 
+# The same soil as an FMI 2.0 FMU (the same C source): the same runs bit
+# for bit, over TCP and in process.
+sed 's/lumped_soil3.fmu/lumped_soil2.fmu/' "$work/fmu.toml" >"$work/fmu2.toml"
+start fmi2 "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/fmu2.toml"
+for coupling in explicit implicit; do
+  "$bin/master" run --scene "$work/soil.toml" --case ss-xx-jacobi --coupling "$coupling" \
+    --node "soil=$address" --out "$work/fmu2-$coupling" >"$work/run.log" 2>&1 ||
+    fail "the run with the FMI 2.0 soil failed ($coupling)" "$work/run.log"
+  "$bin/master" compare "$work/fmu-$coupling" "$work/fmu2-$coupling" --tolerance 0 \
+    >"$work/compare.log" 2>&1 || fail "the FMI 2.0 soil differs from the FMI 3.0 one ($coupling)" \
+    "$work/compare.log"
+  echo "the FMI 2.0 soil, $coupling: $(tail -1 "$work/compare.log")"
+done
+
 # The mapping in the scene itself: the soil `external`, its [soil] table the
 # FMU's configuration, which the master sends the node (no --config): the
 # same run bit for bit.
@@ -112,6 +127,12 @@ echo "the FMU in process, explicit: $(tail -1 "$work/compare.log")"
 "$bin/master" compare "$work/fmu-implicit" "$work/fmu-inproc-implicit" --tolerance 0 \
   >"$work/compare.log" 2>&1 || fail "the implicit FMU in process differs from over TCP" "$work/compare.log"
 echo "the FMU in process, implicit: $(tail -1 "$work/compare.log")"
+sed 's/lumped_soil3.fmu/lumped_soil2.fmu/' "$work/external.toml" >"$work/external2.toml"
+"$bin/master" run --scene "$work/external2.toml" --case ss-xx-jacobi --transport inproc \
+  --out "$work/fmu2-inproc" >"$work/run.log" 2>&1 || fail "the FMI 2.0 soil in process failed" "$work/run.log"
+"$bin/master" compare "$work/fmu-explicit" "$work/fmu2-inproc" --tolerance 0 >"$work/compare.log" 2>&1 ||
+  fail "the FMI 2.0 soil in process differs" "$work/compare.log"
+echo "the FMI 2.0 soil in process: $(tail -1 "$work/compare.log")"
 # Over TCP without --node: the master starts an fmu_node for the soil itself.
 "$bin/master" run --scene "$work/external.toml" --case ss-xx-jacobi --out "$work/fmu-started" \
   >"$work/run.log" 2>&1 || fail "the run with an fmu_node the master started failed" "$work/run.log"

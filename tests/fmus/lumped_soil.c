@@ -1,4 +1,4 @@
-/* The lumped soil of the shared model as an FMI 3.0 co-simulation FMU, for
+/* The lumped soil of the shared model as an FMI co-simulation FMU, for
  * the lower side of the ss cut with exchanged motion (ss-xx): a soil mass
  * under each of N_POINTS sleepers on a spring and damper to the ground, tied
  * to its neighbours, loaded through the ballast (kb, cb) from the sleepers'
@@ -8,7 +8,8 @@
  * acceleration consistent with the inputs; in initialization mode its
  * outputs are the static state for the inputs set. The same physics as the
  * C++ example examples/cpp_soil, written again in C with a tridiagonal
- * solve. The FMI types are declared here for this file alone. */
+ * solve. Built as FMI 2.0 (FMI_VERSION=2) or 3.0 (FMI_VERSION=3). The FMI
+ * types are declared here for this file alone. */
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -139,6 +140,109 @@ static double* slot(Model* m, uint32_t vr) {
   return NULL;
 }
 
+/* The defaults of the parameters, by value reference. */
+static void defaults(Model* m) {
+  const double p[9] = {0, 699.6, 121.08e6, 341.9e3, 43.72e6, 0.0, 25.5e6, 40e3, 10};
+  memcpy(m->p, p, sizeof p);
+}
+static int set_reals(Model* m, const uint32_t* vr, size_t n, const double* v) {
+  for (size_t i = 0; i < n; ++i) {
+    double* s = slot(m, vr[i]);
+    if (s == NULL || vr[i] >= VR_U) return S_ERROR;
+    *s = v[i];
+  }
+  return S_OK;
+}
+static int get_reals(Model* m, const uint32_t* vr, size_t n, double* v) {
+  if (m->init_mode) statics(m);
+  for (size_t i = 0; i < n; ++i) {
+    const double* s = slot(m, vr[i]);
+    if (s == NULL) return S_ERROR;
+    v[i] = *s;
+  }
+  return S_OK;
+}
+static int save(void* c, void** s) {
+  if (!WITH_STATE) return S_ERROR;
+  Model* copy = *s != NULL ? *s : malloc(sizeof(Model));
+  if (copy == NULL) return S_ERROR;
+  *copy = ((Instance*)c)->m;
+  *s = copy;
+  return S_OK;
+}
+static int restore(void* c, void* s) {
+  if (s == NULL) return S_ERROR;
+  ((Instance*)c)->m = *(const Model*)s;
+  return S_OK;
+}
+static int drop(void** s) {
+  free(*s);
+  *s = NULL;
+  return S_OK;
+}
+
+#if FMI_VERSION == 2
+typedef void (*Logger2)(void*, const char*, int, const char*, const char*, ...);
+typedef struct {
+  Logger2 logger;
+  void* (*allocate)(size_t, size_t);
+  void (*release)(void*);
+  void (*step_finished)(void*, int);
+  void* env;
+} Callbacks2;
+
+EXPORT void* fmi2Instantiate(const char* name, int type, const char* guid, const char* resources,
+                             const Callbacks2* cb, int visible, int logging) {
+  (void)resources, (void)visible, (void)logging;
+  if (type != 1 || guid == NULL || strcmp(guid, MODEL_TOKEN) != 0) {
+    if (cb != NULL && cb->logger != NULL)
+      cb->logger(cb->env, name, S_ERROR, "error", "wrong type or guid %s", guid ? guid : "");
+    return NULL;
+  }
+  Instance* c = calloc(1, sizeof(Instance));
+  if (c != NULL) defaults(&c->m);
+  return c;
+}
+EXPORT void fmi2FreeInstance(void* c) { free(c); }
+EXPORT int fmi2SetupExperiment(void* c, int tol_defined, double tol, double start, int stop_defined,
+                               double stop) {
+  (void)tol_defined, (void)tol, (void)stop_defined, (void)stop;
+  ((Instance*)c)->m.t = start;
+  return S_OK;
+}
+EXPORT int fmi2EnterInitializationMode(void* c) {
+  ((Instance*)c)->m.init_mode = true;
+  return S_OK;
+}
+EXPORT int fmi2ExitInitializationMode(void* c) {
+  Model* m = &((Instance*)c)->m;
+  statics(m);
+  m->init_mode = false;
+  return S_OK;
+}
+EXPORT int fmi2Terminate(void* c) { (void)c; return S_OK; }
+EXPORT int fmi2Reset(void* c) {
+  memset(c, 0, sizeof(Instance));
+  defaults(&((Instance*)c)->m);
+  return S_OK;
+}
+EXPORT int fmi2SetReal(void* c, const unsigned* vr, size_t n, const double* v) {
+  return set_reals(&((Instance*)c)->m, vr, n, v);
+}
+EXPORT int fmi2GetReal(void* c, const unsigned* vr, size_t n, double* v) {
+  return get_reals(&((Instance*)c)->m, vr, n, v);
+}
+EXPORT int fmi2DoStep(void* c, double t, double h, int no_set_prior) {
+  (void)no_set_prior;
+  return step(&((Instance*)c)->m, t, h);
+}
+EXPORT int fmi2GetFMUstate(void* c, void** s) { return save(c, s); }
+EXPORT int fmi2SetFMUstate(void* c, void* s) { return restore(c, s); }
+EXPORT int fmi2FreeFMUstate(void* c, void** s) {
+  (void)c;
+  return drop(s);
+}
+#else
 typedef void (*Logger3)(void*, int, const char*, const char*);
 
 EXPORT void* fmi3InstantiateCoSimulation(const char* name, const char* token,
@@ -153,9 +257,7 @@ EXPORT void* fmi3InstantiateCoSimulation(const char* name, const char* token,
     return NULL;
   }
   Instance* c = calloc(1, sizeof(Instance));
-  if (c == NULL) return NULL;
-  const double defaults[9] = {0, 699.6, 121.08e6, 341.9e3, 43.72e6, 0.0, 25.5e6, 40e3, 10};
-  memcpy(c->m.p, defaults, sizeof defaults);
+  if (c != NULL) defaults(&c->m);
   return c;
 }
 EXPORT void fmi3FreeInstance(void* c) { free(c); }
@@ -175,24 +277,10 @@ EXPORT int fmi3ExitInitializationMode(void* c) {
 }
 EXPORT int fmi3Terminate(void* c) { (void)c; return S_OK; }
 EXPORT int fmi3SetFloat64(void* c, const uint32_t* vr, size_t n, const double* v, size_t nv) {
-  if (nv != n) return S_ERROR;
-  for (size_t i = 0; i < n; ++i) {
-    double* s = slot(&((Instance*)c)->m, vr[i]);
-    if (s == NULL || vr[i] >= VR_U) return S_ERROR;
-    *s = v[i];
-  }
-  return S_OK;
+  return nv == n ? set_reals(&((Instance*)c)->m, vr, n, v) : S_ERROR;
 }
 EXPORT int fmi3GetFloat64(void* c, const uint32_t* vr, size_t n, double* v, size_t nv) {
-  Model* m = &((Instance*)c)->m;
-  if (nv != n) return S_ERROR;
-  if (m->init_mode) statics(m);
-  for (size_t i = 0; i < n; ++i) {
-    const double* s = slot(m, vr[i]);
-    if (s == NULL) return S_ERROR;
-    v[i] = *s;
-  }
-  return S_OK;
+  return nv == n ? get_reals(&((Instance*)c)->m, vr, n, v) : S_ERROR;
 }
 EXPORT int fmi3DoStep(void* c, double t, double h, bool no_set_prior, bool* event, bool* stop,
                       bool* early, double* last) {
@@ -202,22 +290,10 @@ EXPORT int fmi3DoStep(void* c, double t, double h, bool no_set_prior, bool* even
   *last = ((Instance*)c)->m.t;
   return s;
 }
-EXPORT int fmi3GetFMUState(void* c, void** s) {
-  if (!WITH_STATE) return S_ERROR;
-  Model* copy = *s != NULL ? *s : malloc(sizeof(Model));
-  if (copy == NULL) return S_ERROR;
-  *copy = ((Instance*)c)->m;
-  *s = copy;
-  return S_OK;
-}
-EXPORT int fmi3SetFMUState(void* c, void* s) {
-  if (s == NULL) return S_ERROR;
-  ((Instance*)c)->m = *(const Model*)s;
-  return S_OK;
-}
+EXPORT int fmi3GetFMUState(void* c, void** s) { return save(c, s); }
+EXPORT int fmi3SetFMUState(void* c, void* s) { return restore(c, s); }
 EXPORT int fmi3FreeFMUState(void* c, void** s) {
   (void)c;
-  free(*s);
-  *s = NULL;
-  return S_OK;
+  return drop(s);
 }
+#endif
