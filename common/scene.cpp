@@ -298,6 +298,8 @@ void read_coupling(SceneReader& r, Scene& sc) {
   whole("window_steps", c.window_steps);
   number("step_budget", c.step_budget);
   number("step_deadline_floor", c.step_deadline_floor);
+  text("judge", c.judge);
+  number("judge_budget", c.judge_budget);
   number("wr_macro_step", c.wr_macro_step);
   number("rs_macro_step", c.rs_macro_step);
   number("ss_macro_step", c.ss_macro_step);

@@ -34,6 +34,8 @@ struct SceneCoupling {
   std::optional<long> window_steps;           // --window-steps
   std::optional<double> step_budget;          // --step-budget, s
   std::optional<double> step_deadline_floor;  // --step-deadline-floor, s
+  std::optional<std::string> judge;           // --judge
+  std::optional<double> judge_budget;         // --judge-budget
   // A cut's own window (--macro-step CUT=H_cut), s: an integer multiple of
   // the finest window simulation.macro_step.
   std::optional<double> wr_macro_step, rs_macro_step, ss_macro_step;

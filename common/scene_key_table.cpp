@@ -320,6 +320,12 @@ void coupling_keys(std::vector<Entry>& v) {
                      "(--step-deadline-floor)")
                   .range(closed(0.1, 86400, "must lie between 0.1 and 86400"))
                   .fallback(2));
+  v.push_back(choice("coupling", "judge", {"full", "stability", "none"}, "judgement",
+                     "what is judged after the run (--judge)"));
+  v.push_back(
+      number("coupling", "judge_budget", "", "the Arnoldi measure's budget (--judge-budget)")
+          .range(closed(0, 1000, "must lie between 0 and 1000"))
+          .fallback(1));
   for (const char* cut : {"wr", "rs", "ss"})
     v.push_back(number("coupling", std::string(cut) + "_macro_step", "s",
                        std::string("the window of the ") + cut +

@@ -45,6 +45,8 @@ TEST(SceneCoupling, TheTablesDefaultsAreTheFlagsDefaults) {
   EXPECT_EQ(a.data_plane, word("data_plane"));
   EXPECT_EQ(a.window_steps, fallback("window_steps"));
   EXPECT_EQ(a.step_budget, fallback("step_budget"));
+  EXPECT_EQ(a.judge, word("judge"));
+  EXPECT_EQ(a.judge_budget, fallback("judge_budget"));
 }
 
 // Each number's range in the table is its flag's: both ends accepted, a
@@ -69,6 +71,16 @@ TEST(SceneCoupling, TheTablesRangesAreTheFlagsRanges) {
     EXPECT_NE(r.error(below), "") << key;
     EXPECT_NE(r.error(above), "") << key;
   }
+  // judge_budget starts at 0 (no bound), which halving cannot pass below.
+  const KeyRange& j = scene_key("coupling", "judge_budget").range;
+  EXPECT_EQ(j.lo, 0);
+  EXPECT_EQ(j.hi, 1000);
+  EXPECT_NO_THROW(Parsed("--judge-budget 0"));
+  EXPECT_NO_THROW(Parsed("--judge-budget 1000"));
+  EXPECT_THROW(Parsed("--judge-budget -1"), CLI::ParseError);
+  EXPECT_THROW(Parsed("--judge-budget 2000"), CLI::ParseError);
+  EXPECT_NE(j.error(-1), "");
+  EXPECT_NE(j.error(2000), "");
 }
 
 // The paper's scene over 0.02 s, without and with a [coupling] table.
@@ -84,7 +96,8 @@ std::string paper_with(const std::string& coupling) {
 const char* const kEveryKey =
     "implicit = true\ninputs = \"linear\"\naccelerator = \"aitken\"\nrelaxation = 0.25\n"
     "max_iterations = 12\nconvergence = 1e-6\nreused_windows = 3\nfeedthrough = \"resolved\"\n"
-    "data_plane = \"relay\"\nwindow_steps = 40\nstep_budget = 90\n";
+    "data_plane = \"relay\"\nwindow_steps = 40\nstep_budget = 90\njudge = \"stability\"\n"
+    "judge_budget = 3\n";
 
 TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   const Scene scene = parse_scene(paper_with(kEveryKey), "coupling.toml");
@@ -102,10 +115,14 @@ TEST(SceneCoupling, TheSceneStandsInForTheFlagsNotGiven) {
   EXPECT_EQ(a.data_plane, "direct");  // the flag
   EXPECT_EQ(a.window_steps, 40);
   EXPECT_EQ(a.step_budget, 90);
+  EXPECT_EQ(a.judge, "stability");
+  EXPECT_EQ(a.judge_budget, 3);
   EXPECT_EQ(cli::scene_coupling_note(p.args, scene),
             "; the scene's [coupling] (coupling.toml) set: implicit = true, accelerator = "
             "\"aitken\", relaxation = 0.25, convergence = 1e-06, reused_windows = 3, "
-            "feedthrough = \"resolved\", window_steps = 40, step_budget = 90");
+            "feedthrough = \"resolved\", window_steps = 40, step_budget = 90, judge = "
+            "\"stability\", judge_budget = 3");
+  EXPECT_EQ(cli::with_scene_coupling(Parsed("--judge none").args, scene).judge, "none");
   // `implicit = false` is explicit coupling, even against a default.
   const Parsed q("");
   EXPECT_EQ(

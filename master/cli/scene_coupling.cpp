@@ -55,6 +55,8 @@ std::vector<Taken> keys_of(const SceneCoupling& c) {
           taken("window_steps", "--window-steps", c.window_steps),
           taken("step_budget", "--step-budget", c.step_budget),
           taken("step_deadline_floor", "--step-deadline-floor", c.step_deadline_floor),
+          taken("judge", "--judge", c.judge),
+          taken("judge_budget", "--judge-budget", c.judge_budget),
           taken("wr_macro_step", "--macro-step", c.wr_macro_step),
           taken("rs_macro_step", "--macro-step", c.rs_macro_step),
           taken("ss_macro_step", "--macro-step", c.ss_macro_step)};
@@ -99,6 +101,8 @@ RunArgs with_scene_coupling(const RunArgs& a, const Scene& scene) {
   take("--window-steps", c.window_steps, r.window_steps);
   take("--step-budget", c.step_budget, r.step_budget);
   take("--step-deadline-floor", c.step_deadline_floor, r.step_deadline_floor);
+  take("--judge", c.judge, r.judge);
+  take("--judge-budget", c.judge_budget, r.judge_budget);
   return r;
 }
 
