@@ -112,7 +112,7 @@ def parse_one(table, k):
         g.depth = number(table, "depth", where, lo=0.0)
         g.width = number(table, "base_width", where, lo=0.0)
     if shape != AT_GRADE:
-        g.slope = number(table, "slope", where, lo=0.0, lo_open=False)
+        g.slope = number(table, "slope", where, lo=0.0)
     return g
 
 
@@ -206,7 +206,7 @@ def _slope_planes(zs, g):
         rows = zs[(zs >= -g.depth - 1e-12) & (zs <= 1e-12)]
         mids = 0.5 * (rows[1:] + rows[:-1])
         ys = g.edge + g.slope * (mids + g.depth)
-    return [g.edge, g.foot] + (list(ys) if g.slope > 0.0 else [])
+    return [g.edge, g.foot] + list(ys)
 
 
 def refine(p, g, h, h_ground, protect_y=(), protect_z=()):
