@@ -49,7 +49,8 @@ def outside(spec, y, z):
     y = np.abs(y)
     if spec["shape"] == "embankment":
         return (z > 0.0) & (y > 0.5 * spec["crest_width"] + spec["slope"] * (spec["height"] - z))
-    return (z > -spec["depth"]) & (y < 0.5 * spec["base_width"] + spec["slope"] * (z + spec["depth"]))
+    d = spec["depth"]
+    return (z > -d) & (y < 0.5 * spec["base_width"] + spec["slope"] * (z + d))
 
 
 class Geometry(unittest.TestCase):
@@ -136,10 +137,12 @@ class Refusals(unittest.TestCase):
         for key in ("depth", "base_width"):
             self.refused(r"\[soil\] grounds\[1\]\.%s must be > 0" % key,
                          [dict(CUT, **{key: 0.0})], "cut")
-        self.refused(r"\[soil\] grounds\[1\]\.heigth is not a key", [dict(BANK, heigth=1.0)], "bank")
+        self.refused(r"\[soil\] grounds\[1\]\.heigth is not a key", [dict(BANK, heigth=1.0)],
+                     "bank")
         self.refused(r"\[soil\] grounds\[1\]\.shear_wave_speed is not a key",
                      [dict(CUT, shear_wave_speed=100.0)], "cut")
-        self.refused(r"\[soil\] grounds\[1\]\.shape must be one of", [dict(CUT, shape="hill")], "cut")
+        self.refused(r"\[soil\] grounds\[1\]\.shape must be one of", [dict(CUT, shape="hill")],
+                     "cut")
         self.refused(r"\[soil\] grounds\[1\]\.shear_wave_speed is missing",
                      [{k: v for k, v in BANK.items() if k != "shear_wave_speed"}], "bank")
         self.refused(r"\[soil\] ground must be 'at_grade' or the name", [CUT], "cutt")

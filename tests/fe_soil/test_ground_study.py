@@ -78,7 +78,8 @@ class GroundStudy(unittest.TestCase):
                          ["at_grade", "cutting", "embankment", "flat"])
         for g in ("embankment", "cutting"):
             for k, name in enumerate(["r8m", "r12m"]):
-                mine = {r["quantity"]: r for r in rows if r["ground"] == g and r["receiver"] == name}
+                mine = {r["quantity"]: r for r in rows
+                        if r["ground"] == g and r["receiver"] == name}
                 vz, vr = self.records[g][:, k, 2], self.records["at_grade"][:, k, 2]
                 self.assertAlmostEqual(float(mine["ppv_mps"]["value"]), measures.ppv(vz),
                                        delta=1e-6 * measures.ppv(vz))
