@@ -223,7 +223,9 @@ def refine(p, g, h, h_ground, protect_y=(), protect_z=()):
             p.x_nodes = refine_axis(p.x_nodes, p.x_nodes[0], p.x_nodes[-1], h_ground)
             p.y_nodes = refine_axis(p.y_nodes, 0.0, g.edge, h_ground)
     else:
-        p.z_nodes = refine_axis(p.z_nodes, -g.depth, 0.0, h, protect=protect_z)
+        # refine_axis's last step may land a round-off below the surface
+        p.z_nodes = [0.0 if abs(z) < 1e-12 else z
+                     for z in refine_axis(p.z_nodes, -g.depth, 0.0, h, protect=protect_z)]
     ys = refine_axis(p.y_nodes, g.edge, g.foot, h, protect=[0.0, *protect_y])
     planes = _slope_planes(p.z_nodes, g)
     p.y_nodes = sorted(set(y for y in ys if not g.edge < y < g.foot) | set(planes))
