@@ -30,6 +30,8 @@ the checks run without dolfinx.
                                  # (fe_soil/path_measures.py; default all of them)
     [soil.mitigation]            # optional: the insertion-loss study's load (fe_soil/mitigation.py)
     [[soil.measures]]            # optional: trenches and walls (fe_soil/path_measures.py)
+    ground = "at_grade"          # optional: which [[soil.grounds]] a run builds
+    [[soil.grounds]]             # optional: embankments and cuttings (fe_soil/ground_shapes.py)
     [[soil.layers]]              # top down; the last reaches the bottom
     thickness = 2.0              # m
     density = 1800.0             # kg/m^3
@@ -42,7 +44,7 @@ from __future__ import annotations
 import math
 import os
 
-from . import path_measures, soil_table
+from . import ground_shapes, path_measures, soil_table
 from .params import (Footprint, SoilParams, graded_nodes, rayleigh_speed,
                      uniform_nodes)
 from .soil_table import ConfigError
@@ -52,7 +54,7 @@ TOP_KEYS = {"model", "ranks", "f_max", "elements_per_wavelength", "mesh_size", "
             "receivers", "receiver_x", "damping_band", "layers", "growth", "resolve_to",
             "static_reach", "absorbing_reflection", "fine_depth", "margin_along",
             "footprint_compliance", "damping_cutoff", "measures", "variant",
-            "mitigation"}
+            "mitigation", "grounds", "ground"}
 DEFAULTS = {"ranks": 1, "f_max": 20.0, "elements_per_wavelength": 12.0, "depth": 20.0,
             "margin": 8.0, "receivers": [4.0, 8.0, 16.0, 32.0], "damping_band": [5.0, 50.0],
             "static_reach": 5.0, "absorbing_reflection": 0.01,
@@ -132,6 +134,7 @@ def parse(table):
                          else max(out["receivers"]))
     out["layers"] = soil_table.layers(table, damping_hi=1.0)
     out["measures"], out["variant"] = path_measures.parse(table)
+    out["grounds"], out["ground"] = ground_shapes.parse(table)
     if "mitigation" in table:  # the mitigation study's load; the soil itself ignores it
         from .mitigation import load_keys
         load_keys(table["mitigation"])
@@ -243,9 +246,29 @@ def block_params(cfg, footprints):
         path_measures.refine(p, p.measures, h, c_min, cfg["f_max"] if rule else None,
                              cfg["elements_per_wavelength"] if rule else None,
                              protect_z=layered_nodes(cfg["layers"], cfg["depth"], math.inf))
+    _shape(p, cfg, h, fps)
     check_size(cfg, h, [length, half_width, cfg["depth"]],
                [len(p.x_nodes) - 1, len(p.y_nodes) - 1, len(p.z_nodes) - 1])
     return p, x0 - along
+
+
+def _shape(p, cfg, h, fps):
+    """The ground's shape of [soil] ground checked against the block and its
+    node planes added (fe_soil/ground_shapes.py)."""
+    g = ground_shapes.find(cfg.get("grounds", []), cfg.get("ground", ground_shapes.AT_GRADE))
+    if g.shape == ground_shapes.AT_GRADE:
+        return
+    ground_shapes.check(g, cfg, p, fps)
+    c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
+    h_ground = h
+    if g.material is not None:
+        c = rayleigh_speed(g.material.shear_speed, g.material.poisson)
+        h_ground = min(h, h * c / c_min if cfg["mesh_size"] is not None else
+                       c / (cfg["elements_per_wavelength"] * cfg["f_max"]))
+    faces_y = [q.y_lo for q in p.measures] + [q.y_hi for q in p.measures]
+    faces_z = layered_nodes(cfg["layers"], cfg["depth"], math.inf) + [q.z_lo for q in p.measures]
+    ground_shapes.refine(p, g, h, h_ground, protect_y=faces_y, protect_z=faces_z)
+    p.ground = g
 
 
 def memory_bytes():

@@ -12,7 +12,7 @@ from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 import dolfinx.mesh
 
-from . import absorbing, forms, path_measures
+from . import absorbing, forms, ground_shapes, path_measures
 from .params import damping_law, rayleigh_coefficients
 
 
@@ -35,6 +35,7 @@ def operators(soil, f, ds):
         a0 = a0 + absorbing.damping_field(soil.mesh, p, soil.nodes, f["cs"])
     c = forms.lumped_damping(V, f, ds, a0, p.dashpots)
     xis = {layer.damping for layer in p.layers} | set(path_measures.damping_ratios(p.measures))
+    xis |= set(ground_shapes.damping_ratios(p.ground)) if p.ground is not None else set()
     a1_max = rayleigh_coefficients(max(xis), *p.damping_band, p.damping_cutoff)[1]
     # The stiffness-proportional part a1 K: the a1 of the most common
     # damping ratio (by cells) is folded into the product K (u + a1 v)

@@ -38,14 +38,15 @@ def hat_values(nodes, x):
     return out
 
 
-def surface_node_index(V, nodes):
-    """For each owned DOF block (node) of the vector space V on the surface,
-    its (i, j) in the node planes xs, ys; -1 elsewhere."""
+def surface_node_index(V, nodes, z=None):
+    """For each owned DOF block (node) of the vector space V on the node
+    plane at z (None: the top one, the surface), its (i, j) in the node
+    planes xs, ys; -1 elsewhere."""
     xs, ys, zs = (np.asarray(a, dtype=float) for a in nodes)
     n_owned = V.dofmap.index_map.size_local
     c = V.tabulate_dof_coordinates()[:n_owned]
     tol = 1e-9 * max(xs[-1] - xs[0], ys[-1] - ys[0], zs[-1] - zs[0])
-    top = np.abs(c[:, 2] - zs[-1]) <= tol
+    top = np.abs(c[:, 2] - (zs[-1] if z is None else z)) <= tol
     i = np.clip(np.searchsorted(xs, c[:, 0] - tol), 0, len(xs) - 1)
     j = np.clip(np.searchsorted(ys, c[:, 1] - tol), 0, len(ys) - 1)
     ok = top & (np.abs(xs[i] - c[:, 0]) <= tol) & (np.abs(ys[j] - c[:, 1]) <= tol)

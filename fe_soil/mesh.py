@@ -8,7 +8,7 @@ import dolfinx.mesh
 from dolfinx import fem
 from mpi4py import MPI
 
-from . import path_measures
+from . import ground_shapes, path_measures
 from .params import SoilParams, axis_nodes
 
 SURFACE = 1  # z = 0
@@ -75,6 +75,8 @@ def layer_fields(mesh, params: SoilParams):
                        ("cp", "p_speed"), ("cs", "shear_speed"), ("xi", "damping")):
         values[name] = np.array([getattr(layer, attr) for layer in params.layers])[layer_of]
     path_measures.assign(values, mid, params.measures)  # trenches and walls (none: no change)
+    if params.ground is not None:  # an embankment's cells, the cells outside the ground
+        ground_shapes.assign(values, mid, params.ground)
     for name in names:
         fields[name].x.array[dofs] = values[name]
     return fields

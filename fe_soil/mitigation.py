@@ -1,6 +1,9 @@
 """The insertion loss of the path measures of a scene's FE soil.
 
     /usr/bin/python3 -m fe_soil.mitigation --scene SCENE --out DIR
+    /usr/bin/python3 -m fe_soil.mitigation --grounds --scene SCENE --out DIR
+
+The second form compares the ground shapes instead (fe_soil/ground_study.py).
 
 Runs the scene's FE soil ([soil] model = "fe") once without any measure
 (the reference) and once with each [[soil.measures]] entry alone, under the
@@ -275,6 +278,9 @@ def main(argv=None):
     ap.add_argument("--scene", required=True, help="a scene with [soil] model = \"fe\" and "
                     "[[soil.measures]]")
     ap.add_argument("--out", required=True, help="the study's folder")
+    ap.add_argument("--grounds", action="store_true", help="compare the scene's "
+                    "[[soil.grounds]] (embankments, cuttings) with the flat ground instead "
+                    "(fe_soil/ground_study.py)")
     a = ap.parse_args(argv)
     scene = read_scene(a.scene, "fe")
     if "sleepers" not in scene or "spacing" not in scene["sleepers"]:
@@ -283,7 +289,11 @@ def main(argv=None):
     out = os.path.abspath(a.out)
     os.makedirs(out, exist_ok=True)
     try:
-        study(scene, out, scene.get("scene", {}).get("name", a.scene))
+        if a.grounds:
+            from . import ground_study
+            ground_study.study(scene, out, scene.get("scene", {}).get("name", a.scene))
+        else:
+            study(scene, out, scene.get("scene", {}).get("name", a.scene))
     except ConfigError as e:
         sys.exit("%s: %s" % (a.scene, e))
     print("mitigation: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)

@@ -21,7 +21,7 @@ from dolfinx import fem
 import dolfinx.fem.petsc  # noqa: F401  (registers fem.petsc)
 from mpi4py import MPI
 
-from . import damping, far_field, footprints, forms, near_field
+from . import damping, far_field, footprints, forms, ground_shapes, near_field
 from .mesh import SYMMETRY, block_mesh, facet_tags, layer_fields
 from .params import SoilParams, stable_step
 
@@ -92,7 +92,11 @@ class FESoil:
         self.KU, self.KV, self.VH = (self.U.duplicate() for _ in range(3))
 
     def _setup_footprints(self):
-        index = footprints.surface_node_index(self.V, self.nodes)
+        # The track's ground: an embankment's crest is the top node plane, a
+        # cutting's base the plane at -depth (fe_soil/ground_shapes.py).
+        g = self.p.ground
+        z = None if g is None or g.shape != "cutting" else g.surface
+        index = footprints.surface_node_index(self.V, self.nodes, z)
         self._surface_index = index
         idx, val, of, self.fp_area, self.fp_share = [], [], [], [], []
         for k, fp in enumerate(self.p.footprints):
@@ -119,14 +123,22 @@ class FESoil:
         tensor grid's surface the bilinear interpolation of the four nodes
         around it (products of 1D hats). Each rank sums its owned nodes'
         share, and one reduction adds them up (no ghost update)."""
-        pts = np.array([[x, y, 0.0] for x, y in self.p.receivers], dtype=float).reshape(-1, 3)
+        g = self.p.ground
+        pts = np.array([[x, y, 0.0 if g is None else ground_shapes.surface_z(g, self.nodes, y)]
+                        for x, y in self.p.receivers], dtype=float).reshape(-1, 3)
         self.rec_points = pts
         self.vfun = fem.Function(self.V)
         xs, ys, _ = self.nodes
-        i, j = self._surface_index
-        on = np.flatnonzero(i >= 0)
+        planes = {}  # the surface's node index of each receiver's height
         idx, w, of = [], [], []
-        for k, (x, y, _) in enumerate(pts):
+        for k, (x, y, z) in enumerate(pts):
+            if g is None:
+                i, j = self._surface_index
+            else:
+                if z not in planes:
+                    planes[z] = footprints.surface_node_index(self.V, self.nodes, z)
+                i, j = planes[z]
+            on = np.flatnonzero(i >= 0)
             wx = footprints.hat_values(xs, x)
             wy = footprints.hat_values(ys, y)
             vals = wx[i[on]] * wy[j[on]]

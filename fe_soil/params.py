@@ -83,6 +83,8 @@ class SoilParams:
     # Measures on the path (fe_soil/path_measures.py, placed in the block's
     # frame): trenches and walls whose cells take their own material.
     measures: Sequence = ()
+    # The ground's shape (fe_soil/ground_shapes.py): None, flat at z = 0.
+    ground: object = None
     # Optional explicit node coordinates per axis (graded meshes); when
     # given they override the mesh-size rule on that axis.
     x_nodes: Sequence[float] | None = None

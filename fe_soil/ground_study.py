@@ -1,0 +1,121 @@
+"""The levels of the vibration on the scene's ground shapes against the flat
+ground (fe_soil/ground_shapes.py), by the insertion-loss study's command:
+
+    /usr/bin/python3 -m fe_soil.mitigation --grounds --scene SCENE --out DIR
+
+Runs the scene's FE soil on the flat ground ("at_grade") and on each
+[[soil.grounds]] entry, without any path measure, under the load of
+[soil.mitigation] and at the receivers of [soil] receivers (distances from
+the track's centre line; each on the ground's surface at its distance),
+and writes
+
+- DIR/ground_levels.csv: per ground and receiver the one-third-octave
+  levels L_v of the vertical velocity (dB re 1e-9 m/s) from 1 to 80 Hz,
+  its PPV (m/s), KB_Fmax and the overall level (dB), and the difference
+  to the flat ground (dB; positive: lower than at grade);
+- DIR/REPORT.md: a table of levels per ground, and the differences;
+- DIR/figures/ground_difference.png: L_at_grade - L_ground against band;
+- DIR/runs/GROUND/receivers.npz: each run's record, in full precision.
+"""
+import math
+import os
+
+import numpy as np
+
+from . import config as fe_config
+from . import ground_shapes, mitigation, path_measures, resolution
+from .soil_table import ConfigError
+
+
+def ground_block(cfg, fps, ground):
+    """SoilParams of the scene's block on that ground, without any measure."""
+    return fe_config.block_params(dict(cfg, ground=ground, variant=path_measures.REFERENCE),
+                                  fps)[0]
+
+
+def csv_text(names, distances, fc, lv, diff):
+    rows = ["ground,receiver,distance_m,quantity,band_hz,value,difference_dB"]
+    for g, per in lv.items():
+        for k, (rec, d) in enumerate(zip(names, distances)):
+            il = diff[g][k]
+            for i, f in enumerate(fc):
+                x, y = per[k]["lv"][i], il["band"][i]
+                rows.append("%s,%s,%g,band_dB,%.4g,%s,%s" % (
+                    g, rec, d, f, "%.4f" % x if math.isfinite(x) else "",
+                    "%.4f" % y if math.isfinite(y) else ""))
+            for q, key, fmt in (("ppv_mps", "ppv", "%.6e"), ("kb_fmax", "kb", "%.6e"),
+                                ("overall_dB", "overall", "%.4f")):
+                dq = {"ppv": "ppv", "kb": "kb_fmax", "overall": "overall"}[key]
+                rows.append("%s,%s,%g,%s,,%s,%.4f" % (g, rec, d, q, fmt % per[k][key], il[dq]))
+    return "\n".join(rows) + "\n"
+
+
+def report(path, info, fc, lv, diff):
+    load = info["load"]
+    lines = ["# Vibration levels on the ground shapes: %s" % info["name"], "",
+             "One-third-octave levels L_v of the vertical velocity (dB re 1e-9 m/s) at each "
+             "receiver, on the flat ground and on each shape, under a Ricker force of %g N "
+             "(centre %g Hz) on the middle one of %d footprints, recorded over %g s every %g s; "
+             "receivers at equal distances from the track's centre line, each on the ground's "
+             "surface there. Difference: L_at_grade - L_ground (positive: lower than at grade), "
+             "judged where the flat ground's mesh resolves the band at the receiver." % (
+                 load["amplitude"], load["frequency"], load["sleepers"], load["duration"],
+                 load["step"]), ""]
+    for g, per in lv.items():
+        shape = info["grounds"][g]
+        lines += ["## %s: %s (%d DOFs)" % (g, shape.shape.replace("_", " "), info["dofs"][g]), "",
+                  "| band (Hz) | " + " | ".join("%s (z %+.2f m)" % (r, z) for r, z in
+                                               zip(info["receivers"], info["heights"][g])) + " |",
+                  "|---:|" + "---:|" * len(per)]
+        for i, f in enumerate(fc):
+            if any(math.isfinite(diff[g][k]["band"][i]) for k in range(len(per))):
+                lines.append("| %.3g | %s |" % (f, " | ".join(
+                    "%.1f (%+.1f)" % (p["lv"][i], d["band"][i]) if math.isfinite(d["band"][i])
+                    else "%.1f" % p["lv"][i] for p, d in zip(per, diff[g]))))
+        lines.append("| overall | %s |" % " | ".join(
+            "%.1f (%+.1f)" % (p["overall"], d["overall"]) for p, d in zip(per, diff[g])))
+        lines.append("| PPV (mm/s) | %s |" % " | ".join(
+            "%.3g (%+.1f dB)" % (1e3 * p["ppv"], d["ppv"]) for p, d in zip(per, diff[g])))
+        lines.append("")
+    lines += ["![Difference to the flat ground per band](figures/ground_difference.png)", ""]
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+
+
+def study(scene, out, name="scene"):
+    """Runs the flat ground and every listed ground; writes the outputs."""
+    from .model import FESoil
+
+    cfg = fe_config.parse(scene["soil"])
+    load = mitigation.load_keys(scene["soil"].get("mitigation"))
+    if not cfg["grounds"]:
+        raise ConfigError("[soil] grounds: the scene lists none ([[soil.grounds]]): there is "
+                          "nothing to compare with the flat ground")
+    fps = mitigation.footprints(scene, load["sleepers"])
+    grounds = [ground_shapes.AT_GRADE] + [g.name for g in cfg["grounds"]]
+    records, dofs, heights, bands = {}, {}, {}, None
+    for g in grounds:
+        print("ground: %s" % g, flush=True)
+        soil = FESoil(ground_block(cfg, fps, g))
+        t, vel = mitigation.drive(soil, load)
+        records[g], dofs[g] = vel, soil.global_dofs()
+        heights[g] = list(soil.rec_points[:, 2])
+        os.makedirs(os.path.join(out, "runs", g), exist_ok=True)
+        np.savez(os.path.join(out, "runs", g, "receivers.npz"), t=t, v=vel,
+                 z=soil.rec_points[:, 2])
+        if bands is None:  # the flat ground's mesh judges the bands
+            bands = resolution.receiver_bands(soil, cfg, load["duration"])
+    names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
+    lv = {g: mitigation.levels(records[g], load["step"]) for g in grounds}
+    ref = lv[ground_shapes.AT_GRADE]
+    diff = {g: mitigation.insertion_loss(ref, lv[g], bands) for g in grounds}
+    fc = ref[0]["fc"]
+    with open(os.path.join(out, "ground_levels.csv"), "w") as f:
+        f.write(csv_text(names, cfg["receivers"], fc, lv, diff))
+    os.makedirs(os.path.join(out, "figures"), exist_ok=True)
+    mitigation.figure(os.path.join(out, "figures", "ground_difference.png"), names, fc,
+                      {g: diff[g] for g in grounds[1:]})
+    info = {"name": name, "load": load, "receivers": names, "dofs": dofs, "heights": heights,
+            "grounds": {g: ground_shapes.find(cfg["grounds"], g) for g in grounds}}
+    report(os.path.join(out, "REPORT.md"), info, fc, lv, diff)
+    return records, lv, diff
