@@ -13,6 +13,7 @@
 #include "run/spectral.hpp"
 #include "scene.hpp"
 #include "verdict/dense_eigen.hpp"
+#include "verdict/spectrum.hpp"
 
 namespace railcosim {
 namespace {
@@ -23,20 +24,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// The map's matrix less its zero columns and their rows (as the measure
-// takes it).
-Eigen::MatrixXd kept(const Eigen::MatrixXd& A) {
-  std::vector<Eigen::Index> k;
-  for (Eigen::Index j = 0; j < A.cols(); ++j)
-    if ((A.col(j).array() != 0).any()) k.push_back(j);
-  const auto K = static_cast<Eigen::Index>(k.size());
-  Eigen::MatrixXd R(K, K);
-  for (Eigen::Index i = 0; i < K; ++i)
-    for (Eigen::Index j = 0; j < K; ++j)
-      R(i, j) = A(k[static_cast<std::size_t>(i)], k[static_cast<std::size_t>(j)]);
-  return R;
-}
-
 void compare(const char* file, const char* name, int sleepers, double H) {
   Scene scene = load_scene(std::string(RAILCOSIM_SOURCE_DIR) + "/scenes/" + file);
   if (sleepers > 0) scene.sleeper_count = sleepers;
@@ -44,18 +31,17 @@ void compare(const char* file, const char* name, int sleepers, double H) {
   run::RunOptions o;
   o.macro_step = H;
   o.tolerance = scene.tolerance;
-  const Eigen::MatrixXd R = kept(run::macro_step_matrix(scene, parse_case(name), o));
+  const Eigen::MatrixXd R =
+      verdict::without_zero_columns(run::macro_step_matrix(scene, parse_case(name), o));
   auto t0 = Clock::now();
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(R, false);
   const double eigen_s = seconds_since(t0);
   t0 = Clock::now();
   bool stopped = false;
-  const auto lapack = verdict::dense_eigenvalues(R, {}, 0, stopped);
+  const auto lapack = verdict::dense_eigenvalues(R, {}, 0, stopped, verdict::DenseSolver::kLapack);
   const double lapack_s = seconds_since(t0);
   const double rho_eigen = eig.eigenvalues().cwiseAbs().maxCoeff();
   const double rho_lapack = lapack->values.cwiseAbs().maxCoeff();
-  // The verdict's own choice (dense_eigen.hpp): LAPACK from kLapackFrom
-  // coordinates, Eigen below.
   std::printf(
       "%-20s %4d sleepers H %-7g N %5ld  Eigen %8.3f s  LAPACK %8.3f s  ratio %5.2f  "
       "rho %.12f %.12f (diff %.1e)\n",

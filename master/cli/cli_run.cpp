@@ -254,7 +254,8 @@ void add_run_command(CLI::App& app, RunArgs& a) {
       ->check(CLI::IsMember({"consistent", "carry"}));
   add_coupling_options(*run, a);
   run->add_option("--transport", a.transport,
-                  "inproc: every participant inside the master (an FMU the scene maps too); tcp: each in its own node process")
+                  "inproc: every participant inside the master (an FMU the scene maps too); tcp: "
+                  "each in its own node process")
       ->check(CLI::IsMember(remote::transport_names()))
       ->capture_default_str();
   run->add_option("--data-plane", a.data_plane,

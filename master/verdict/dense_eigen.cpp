@@ -57,22 +57,25 @@ DenseEigenvalues solve_lapack(Eigen::MatrixXd& a) {
   return out;
 }
 
-DenseEigenvalues solve(Eigen::MatrixXd& a) {
-  return a.rows() >= kLapackFrom ? solve_lapack(a) : solve_eigen(a);
+DenseEigenvalues solve(Eigen::MatrixXd& a, DenseSolver solver) {
+  const bool lapack =
+      solver == DenseSolver::kLapack || (solver == DenseSolver::kBySize && a.rows() >= kLapackFrom);
+  return lapack ? solve_lapack(a) : solve_eigen(a);
 }
 
 }  // namespace
 
 std::optional<DenseEigenvalues> dense_eigenvalues(Eigen::MatrixXd matrix,
                                                   const std::function<bool()>& stop,
-                                                  double give_up_after, bool& stopped) {
+                                                  double give_up_after, bool& stopped,
+                                                  DenseSolver solver) {
   stopped = false;
   // The thread owns the matrix and the promise: a wait that gives up leaves
   // nothing behind that the thread still reads.
   auto owned = std::make_shared<Eigen::MatrixXd>(std::move(matrix));
   auto promise = std::make_shared<std::promise<DenseEigenvalues>>();
   std::future<DenseEigenvalues> result = promise->get_future();
-  std::thread([owned, promise] { promise->set_value(solve(*owned)); }).detach();
+  std::thread([owned, promise, solver] { promise->set_value(solve(*owned, solver)); }).detach();
   const auto t0 = std::chrono::steady_clock::now();
   while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
     if (stop && stop()) {

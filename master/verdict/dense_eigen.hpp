@@ -26,10 +26,14 @@ struct DenseEigenvalues {
   std::string solver;   // "LAPACK dgeev" or "Eigen EigenSolver"
 };
 
+// Which solver: by size (kLapackFrom), or one of the two (the benchmark's).
+enum class DenseSolver { kBySize, kEigen, kLapack };
+
 // Returns nothing when `stop` said so (the caller then throws Stopped), or
 // when `give_up_after` seconds (> 0) passed (why_not says so).
 std::optional<DenseEigenvalues> dense_eigenvalues(Eigen::MatrixXd matrix,
                                                   const std::function<bool()>& stop,
-                                                  double give_up_after, bool& stopped);
+                                                  double give_up_after, bool& stopped,
+                                                  DenseSolver solver = DenseSolver::kBySize);
 
 }  // namespace railcosim::verdict

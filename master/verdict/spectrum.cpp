@@ -99,6 +99,18 @@ Eigen::MatrixXd dense_matrix(const LinearOperator& a) {
   return A;
 }
 
+Eigen::MatrixXd without_zero_columns(const Eigen::MatrixXd& A) {
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index j = 0; j < A.cols(); ++j)
+    if ((A.col(j).array() != 0).any()) kept.push_back(j);
+  const auto K = static_cast<Eigen::Index>(kept.size());
+  Eigen::MatrixXd R(K, K);
+  for (Eigen::Index i = 0; i < K; ++i)
+    for (Eigen::Index j = 0; j < K; ++j)
+      R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
+  return R;
+}
+
 Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
   Spectrum s;
   s.method = "dense";
@@ -107,18 +119,13 @@ Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
   try {
     Eigen::MatrixXd A(N, N);
     Eigen::VectorXd e = Eigen::VectorXd::Zero(N);
-    std::vector<Eigen::Index> kept;
     for (Eigen::Index j = 0; j < N; ++j) {
       e(j) = 1;
       op.perform_op(e.data(), A.col(j).data());
       e(j) = 0;
-      if ((A.col(j).array() != 0).any()) kept.push_back(j);
     }
-    const auto K = static_cast<Eigen::Index>(kept.size());
-    Eigen::MatrixXd R(K, K);
-    for (Eigen::Index i = 0; i < K; ++i)
-      for (Eigen::Index j = 0; j < K; ++j)
-        R(i, j) = A(kept[static_cast<std::size_t>(i)], kept[static_cast<std::size_t>(j)]);
+    Eigen::MatrixXd R = without_zero_columns(A);
+    const Eigen::Index K = R.rows();
     s.dimension = K;
     if (K > 0) {
       const double left =

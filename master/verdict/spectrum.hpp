@@ -71,6 +71,9 @@ Spectrum dominant_spectrum(const LinearOperator& a, const Budget& budget,
 
 // The matrix of the map: every column A e_j (no budget, no stop).
 Eigen::MatrixXd dense_matrix(const LinearOperator& a);
+// A less its zero columns and their rows (the eigenvalues dropped are 0):
+// what the dense measure solves.
+Eigen::MatrixXd without_zero_columns(const Eigen::MatrixXd& A);
 
 // Every column A e_j; columns that are zero are dropped with their rows
 // (their eigenvalues are 0).
