@@ -52,6 +52,10 @@ enum StatusKind : int {
 using GetRealStatusFn = Status (*)(Component, StatusKind, Real*);
 using GetBooleanStatusFn = Status (*)(Component, StatusKind, Boolean*);
 using GetIntegerFn = Status (*)(Component, const ValueReference*, std::size_t, Integer*);
+// The order-th time derivative of each input at the current communication
+// point (canInterpolateInputs: the FMU then follows them over the step).
+using SetRealInputDerivativesFn = Status (*)(Component, const ValueReference*, std::size_t,
+                                             const Integer* order, const Real* value);
 using GetBooleanFn = Status (*)(Component, const ValueReference*, std::size_t, Boolean*);
 using DoStepFn = Status (*)(Component, Real t, Real h, Boolean no_set_state_before_t);
 using GetStateFn = Status (*)(Component, State*);

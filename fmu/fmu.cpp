@@ -122,6 +122,8 @@ Fmu::Fmu(const fs::path& file, const ArchiveLimits& limits)
       resolve(library_, name_, "fmi2GetBoolean", f.get_boolean, false);
       resolve(library_, name_, "fmi2GetRealStatus", f.get_real_status, false);
       resolve(library_, name_, "fmi2GetBooleanStatus", f.get_boolean_status, false);
+      resolve(library_, name_, "fmi2SetRealInputDerivatives", f.set_real_input_derivatives,
+              description_.capabilities.can_interpolate_inputs);
       resolve(library_, name_, "fmi2DoStep", f.do_step, true);
       resolve(library_, name_, "fmi2GetFMUstate", f.get_state, state);
       resolve(library_, name_, "fmi2SetFMUstate", f.set_state, state);
@@ -239,6 +241,22 @@ void Fmu::set_real(const std::vector<std::uint32_t>& refs, const std::vector<dou
   }
   check(api_->v3.set_float64(instance_, refs.data(), refs.size(), values.data(), values.size()),
         "fmi3SetFloat64");
+}
+
+void Fmu::set_input_slopes(const std::vector<std::uint32_t>& refs,
+                           const std::vector<double>& slopes) {
+  need_instance("set_input_slopes");
+  if (!interpolates_inputs())
+    throw FmuError("FMU " + name_ +
+                   ": it does not interpolate its inputs (canInterpolateInputs is not true)");
+  if (refs.size() != slopes.size())
+    throw FmuError("FMU " + name_ + ": set_input_slopes given " + std::to_string(refs.size()) +
+                   " references and " + std::to_string(slopes.size()) + " values");
+  const std::vector<fmi2::ValueReference> r(refs.begin(), refs.end());
+  const std::vector<fmi2::Integer> order(refs.size(), 1);
+  check(api_->v2.set_real_input_derivatives(instance_, r.data(), r.size(), order.data(),
+                                            slopes.data()),
+        "fmi2SetRealInputDerivatives");
 }
 
 std::vector<double> Fmu::get_real(const std::vector<std::uint32_t>& refs) {

@@ -68,6 +68,13 @@ class Fmu {
   // Real (FMI 2) / Float64 (FMI 3) values by value reference.
   void set_real(const std::vector<std::uint32_t>& refs, const std::vector<double>& values);
   std::vector<double> get_real(const std::vector<std::uint32_t>& refs);
+  // Whether the FMU follows its inputs' time derivatives over a step (FMI 2
+  // canInterpolateInputs; FMI 3 co-simulation has no input derivatives).
+  bool interpolates_inputs() const { return description_.capabilities.can_interpolate_inputs; }
+  // The first time derivative of these real inputs from the current
+  // communication point on (fmi2SetRealInputDerivatives, order 1): the FMU
+  // ramps them over the next step. Refused unless interpolates_inputs().
+  void set_input_slopes(const std::vector<std::uint32_t>& refs, const std::vector<double>& slopes);
   // One scalar of any type the host reads (readable()), as a double: Real,
   // Integer, Enumeration, Boolean (0 or 1) in FMI 2; Float64, Float32, the
   // signed and unsigned integers of 8 to 64 bits, Enumeration, Boolean in

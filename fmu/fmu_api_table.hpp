@@ -20,6 +20,7 @@ struct Fmu::Api {
     fmi2::GetBooleanFn get_boolean;
     fmi2::GetRealStatusFn get_real_status;
     fmi2::GetBooleanStatusFn get_boolean_status;
+    fmi2::SetRealInputDerivativesFn set_real_input_derivatives;
     fmi2::DoStepFn do_step;
     fmi2::GetStateFn get_state;
     fmi2::SetStateFn set_state;

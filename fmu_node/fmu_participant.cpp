@@ -173,7 +173,7 @@ void FmuParticipant::enter_initialization() {
   in_initialization_ = true;
 }
 
-void FmuParticipant::set_inputs(long n, const CouplingData& inputs) {
+void FmuParticipant::check_inputs(long n, const CouplingData& inputs) const {
   if (n != next_ && next_ >= 0)
     throw CallOrderError(name() + ": inputs for step " + std::to_string(n) + ", at step " +
                          std::to_string(next_));
@@ -187,7 +187,37 @@ void FmuParticipant::set_inputs(long n, const CouplingData& inputs) {
                           to_string(p.quantity) + ", expected " + std::to_string(p.refs.size()));
     for (double x : v)
       if (!std::isfinite(x)) throw BadInputError(name() + ": an input is not finite");
-    fmu_->set_real(p.refs, v);
+  }
+}
+
+void FmuParticipant::set_inputs(long n, const CouplingData& inputs) {
+  check_inputs(n, inputs);
+  for (const Port& p : inputs_) {
+    fmu_->set_real(p.refs, values_of(inputs[p.interface], p.quantity));
+    // Held: an FMU that follows input derivatives is told they are zero
+    // (a ramp of an earlier step, or of a restored state, ends here).
+    if (fmu_->interpolates_inputs() && next_ >= 0)
+      fmu_->set_input_slopes(p.refs, std::vector<double>(p.refs.size(), 0.0));
+  }
+}
+
+void FmuParticipant::set_inputs(long n, const CouplingData& start, const CouplingData& end) {
+  if (!fmu_->interpolates_inputs())
+    throw BadRequestError(
+        name() + ": ramped inputs for step " + std::to_string(n) +
+        " refused: the FMU does not interpolate its inputs (FMI 2 canInterpolateInputs is not "
+        "true; FMI 3 co-simulation has no input derivatives), so it takes held inputs only "
+        "(degree 0): run it with --inputs hold");
+  if (next_ < 0) throw CallOrderError(name() + ": ramped inputs before initialize()");
+  check_inputs(n, start);
+  check_inputs(n, end);
+  for (const Port& p : inputs_) {
+    const std::vector<double>& a = values_of(start[p.interface], p.quantity);
+    const std::vector<double>& b = values_of(end[p.interface], p.quantity);
+    std::vector<double> slope(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) slope[i] = (b[i] - a[i]) / macro_step_;
+    fmu_->set_real(p.refs, a);
+    fmu_->set_input_slopes(p.refs, slope);
   }
 }
 

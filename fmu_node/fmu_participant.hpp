@@ -1,7 +1,8 @@
 // An FMU (FMI 2.0 or 3.0 co-simulation) as a participant: the FMU's
 // variables mapped to the interfaces the master describes, its parameters
 // set from its configuration, one FMU communication step per macro step
-// with the inputs held over it. Its configuration (the table of --config,
+// with the inputs held over it, or ramped where the FMU follows input
+// derivatives (FMI 2 canInterpolateInputs). Its configuration (the table of --config,
 // docs/fmu.md):
 //   file = "vehicle.fmu"                 the FMU, relative to the config file
 //   CUT_in_QUANTITY = "name_{i}"         the FMU input of each quantity an
@@ -45,6 +46,11 @@ class FmuParticipant final : public Participant {
   CouplingData statics(const CouplingData& inputs) override;
   StepResult initialize(const CouplingData& inputs) override;
   void set_inputs(long n, const CouplingData& inputs) override;
+  // Inputs that ramp over the step: the values at its start and their slope
+  // (end - start) / H as first derivatives (FMI 2 input derivatives), for an
+  // FMU that interpolates its inputs; refused, saying so, by one that does
+  // not (it takes held inputs only).
+  void set_inputs(long n, const CouplingData& start, const CouplingData& end) override;
   CouplingData outputs() override;
   void start_step(long n) override;
   StepResult finish_step() override;
@@ -64,6 +70,7 @@ class FmuParticipant final : public Participant {
     std::vector<std::uint32_t> refs;
   };
   void map_ports(const ParticipantSetup& setup);
+  void check_inputs(long n, const CouplingData& inputs) const;
   void set_parameters(const OwnConfig& config);
   void declare_channels(const OwnConfig& config);
   void enter_initialization();

@@ -133,8 +133,8 @@ void judge_couplings(FmuCheckReport& r) {
   out.emplace_back("explicit, ramped or extrapolated inputs",
                    c.can_interpolate_inputs
                        ? "yes: the FMU interpolates its inputs (FMI 2 input derivatives, degree 1)"
-                       : "held inside each communication step (degree 0): the FMU does not "
-                         "interpolate its inputs");
+                       : "no: held inputs only (degree 0): the FMU does not interpolate its "
+                         "inputs");
   const bool state = r.round_trip == FmuCheckReport::RoundTrip::kPass;
   const std::string why = !c.can_get_and_set_state ? "the FMU cannot save its state"
                           : state                  ? ""

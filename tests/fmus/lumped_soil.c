@@ -8,8 +8,11 @@
  * acceleration consistent with the inputs; in initialization mode its
  * outputs are the static state for the inputs set. The same physics as the
  * C++ example examples/cpp_soil, written again in C with a tridiagonal
- * solve. Built as FMI 2.0 (FMI_VERSION=2) or 3.0 (FMI_VERSION=3). The FMI
- * types are declared here for this file alone. */
+ * solve. Built as FMI 2.0 (FMI_VERSION=2) or 3.0 (FMI_VERSION=3); as FMI
+ * 2.0 with INPUT_DERIVATIVES=1 it follows its inputs' first derivatives
+ * over a step (fmi2SetRealInputDerivatives: the ballast load at the end of
+ * each micro step from the ramped inputs), as the built-in soil follows a
+ * ramp. The FMI types are declared here for this file alone. */
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -21,6 +24,9 @@
 #ifndef WITH_STATE
 #define WITH_STATE 1
 #endif
+#ifndef INPUT_DERIVATIVES
+#define INPUT_DERIVATIVES 0
+#endif
 
 /* Value references: parameters 1-8, then the per-point blocks. */
 enum { VR_MASS = 1, VR_K, VR_C, VR_KC, VR_CC, VR_KB, VR_CB, VR_MICRO };
@@ -29,7 +35,8 @@ enum { S_OK = 0, S_ERROR = 3 };
 
 typedef struct {
   double p[9]; /* parameters by value reference */
-  double w[N], wd[N]; /* inputs */
+  double w[N], wd[N];   /* inputs */
+  double dw[N], dwd[N]; /* their first derivatives (INPUT_DERIVATIVES) */
   double u[N], v[N], a[N];
   double t;
   bool init_mode;
@@ -80,6 +87,12 @@ static void solve(const double* d, const double* o, const double* b, double* x) 
 static void load(const Model* m, double* f) {
   for (int i = 0; i < N; ++i) f[i] = m->p[VR_KB] * m->w[i] + m->p[VR_CB] * m->wd[i];
 }
+/* The load s seconds into the step, the inputs ramped by their derivatives. */
+static void load_at(const Model* m, double s, double* f) {
+  load(m, f);
+  if (!INPUT_DERIVATIVES) return;
+  for (int i = 0; i < N; ++i) f[i] += s * (m->p[VR_KB] * m->dw[i] + m->p[VR_CB] * m->dwd[i]);
+}
 /* The acceleration consistent with the inputs and the state. */
 static void restart(Model* m) {
   double f[N], kd[N], ko[N], cd[N], co[N], ku[N], cv[N];
@@ -111,6 +124,7 @@ static int step(Model* m, double t, double big_h) {
   restart(m);
   load(m, f);
   for (int k = 0; k < steps; ++k) {
+    if (INPUT_DERIVATIVES) load_at(m, (k + 1) * h, f);
     double pu[N], pv[N], rhs[N], cp[N], un[N];
     for (int i = 0; i < N; ++i) {
       pu[i] = m->u[i] + h * m->v[i] + (h * h * 0.25) * m->a[i];
@@ -232,6 +246,22 @@ EXPORT int fmi2SetReal(void* c, const unsigned* vr, size_t n, const double* v) {
 EXPORT int fmi2GetReal(void* c, const unsigned* vr, size_t n, double* v) {
   return get_reals(&((Instance*)c)->m, vr, n, v);
 }
+#if INPUT_DERIVATIVES
+EXPORT int fmi2SetRealInputDerivatives(void* c, const unsigned* vr, size_t n, const int* order,
+                                       const double* v) {
+  Model* m = &((Instance*)c)->m;
+  for (size_t i = 0; i < n; ++i) {
+    if (order[i] != 1) return S_ERROR;
+    if (vr[i] >= VR_W && vr[i] < VR_W + N)
+      m->dw[vr[i] - VR_W] = v[i];
+    else if (vr[i] >= VR_WD && vr[i] < VR_WD + N)
+      m->dwd[vr[i] - VR_WD] = v[i];
+    else
+      return S_ERROR;
+  }
+  return S_OK;
+}
+#endif
 EXPORT int fmi2DoStep(void* c, double t, double h, int no_set_prior) {
   (void)no_set_prior;
   return step(&((Instance*)c)->m, t, h);
