@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,18 @@ class FmuParticipant final : public Participant {
   void restore(const ParticipantState& state) override;
 
   static constexpr std::size_t kKeptStates = 256;
+
+  // What its FMU says it can do: follow input derivatives (ramped inputs),
+  // save and restore its state (implicit coupling, a judgement).
+  bool interpolates_inputs() const { return fmu_->interpolates_inputs(); }
+  bool saves_state() const { return fmu_->description().capabilities.can_get_and_set_state; }
+  // The default experiment's step where the FMU cannot vary its
+  // communication step; nullopt where it can or gives none.
+  std::optional<double> only_step() const {
+    const fmu::ModelDescription& d = fmu_->description();
+    if (d.capabilities.can_handle_variable_step) return std::nullopt;
+    return d.default_experiment.step_size;
+  }
 
  private:
   // One quantity of one interface: its value references, point by point.

@@ -29,4 +29,11 @@ std::unique_ptr<Participant> inproc_fmu(const Scene& scene, const SubsystemConfi
   }
 }
 
+std::optional<FmuAbilities> fmu_abilities(const Scene& scene, const SubsystemConfig& config) {
+  const std::unique_ptr<Participant> p = inproc_fmu(scene, config);
+  if (p == nullptr) return std::nullopt;
+  const auto& fmu = static_cast<const FmuParticipant&>(*p);
+  return FmuAbilities{fmu.interpolates_inputs(), fmu.saves_state(), fmu.only_step()};
+}
+
 }  // namespace railcosim::remote

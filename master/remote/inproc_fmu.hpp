@@ -11,6 +11,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "cosim_case.hpp"
 #include "participant.hpp"
@@ -24,5 +25,19 @@ namespace railcosim::remote {
 // Throws std::invalid_argument naming the scene's key for a mapping the FMU
 // participant refuses.
 std::unique_ptr<Participant> inproc_fmu(const Scene& scene, const SubsystemConfig& config);
+
+// What the FMU the scene maps to `config`'s role can take part in, read
+// from its description once its participant is made for that case (so a
+// mapping that does not fit the case's interfaces throws, as a run would).
+struct FmuAbilities {
+  bool ramps = false;  // ramped and extrapolated inputs: it follows input derivatives
+  bool state = false;  // implicit coupling and a judgement: it saves its state
+  // Where it cannot vary its communication step (canHandleVariableCommunicationStepSize
+  // not true) and its default experiment gives one: that step, the only macro
+  // step a study can be sure it takes.
+  std::optional<double> only_step;
+};
+// nullopt when the scene maps that role to no FMU.
+std::optional<FmuAbilities> fmu_abilities(const Scene& scene, const SubsystemConfig& config);
 
 }  // namespace railcosim::remote

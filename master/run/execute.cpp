@@ -3,6 +3,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "model.hpp"
+#include "remote/inproc_fmu.hpp"
 #include "run/cosim_reference.hpp"
 #include "run/evaluation.hpp"
 #include "run/matrix_free.hpp"
@@ -11,6 +13,19 @@
 
 namespace railcosim::run {
 namespace {
+
+// Why the case's participants cannot be judged: "the soil FMU cannot save
+// its state" where the scene maps a role to an FMU that does not (neither
+// the stability measure nor the reference, both of which restart steps,
+// can be made); "" otherwise.
+std::string unjudgeable(const Scene& scene, const CaseSpec& spec, const RunOptions& o) {
+  for (const ParticipantSpec& p : partition(scene, spec)) {
+    const auto a =
+        remote::fmu_abilities(scene, subsystem_config(scene, p, o.macro_step, o.tolerance));
+    if (a && !a->state) return "the " + p.role + " FMU cannot save its state";
+  }
+  return "";
+}
 
 RunRecord made_run(const RunJob& job, const RunOptions& o) {
   const Scene& scene = *job.scene;
@@ -33,6 +48,12 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   if (o.judge.mode == JudgeMode::kNone) {
     r.reference_kind = "none";
     judge_unmeasured(r, "--judge none");
+    return r;
+  }
+  if (const std::string why = unjudgeable(scene, job.spec, o); !why.empty()) {
+    r.reference_kind = "none";
+    r.spectral_note = why;
+    judge_unmeasured(r, why);
     return r;
   }
   if (o.judge.mode == JudgeMode::kStability) {

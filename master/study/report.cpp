@@ -255,7 +255,8 @@ void cosim_reference_note(std::ostringstream& md, const std::vector<StudyRun>& r
   });
   if (cosim_judged)
     md << "Runs with a participant served by a node given by address (`--node`) or a soil of "
-          "its own that the study starts (the FE soil, the Green's-function soil) are judged, and "
+          "its own that the study starts (the FE soil, the Green's-function soil, an FMU the "
+          "scene maps) are judged, and "
           "charted, against the co-simulation reference of the same participants (implicit "
           "coupling converged tightly at the sweep's smallest macro step; its own error a "
           "Richardson estimate, in each run's `summary.json`), not the monolithic model, which "

@@ -61,6 +61,19 @@ std::vector<Method> methods_with_nodes(const Scene& scene, const std::vector<Met
 // master run does: those whose inputs are not substep waveforms (run in
 // process, where that soil is not) and, for a soil that takes the ballast
 // force only, whose ss cut is X-T. Throws std::invalid_argument if none is.
+// The methods of a study of a scene that maps a participant to an FMU (the
+// vehicle's [vehicle.fmu], a soil FMU its [soil] table names): those whose
+// cuts the FMU's mapping serves, held inputs unless the FMU follows input
+// derivatives, no substep waveforms, implicit only where it saves its
+// state. Each method left out is logged with the reason; throws
+// std::invalid_argument if none is left.
+std::vector<Method> methods_an_fmu_serves(const Scene& scene, const std::vector<Method>& methods);
+// The macro steps of `sweep` the FMUs of `method`'s participants take: an
+// FMU that cannot vary its communication step is held to its default
+// experiment's step (logged). Throws std::invalid_argument, saying what to
+// set, when none is left or the scene's own macro step is not that step.
+std::vector<double> macro_steps_an_fmu_serves(const Scene& scene, const Method& method,
+                                              const std::vector<double>& sweep);
 std::vector<Method> methods_with_started_soil(const Scene& scene,
                                               const std::vector<Method>& methods);
 

@@ -263,8 +263,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   const std::string scene_rel = to.prefix + "scene.toml";
   const Scene scene = variant_scene(to, base, scene_path, scene_rel);
   to.scene_windows = scene_cut_windows(scene);
-  const std::vector<double> sweep =
-      o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
+  std::vector<double> sweep = o.macro_steps.empty() ? default_macro_steps(scene) : o.macro_steps;
   for (double H : sweep)
     if (!divides(H, scene.end_time))
       throw std::invalid_argument(
@@ -274,6 +273,10 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   if (!o.cases.empty()) methods = methods_of_cases(methods, o.cases);
   if (!o.nodes.empty()) methods = methods_with_nodes(scene, methods, o.nodes);
   if (scene.started_soil() != nullptr) methods = methods_with_started_soil(scene, methods);
+  if (!scene.fmu_mapping("vehicle").empty() || !scene.fmu_mapping("soil").empty()) {
+    methods = methods_an_fmu_serves(scene, methods);
+    sweep = macro_steps_an_fmu_serves(scene, methods.front(), sweep);
+  }
   // A soil of its own (FE, Green's functions, external) has no monolithic model,
   // and a node given by address runs physics of its own behind its role.
   const bool monolithic = !scene.outside_model() && o.nodes.empty();

@@ -32,19 +32,13 @@ std::vector<Method> methods_with_started_soil(const Scene& scene,
 }
 
 void check_study_scene(const Scene& scene, const StudyOptions& o) {
-  if (scene.outside_vehicle())
-    throw std::invalid_argument(
-        scene.source +
-        ": the scene's vehicle is an FMU ([vehicle.fmu]): a study's plan holds methods (ramped "
-        "inputs, waveforms, forces at xt cuts) an FMU may not serve, so it is not planned yet; "
-        "run each case with master run");
-  if (scene.soil_model == "external")
+  if (scene.soil_model == "external" && scene.fmu_mapping("soil").empty())
     throw std::invalid_argument(
         scene.source +
         ": the scene's soil is external (soil.model = \"external\"): a study starts its own "
         "nodes and cannot reach that program; run each case with master run --node "
-        "soil=HOST:PORT (or, for a soil FMU the scene's [soil] table names, master run "
-        "--transport inproc)");
+        "soil=HOST:PORT, or name an FMU in the [soil] table (file = \"soil.fmu\"), which the "
+        "study hosts itself");
   if (scene.started_soil() != nullptr && !remote::is_remote_transport(o.transport))
     throw std::invalid_argument(
         scene.source + ": the scene's soil is " + scene.started_soil()->title +
