@@ -17,26 +17,11 @@
 # Usage: fmu_ramps_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 source "$(dirname "$0")/node_start.bash" "$@"
-fail() { echo "$1"; [[ -z ${2:-} ]] || cat "$2"; exit 1; }
+source "$(dirname "$0")/fmu_scenes.bash"
 
-sed -e 's/^end_time = .*/end_time = 0.05/' -e '/^ss_macro_step/d' \
-  -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$src/scenes/soil.toml" >"$work/soil.toml"
-grep -q '^micro_steps = 10' "$work/soil.toml" || fail "the scene was not edited"
-mapping() {  # FMU: the soil's mapping onto that FMU
-  cat <<TOML
-[soil]
-file = "$bin/fmus/$1"
-ss_in_displacement = "w_{i}"
-ss_in_velocity = "wd_{i}"
-ss_out_displacement = "u_{i}"
-ss_out_velocity = "ud_{i}"
-set_micro_steps = 10
-peak_history = "soil_peak_m"
-result_soil_m = "u_{i}"
-TOML
-}
-mapping lumped_soil2_ramps.fmu >"$work/ramps.toml"
-mapping lumped_soil3.fmu >"$work/held.toml"
+soil_scene "$work/soil.toml"
+{ echo "[soil]"; soil_mapping lumped_soil2_ramps.fmu; } >"$work/ramps.toml"
+{ echo "[soil]"; soil_mapping lumped_soil3.fmu; } >"$work/held.toml"
 start ramps "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/ramps.toml"
 ramps=$address
 start held "$bin/fmu_node" --role soil --listen 127.0.0.1:0 --config "$work/held.toml"

@@ -21,28 +21,18 @@
 # Usage: fmu_study_test.sh BIN_DIR SOURCE_DIR
 set -euo pipefail
 source "$(dirname "$0")/node_start.bash" "$@"
-fail() { echo "$1"; [[ -z ${2:-} ]] || cat "$2"; exit 1; }
+source "$(dirname "$0")/fmu_scenes.bash"
 
-sed -e 's/^end_time = .*/end_time = 0.05/' -e '/^ss_macro_step/d' \
-  -e 's/^\(tolerance = .*\)/\1\nmicro_steps = 10/' "$src/scenes/soil.toml" >"$work/soil.toml"
-scene() {  # FMU OUT: the scene with its [soil] table mapped onto FMU
-  cat >"$work/map.toml" <<TOML
-file = "$bin/fmus/$1"
-ss_in_displacement = "w_{i}"
-ss_in_velocity = "wd_{i}"
-ss_out_displacement = "u_{i}"
-ss_out_velocity = "ud_{i}"
-set_micro_steps = 10
-peak_history = "soil_peak_m"
-result_soil_m = "u_{i}"
-TOML
-  awk -v fmu="$work/map.toml" '
-    /^\[soil\]/ { print; print "model = \"external\""
-                  while ((getline line < fmu) > 0) print line
-                  skip = 1; next }
-    /^\[/ { skip = 0 }
-    !skip { print }' "$work/soil.toml" >"$2"
-  grep -q '^model = "external"' "$2" || fail "the scene was not written"
+each_run() {  # STUDY COUNT WHAT PATTERN...: COUNT runs, each summary.json matching every PATTERN
+  local study=$1 count=$2 what=$3 runs=0 summary pattern
+  shift 3
+  while IFS= read -r summary; do
+    runs=$((runs + 1))
+    for pattern in "$@"; do
+      grep -q "$pattern" "$summary" || fail "a run is not $what" "$summary"
+    done
+  done < <(find "$study" -name summary.json -not -path '*/references/*')
+  [[ $runs -eq $count ]] || fail "$runs runs in $study, expected $count"
 }
 study() {  # SCENE OUT
   "$bin/master" study --scene "$1" --out "$2" --macro-steps 1e-4,2e-4 >"$work/study.log" 2>&1 ||
@@ -52,7 +42,7 @@ study() {  # SCENE OUT
   return 0
 }
 
-scene lumped_soil2_ramps.fmu "$work/ramps.toml"
+mapped_soil_scene lumped_soil2_ramps.fmu "$work/ramps.toml"
 study "$work/ramps.toml" "$work/ramps"
 for method in ss-xx-jacobi ss-xx-gauss-seidel ss-xx-jacobi+explicit-extrapolate1 \
   ss-xx-jacobi+implicit-linear-iqn-ils; do
@@ -64,29 +54,19 @@ grep -q 'ss-xt-jacobi is left out: its mapping does not serve this case (the soi
   fail "the study does not say why the ss-xt methods are left out" "$work/study.log"
 grep -q 'implicit-waveform3-iqn-ils is left out: the soil FMU takes no substep waveforms' "$work/study.log" ||
   fail "the study does not say why the waveform method is left out" "$work/study.log"
-runs=0
-while IFS= read -r summary; do
-  runs=$((runs + 1))
-  grep -q '"kind": "co-simulation"' "$summary" && grep -q '"estimate_order": 2,' "$summary" ||
-    fail "not judged against a co-simulation reference with linear inputs" "$summary"
-done < <(find "$work/ramps" -name summary.json -not -path '*/references/*')
-[[ $runs -eq 8 ]] || fail "$runs runs, expected 8 (4 methods at 2 macro steps)"
-echo "soil FMU with ramps and state: $runs runs, each judged against a co-simulation reference"
+each_run "$work/ramps" 8 "judged against a co-simulation reference with linear inputs" \
+  '"kind": "co-simulation"' '"estimate_order": 2,'
+echo "soil FMU with ramps and state: 8 runs, each judged against a co-simulation reference"
 
-scene lumped_soil3_nostate.fmu "$work/nostate.toml"
+mapped_soil_scene lumped_soil3_nostate.fmu "$work/nostate.toml"
 study "$work/nostate.toml" "$work/nostate"
 cut -d, -f3 "$work/nostate/summary.csv" | grep -q 'implicit\|extrapolate' &&
   fail "an implicit or ramped method ran with an FMU that cannot take them" "$work/nostate/summary.csv"
 grep -q 'implicit-linear-iqn-ils is left out: the soil FMU does not interpolate its inputs' "$work/study.log" ||
   fail "the study does not say why the ramped methods are left out" "$work/study.log"
-runs=0
-while IFS= read -r summary; do
-  runs=$((runs + 1))
-  grep -q '"status": "not_judged"' "$summary" && grep -q 'not judged: the soil FMU cannot save its state' "$summary" ||
-    fail "a run of an FMU without state save is not 'not judged' for that reason" "$summary"
-done < <(find "$work/nostate" -name summary.json -not -path '*/references/*')
-[[ $runs -eq 4 ]] || fail "$runs runs, expected 4 (2 methods at 2 macro steps)"
-echo "soil FMU without state save: $runs explicit runs, each not judged for that reason"
+each_run "$work/nostate" 4 "not judged because the FMU cannot save its state" \
+  '"status": "not_judged"' 'not judged: the soil FMU cannot save its state'
+echo "soil FMU without state save: 4 explicit runs, each not judged for that reason"
 
 sed -e 's/^end_time = .*/end_time = 0.05/' "$src/scenes/paper.toml" >"$work/vfmu.toml"
 cat >>"$work/vfmu.toml" <<TOML
