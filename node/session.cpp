@@ -115,7 +115,9 @@ wire::Envelope NodeSession::handle(const wire::Envelope& request, bool& close) {
   } catch (const StepFailure& e) {
     code = wire::Error::STEP_FAILED;
     message = e.what();
-  } catch (const BadInputError& e) {
+  } catch (const BadRequestError& e) {
+    // Inputs that do not fit, or a request the participant cannot serve (a
+    // ramp for an FMU that takes held inputs only, a state it cannot save).
     code = wire::Error::BAD_REQUEST;
     message = e.what();
   } catch (const LinkError& e) {
