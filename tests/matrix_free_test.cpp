@@ -9,9 +9,9 @@
 #include <cstdint>
 
 #include "remote/transport.hpp"
+#include "run/assess.hpp"
 #include "run/matrix_free.hpp"
 #include "run/spectral.hpp"
-#include "run/stability.hpp"
 #include "scene_text.hpp"
 #include "test_support.hpp"
 
@@ -19,7 +19,7 @@ namespace railcosim {
 namespace matrix_free_test {
 
 struct Compared {
-  run::MapSpectrum dense;
+  verdict::MapSpectrum dense;
   run::MatrixFreeRho free;
 };
 

@@ -11,8 +11,8 @@
 #include "engine/window_schedule.hpp"
 #include "newmark.hpp"
 #include "run/parked.hpp"
-#include "run/stability.hpp"
 #include "scene_text.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::run {
 namespace {
@@ -233,7 +233,7 @@ void judge_growth_matrix_free(RunRecord& run, const Scene& scene, const CaseSpec
   run.matrix_free_rate = m.rate_per_s;
   run.matrix_free_steps = m.steps;
   const bool grew = m.growth >= f.growth || m.late_growth >= kMatrixFreeLateGrowth;
-  if (grew && m.rate_per_s >= unstable_rate(scene.end_time)) {
+  if (grew && m.rate_per_s >= verdict::unstable_rate(scene.end_time)) {
     run.stability = "unstable";
     run.stability_basis = "matrix-free";
     run.spectral_radius = m.rho;
