@@ -31,6 +31,7 @@
 #include "study/report_methods.hpp"
 #include "study/study_plan.hpp"
 #include "verdict/evaluation.hpp"
+#include "verdict/reference.hpp"
 #include "verdict/stability.hpp"
 
 namespace railcosim::study {
