@@ -10,10 +10,10 @@
 #include "engine/coupled_statics.hpp"
 #include "engine/schedule.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
+#include "run/assess.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "subsystem.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim::test {
 

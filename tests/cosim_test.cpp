@@ -6,10 +6,10 @@
 #include <map>
 #include <sstream>
 
-#include "run/evaluation.hpp"
+#include "run/assess.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {

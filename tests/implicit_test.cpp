@@ -6,10 +6,10 @@
 
 #include "cosim_support.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "scene_text.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {

@@ -3,22 +3,22 @@
 // paper's number, ours and the tolerance.
 #include <gtest/gtest.h>
 
-#include "run/evaluation.hpp"
+#include "run/assess.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "study/report.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace judging_test {
 
 using run::assess;
-using run::judge;
-using run::kMaxDeflectionError;
 using run::run_cosim;
 using run::run_monolithic;
 using run::RunOptions;
 using run::RunRecord;
+using verdict::judge;
+using verdict::kMaxDeflectionError;
 
 RunOptions at(double H, const Scene& s) {
   RunOptions o;

@@ -15,8 +15,8 @@
 #include <sstream>
 
 #include "run/spectral.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::krylov_map_test {
 namespace {
@@ -69,13 +69,13 @@ TEST(KrylovMap, TheDefaultIsTheDenseMapOnThePaperModel) {
   for (const Sample& k : kSample) {
     const CaseSpec spec = parse_case(k.name);
     const run::RunOptions o = options_of(scene, k);
-    run::MapSettings dense;
-    dense.method = run::MapMethod::kDense;
-    const run::MapSpectrum d = run::macro_step_spectrum(scene, spec, o, dense);
-    const run::MapSpectrum m = run::macro_step_spectrum(scene, spec, o);
+    verdict::MapSettings dense;
+    dense.method = verdict::MapMethod::kDense;
+    const verdict::MapSpectrum d = run::macro_step_spectrum(scene, spec, o, dense);
+    const verdict::MapSpectrum m = run::macro_step_spectrum(scene, spec, o);
     ASSERT_TRUE(d.computed) << label(k) << ": " << d.why_not;
     ASSERT_TRUE(m.computed) << label(k) << ": " << m.why_not;
-    EXPECT_LE(m.states, run::kDenseMapLimit);
+    EXPECT_LE(m.states, verdict::kDenseMapLimit);
     EXPECT_EQ(m.method, "dense") << label(k);
     EXPECT_EQ(m.rho, d.rho) << label(k);
   }
@@ -83,18 +83,18 @@ TEST(KrylovMap, TheDefaultIsTheDenseMapOnThePaperModel) {
 
 TEST(KrylovMap, ArnoldiAgreesWithTheDenseMapWhereItConverges) {
   const Scene scene = test::paper_scene();
-  const double bound = run::unstable_rate(scene.end_time);
+  const double bound = verdict::unstable_rate(scene.end_time);
   long converged = 0, unstable = 0;
   for (const Sample& k : kSample) {
     const CaseSpec spec = parse_case(k.name);
     const run::RunOptions o = options_of(scene, k);
-    run::MapSettings dense;
-    dense.method = run::MapMethod::kDense;
-    const run::MapSpectrum d = run::macro_step_spectrum(scene, spec, o, dense);
-    run::MapSettings krylov;
-    krylov.method = run::MapMethod::kKrylov;
+    verdict::MapSettings dense;
+    dense.method = verdict::MapMethod::kDense;
+    const verdict::MapSpectrum d = run::macro_step_spectrum(scene, spec, o, dense);
+    verdict::MapSettings krylov;
+    krylov.method = verdict::MapMethod::kKrylov;
     krylov.budget.max_products = 1500;
-    const run::MapSpectrum m = run::macro_step_spectrum(scene, spec, o, krylov);
+    const verdict::MapSpectrum m = run::macro_step_spectrum(scene, spec, o, krylov);
     ASSERT_TRUE(d.computed) << label(k) << ": " << d.why_not;
     EXPECT_LE(m.products, 1500) << label(k);
     if (!m.computed) {

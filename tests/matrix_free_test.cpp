@@ -9,9 +9,9 @@
 #include <cstdint>
 
 #include "remote/transport.hpp"
+#include "run/assess.hpp"
 #include "run/matrix_free.hpp"
 #include "run/spectral.hpp"
-#include "run/stability.hpp"
 #include "scene_text.hpp"
 #include "test_support.hpp"
 
@@ -19,8 +19,8 @@ namespace railcosim {
 namespace matrix_free_test {
 
 struct Compared {
-  run::MapSpectrum dense;
-  run::MatrixFreeRho free;
+  verdict::MapSpectrum dense;
+  verdict::MatrixFreeRho free;
 };
 
 Compared compare(const char* name, double H, long max_steps, run::RunOptions o = {}) {
@@ -47,7 +47,7 @@ TEST(MatrixFree, AnUnstableCouplingOverTcpGrowsAtTheDenseRate) {
   const Compared c = compare("rs-xx-jacobi", 1e-3, 1000);
   ASSERT_TRUE(c.dense.computed) << c.dense.why_not;
   EXPECT_NEAR(c.dense.rho, 1.055, 0.001);
-  EXPECT_GE(c.free.growth, run::kMatrixFreeGrowth);
+  EXPECT_GE(c.free.growth, verdict::kMatrixFreeGrowth);
   EXPECT_LT(c.free.steps, 1000);
   EXPECT_NEAR(c.free.rate_per_s, c.dense.rate_per_s, 0.02 * c.dense.rate_per_s)
       << "matrix-free rho " << c.free.rho << " after " << c.free.steps << " steps, dense "
@@ -87,8 +87,8 @@ TEST(MatrixFree, ImplicitHeldInputsOverTcpGrowAtTheDenseRate) {
       compare("rs-xt-gauss-seidel", 5e-4, 1000, implicit_options(engine::InputMode::kHold));
   ASSERT_TRUE(c.dense.computed) << c.dense.why_not;
   EXPECT_NEAR(c.dense.rho, 1.0197, 0.0005);
-  EXPECT_GT(c.free.carried, run::kMatrixFreeCarried);
-  EXPECT_GE(c.free.growth, run::kMatrixFreeImplicitGrowth);
+  EXPECT_GT(c.free.carried, verdict::kMatrixFreeCarried);
+  EXPECT_GE(c.free.growth, verdict::kMatrixFreeImplicitGrowth);
   EXPECT_NEAR(c.free.rate_per_s, c.dense.rate_per_s, 0.05 * c.dense.rate_per_s)
       << "matrix-free rho " << c.free.rho << " after " << c.free.steps << " steps, dense "
       << c.dense.rho;

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {
@@ -22,13 +22,13 @@ TEST(Monolithic, DeflectionSelfConvergesAsTheToleranceTightens) {
   double previous = INFINITY;
   for (double tol : {1e-7, 1e-8, 1e-9}) {
     const double err =
-        run::deflection_error(monolithic(scene, tol).deflection, reference.deflection).max_abs;
+        verdict::deflection_error(monolithic(scene, tol).deflection, reference.deflection).max_abs;
     EXPECT_LT(err, previous) << "tolerance " << tol;
     previous = err;
   }
   // At the scene's own tolerance the deflection is right to four digits.
   const run::RunRecord own = monolithic(scene, scene.tolerance);
-  EXPECT_LT(run::deflection_error(own.deflection, reference.deflection).rel_l2, 1e-4);
+  EXPECT_LT(verdict::deflection_error(own.deflection, reference.deflection).rel_l2, 1e-4);
 }
 
 TEST(Monolithic, PeakDeflectionFollowsTheWheel) {

@@ -9,9 +9,9 @@
 
 #include <cmath>
 
+#include "run/assess.hpp"
 #include "run/runner.hpp"
 #include "run/spectral.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
 
 namespace railcosim::multirate_stability_test {
@@ -32,11 +32,12 @@ Scene soil_scene() {
 TEST(MultirateMap, TheFastCutsInstabilityKeepsItsRateAtAnySlowWindow) {
   const Scene scene = soil_scene();
   const CaseSpec spec = parse_case("wr-xt+ss-xx-jacobi");
-  const run::MapSpectrum one = run::macro_step_spectrum(scene, spec, soil_options(scene, 1));
+  const verdict::MapSpectrum one = run::macro_step_spectrum(scene, spec, soil_options(scene, 1));
   ASSERT_TRUE(one.computed) << one.why_not;
   ASSERT_GT(one.rho, 1.01);
   for (long M : {10L, 50L}) {
-    const run::MapSpectrum multi = run::macro_step_spectrum(scene, spec, soil_options(scene, M));
+    const verdict::MapSpectrum multi =
+        run::macro_step_spectrum(scene, spec, soil_options(scene, M));
     ASSERT_TRUE(multi.computed) << multi.why_not;
     EXPECT_NEAR(multi.rate_per_s, one.rate_per_s, 0.01 * one.rate_per_s) << "M = " << M;
     EXPECT_NEAR(std::log(multi.rho), static_cast<double>(M) * std::log(one.rho),
@@ -50,7 +51,7 @@ TEST(MultirateMap, TheFastCutsInstabilityKeepsItsRateAtAnySlowWindow) {
 
 TEST(MultirateMap, AStableMultiratePlanStaysInsideTheUnitCircle) {
   const Scene scene = soil_scene();
-  const run::MapSpectrum m =
+  const verdict::MapSpectrum m =
       run::macro_step_spectrum(scene, parse_case("wr-xx+ss-xt-jacobi"), soil_options(scene, 10));
   ASSERT_TRUE(m.computed) << m.why_not;
   EXPECT_LT(m.rho, 1.0);

@@ -13,12 +13,12 @@
 #include <sstream>
 
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/execute.hpp"
 #include "run/runner.hpp"
 #include "run/spectral.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim {
 namespace {
@@ -129,7 +129,7 @@ TEST(MacroStepMap, TheStrongestTwoSayRhoAboutSix) {
     EXPECT_NEAR(*r.spectral_radius, k.rho, 0.05 * k.rho) << label(k);
     EXPECT_EQ(r.status, "amplified") << label(k);
     // "unstable at rest: ρ = 6.214 per macro step, ...": the number first.
-    const std::string rho = "unstable at rest: ρ = " + run::rho_words(*r.spectral_radius) + " ";
+    const std::string rho = "unstable at rest: ρ = " + verdict::rho_words(*r.spectral_radius) + " ";
     EXPECT_EQ(r.message.rfind(rho, 0), 0U) << rho << " in " << r.message;
     EXPECT_EQ(rho.find(std::to_string(k.rho).substr(0, 3)), rho.find("= ") + 2) << rho;
     EXPECT_EQ(r.message.find("grew only"), std::string::npos) << r.message;
@@ -143,7 +143,7 @@ TEST(MacroStepMap, StableCouplingsStayInsideTheUnitCircle) {
   for (const Known& k : {Known{"wr-xt-gauss-seidel", Feedthrough::kLagged, 2e-5, 0.99999972},
                          Known{"rs-xx-gauss-seidel", Feedthrough::kLagged, 1e-3, 0.9999999},
                          Known{"rs-xx-jacobi", Feedthrough::kLagged, 5e-4, 0.99999985}}) {
-    const run::MapSpectrum m =
+    const verdict::MapSpectrum m =
         run::macro_step_spectrum(scene, parse_case(k.name), options_of(scene, k.feedthrough, k.H));
     ASSERT_TRUE(m.computed) << label(k) << ": " << m.why_not;
     EXPECT_LT(m.rho, 1.0) << label(k);
@@ -167,7 +167,7 @@ TEST(MovingRunDefect, FlagsTheRunThatDivergesLater) {
       executed(scene, "rs-xt-gauss-seidel", Feedthrough::kLagged, 1e-4, "inproc", nullptr, nullptr);
   EXPECT_EQ(ok.status, "ok") << ok.message;
   EXPECT_FALSE(ok.defect_grows) << "defect growth " << ok.defect_growth.value_or(0);
-  EXPECT_LT(*ok.defect_growth, run::kDefectGrowth);
+  EXPECT_LT(*ok.defect_growth, verdict::kDefectGrowth);
 }
 
 // The defect's growth: the last eighth against the eighths before it from
@@ -176,12 +176,12 @@ TEST(MovingRunDefect, AnExponentialGivesItsRate) {
   const double dt = 1e-3, rate = 30;
   std::vector<double> d(801);
   for (std::size_t i = 0; i < d.size(); ++i) d[i] = 1e-3 * std::exp(rate * dt * double(i));
-  const run::DefectGrowth g = run::defect_growth(d, dt);
+  const verdict::DefectGrowth g = verdict::defect_growth(d, dt);
   EXPECT_TRUE(g.grows);
   EXPECT_NEAR(g.rate_per_s, rate, 0.01 * rate);
   std::vector<double> flat(801);
   for (std::size_t i = 0; i < flat.size(); ++i) flat[i] = 1e-3 * (1.5 + std::sin(0.3 * double(i)));
-  EXPECT_FALSE(run::defect_growth(flat, dt).grows);
+  EXPECT_FALSE(verdict::defect_growth(flat, dt).grows);
 }
 
 }  // namespace

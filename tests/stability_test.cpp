@@ -6,24 +6,24 @@
 #include <cmath>
 #include <limits>
 
-#include "run/evaluation.hpp"
+#include "run/assess.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {
 
 using run::assess;
-using run::classify_growth;
-using run::kProbeMinSteps;
-using run::kProbeTime;
 using run::parked_scene;
 using run::run_cosim;
 using run::run_monolithic;
 using run::RunOptions;
 using run::RunRecord;
-using run::Stability;
+using verdict::classify_growth;
+using verdict::kProbeMinSteps;
+using verdict::kProbeTime;
+using verdict::Stability;
 
 constexpr double kDt = 1e-4;
 

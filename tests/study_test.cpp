@@ -13,10 +13,10 @@
 #include <sstream>
 
 #include "process_support.hpp"
-#include "run/evaluation.hpp"
+#include "run/assess.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {

@@ -11,11 +11,11 @@
 #include "cosim_support.hpp"
 #include "engine/coupled_statics.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "scene_text.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace {

@@ -16,12 +16,12 @@
 #include "cosim_support.hpp"
 #include "process_support.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "scene.hpp"
 #include "statics.hpp"
 #include "test_support.hpp"
 #include "track_model.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace train_run_test {
@@ -143,7 +143,7 @@ TEST(TrainCosim, EveryWheelConvergesToTheMonolithicSolutionAsTheMacroStepShrinks
       const run::RunRecord ref = run::run_monolithic(s, o);
       run::RunRecord r =
           run::run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
-      run::judge(r, ref, s);
+      verdict::judge(r, ref, s);
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(wheel_force_error(r, ref, loads));
     }

@@ -15,12 +15,12 @@
 #include "hertz.hpp"
 #include "monolithic.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/runner.hpp"
 #include "spectra.hpp"
 #include "statics.hpp"
 #include "subsystem.hpp"
 #include "test_support.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim {
 namespace vehicle_engine_test {
@@ -268,7 +268,7 @@ TEST(CarRun, DeflectionSelfConvergesAsTheToleranceTightens) {
   for (double tol : {1e-8, 1e-9, 1e-10}) {
     o.tolerance = tol;
     errs.push_back(
-        run::deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
+        verdict::deflection_error(run_monolithic(s, o).deflection, reference.deflection).rel_l2);
   }
   // Measured 2.5e-7, 1.3e-7, 6.8e-8: a factor 1.9 per decade of tolerance;
   // 1.5 leaves room for the step-size pattern, which changes with it.
@@ -359,7 +359,7 @@ TEST(CarCosim, ConvergesToTheMonolithicSolutionAsTheMacroStepShrinks) {
       const RunOptions o = options(s, H);
       const RunRecord ref = run_monolithic(s, o);
       RunRecord r = run_cosim(s, parse_case(name), o, remote::inproc_factory(s), "inproc");
-      run::judge(r, ref, s);
+      verdict::judge(r, ref, s);
       ASSERT_EQ(r.status, "ok") << name << " H " << H << ": " << r.message;
       errs.push_back(*r.history_error);
     }

@@ -30,17 +30,17 @@
 #include "remote/remote_participant.hpp"
 #include "remote/soil_check.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/execute.hpp"
 #include "run/progress.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "scene.hpp"
 #include "scene_text.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
+#include "verdict/evaluation.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::cli {
 namespace {
@@ -146,7 +146,7 @@ run::RunOptions run_options(const RunArgs& a, const Scene& scene, const CaseSpec
   check(o.coupling);
   o.data_plane = remote::parse_data_plane(a.data_plane);
   o.direct.window_steps = a.window_steps;
-  o.judge.mode = run::parse_judge_mode(a.judge, "--judge");
+  o.judge.mode = verdict::parse_judge_mode(a.judge, "--judge");
   o.judge.budget = a.judge_budget;
   if (!spec.monolithic && !o.coupling.is_plain() && o.feedthrough == Feedthrough::kResolved)
     throw std::invalid_argument(

@@ -35,7 +35,7 @@ struct RunArgs {
   long window_steps = 0;
   double step_budget = 120;        // s
   double step_deadline_floor = 2;  // s: the least a silent macro step is waited for
-  double reference_step = 0;       // s; 0: half the macro step (run/cosim_reference.hpp)
+  double reference_step = 0;       // s; 0: half the macro step (verdict/reference.hpp)
   std::string judge = "full";      // what the verdict measures (run::JudgeMode)
   double judge_budget = 1.0;       // Arnoldi's products over the run's macro steps
   engine::CouplingOptions c;       // the numbers; the names above are parsed into it

@@ -27,14 +27,14 @@
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "scene.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
+#include "verdict/evaluation.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::cli {
 namespace {

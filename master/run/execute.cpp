@@ -5,11 +5,11 @@
 
 #include "model.hpp"
 #include "remote/inproc_fmu.hpp"
+#include "run/assess.hpp"
 #include "run/cosim_reference.hpp"
-#include "run/evaluation.hpp"
 #include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
-#include "run/stability.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim::run {
 namespace {
@@ -47,13 +47,13 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   const bool started = scene.started_soil() != nullptr;
   if (o.judge.mode == JudgeMode::kNone) {
     r.reference_kind = "none";
-    judge_unmeasured(r, "--judge none");
+    verdict::judge_unmeasured(r, "--judge none");
     return r;
   }
   if (const std::string why = unjudgeable(scene, job.spec, o); !why.empty()) {
     r.reference_kind = "none";
     r.spectral_note = why;
-    judge_unmeasured(r, why);
+    verdict::judge_unmeasured(r, why);
     return r;
   }
   if (o.judge.mode == JudgeMode::kStability) {
@@ -63,7 +63,7 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
       assess_growth(r, scene, job.spec, o);
     else
       judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
-    judge_unmeasured(r, "errors not measured (--judge stability)");
+    verdict::judge_unmeasured(r, "errors not measured (--judge stability)");
     return r;
   }
   if (given_node || scene.soil_model == "external" || scene.outside_vehicle() ||

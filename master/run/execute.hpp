@@ -27,10 +27,10 @@ struct RunJob {
   std::function<const RunRecord&()> reference;
   // Where the monolithic reference cannot be built (a participant on a node
   // given by address, an external soil): the co-simulation reference's
-  // macro step (cosim_reference.hpp; 0: half the run's).
+  // macro step (verdict/reference.hpp; 0: half the run's).
   double reference_step = 0;
   // Reference runs shared with other runs (a study's); null: made for this one.
-  CosimReferences* cosim_references = nullptr;
+  verdict::CosimReferences* cosim_references = nullptr;
   // Called with the run's folder once it exists, before the run starts.
   std::function<void(const std::filesystem::path&)> on_folder;
   // Called after every macro step with the steps done and the total.

@@ -8,7 +8,6 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include "run/cosim_reference.hpp"
 #include "spectra.hpp"
 
 namespace railcosim::run {

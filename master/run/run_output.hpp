@@ -71,6 +71,12 @@ class RunWriter {
 // A string as a JSON string, quoted and escaped.
 std::string json_quoted(const std::string& text);
 std::string summary_json(const RunRecord& run);
+// The judgement's parts of summary.json, each line "  \"key\": {...},\n":
+// the stability (verdict/stability.hpp) and what the run was judged against
+// (verdict/evaluation.hpp); and the first alone, "\"stability\": {...}" (no
+// trailing comma).
+std::string judgement_json(const RunRecord& run);
+std::string stability_json(const RunRecord& run);
 
 // soil_forces.csv: a row per communication point, `t_s` then the force into
 // the ballast under each sleeper (N, positive down), the columns headed by

@@ -14,8 +14,9 @@
 #include "remote/direct_exchange.hpp"
 #include "remote/reply_check.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
+#include "run/coupling_history.hpp"
 #include "run/step_loop.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim::run {
 
@@ -119,7 +120,7 @@ RunRecord run_monolithic(const Scene& scene, const RunOptions& o) {
   r.history.reserve(static_cast<std::size_t>(N + 1));
   auto record_row = [&](const HistoryRow& row) {
     r.history.push_back(row);
-    record_coupling(r, model);  // evaluation.hpp: judged with the history
+    record_coupling(r, model);  // coupling_history.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
   record_row(model.history_row(0));
@@ -330,14 +331,14 @@ RunRecord run_cosim(const Scene& scene, const CaseSpec& spec, const RunOptions& 
   auto record_row = [&](long n, const std::vector<StepResult>& m) {
     HistoryRow row = history.row(static_cast<double>(n) * o.macro_step, m, P.ps);
     r.history.push_back(row);
-    record_coupling(r, P.specs, m);  // evaluation.hpp: judged with the history
+    record_coupling(r, P.specs, m);  // coupling_history.hpp: judged with the history
     if (o.on_row) o.on_row(row);
   };
   const std::vector<StepResult> initial = coupled->initialize(P.statics.inputs);
   record_row(0, initial);
   double static_max = 0;
   for (const StepResult& x : initial) static_max = std::max(static_max, x.max_abs_displacement);
-  const double bound = divergence_bound(scene, static_max);
+  const double bound = verdict::divergence_bound(scene, static_max);
   const long N = steps_to(scene, o.macro_step);
   const std::unique_ptr<DirectExchange> direct =
       start_data_plane(r, o, transport, P, single ? &single->plan() : nullptr, bound, N);

@@ -17,30 +17,13 @@
 #include "run/run_record.hpp"
 #include "scene.hpp"
 #include "subsystem.hpp"
+#include "verdict/judge_options.hpp"
 
 namespace railcosim::run {
 
-// What a run's verdict measures after the run (--judge) and within what
-// budget (--judge-budget).
-enum class JudgeMode {
-  kFull,       // stability and the errors against the reference
-  kStability,  // stability only: no reference is made, the errors are not judged
-  kNone,       // nothing: the run is "not judged"
-};
-std::string to_string(JudgeMode m);
-// Throws std::invalid_argument naming `what` and the valid values.
-JudgeMode parse_judge_mode(const std::string& s, const std::string& what);
-
-struct JudgeOptions {
-  JudgeMode mode = JudgeMode::kFull;
-  // Where the map is measured by Arnoldi's method (more coordinates than
-  // spectral.hpp's kDenseMapLimit): its products may take this many times the
-  // run's own macro steps in parked macro steps (two a product), and at
-  // least kJudgeMinProducts products; past it the run's stability is "not
-  // judged" with the reason. 0: no bound. A smaller map is taken whole.
-  double budget = 1.0;
-};
-inline constexpr long kJudgeMinProducts = 200;
+// What the verdict measures after the run (verdict/judge_options.hpp).
+using verdict::JudgeMode;
+using verdict::JudgeOptions;
 
 struct RunOptions {
   double macro_step = 0;  // H, s

@@ -8,14 +8,18 @@
 
 #include "engine/coupled_statics.hpp"
 #include "engine/window_schedule.hpp"
+#include "run/assess.hpp"
 #include "run/parked.hpp"
-#include "run/stability.hpp"
 #include "subsystem.hpp"
 #include "subsystem_motion.hpp"
-#include "verdict/spectrum.hpp"
+#include "verdict/map_measure.hpp"
 
 namespace railcosim::run {
 namespace {
+
+using verdict::kMapConvergence;
+using verdict::kMapMaxIterations;
+using verdict::kMapPerturbation;
 
 using Memory = engine::CoupledSteps::Memory;
 
@@ -223,48 +227,29 @@ Eigen::MatrixXd macro_step_matrix(const Scene& scene, const CaseSpec& spec,
   return verdict::dense_matrix(map_operator(c, options.macro_step));
 }
 
-MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec, const RunOptions& options,
-                                const MapSettings& settings) {
-  MapSpectrum s;
-  s.method = settings.method == MapMethod::kDense ? "dense" : "krylov";
+verdict::MapSpectrum macro_step_spectrum(const Scene& scene, const CaseSpec& spec,
+                                         const RunOptions& options,
+                                         const verdict::MapSettings& settings) {
   const RunOptions o = map_options(options);
   const auto t0 = std::chrono::steady_clock::now();
   const double window =
       options.macro_step * static_cast<double>(rate_plan(scene, spec, options).ratio);
   const Scene parked = parked_for_map(scene, spec, options, o);
   ParkedCoupling c(parked, spec, o);
-  s.states = static_cast<long>(c.state().size());
-  const verdict::LinearOperator a = map_operator(c, options.macro_step);
-  const bool dense = settings.method == MapMethod::kDense ||
-                     (settings.method == MapMethod::kAuto && s.states <= kDenseMapLimit);
-  verdict::Budget whole;  // the dense map: no bound of products, the stop kept
-  whole.stop = settings.budget.stop;
-  const verdict::Spectrum m =
-      dense ? verdict::dense_spectrum(
-                  a, settings.method == MapMethod::kDense ? settings.budget : whole)
-            : verdict::dominant_spectrum(a, settings.budget, settings.krylov);
-  s.dimension = m.dimension;
-  s.products = m.products;
-  s.method = m.method;
-  s.micro_steps = c.micro_steps();
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const long states = static_cast<long>(c.state().size());
+  const verdict::Spectrum m = verdict::measure_map(map_operator(c, options.macro_step), settings);
+  std::string refused;
   if (c.not_converged() > 0) {
     std::ostringstream w;
     w << "the implicit step did not converge to " << kMapConvergence << " within "
       << kMapMaxIterations << " iterations in " << c.not_converged() << " of the map's "
       << 2 * m.products << " steps";
-    s.why_not = w.str();
-    return s;
+    refused = w.str();
   }
-  if (!m.converged) {
-    s.why_not = m.why_not;
-    return s;
-  }
-  s.rho = m.rho;
-  s.leading = m.leading;
-  s.frequency_hz = std::abs(std::arg(m.dominant)) / (2 * M_PI * window);
-  s.rate_per_s = std::log(std::max(s.rho, 1e-300)) / window;
-  s.computed = true;
+  verdict::MapSpectrum s = verdict::map_spectrum(m, window, refused);
+  s.states = states;
+  s.micro_steps = c.micro_steps();
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

@@ -17,11 +17,11 @@
 #include "log.hpp"
 #include "remote/peer_text.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/run_output.hpp"
-#include "run/stability.hpp"
 #include "scene.hpp"
 #include "study/study_plan.hpp"
+#include "verdict/evaluation.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::study {
 namespace {
@@ -89,11 +89,11 @@ std::string scene_line(const Scene& s) {
 std::string map_cell(const run::RunRecord& r) {
   const bool settled = r.status == "amplified" || r.status == "diverged" || r.status == "failed" ||
                        r.status == "not_converged";
-  std::string cell = !settled && r.stability == run::kNotJudged ? "not judged" : r.status;
+  std::string cell = !settled && r.stability == verdict::kNotJudged ? "not judged" : r.status;
   const std::optional<double> rho = rho_of(r), rate = rho_rate_of(r);
   if (rho) {
     std::ostringstream s;
-    s << std::setprecision(3) << ", ρ " << run::rho_words(*rho);
+    s << std::setprecision(3) << ", ρ " << verdict::rho_words(*rho);
     if (rate) s << " (" << *rate << " /s)";
     if (rho_basis_of(r) == "matrix-free") s << " matrix-free";
     cell += s.str();

@@ -45,8 +45,8 @@ std::vector<SlopeRow> error_slopes(const std::vector<StudyRun>& runs) {
   for (const StudyRun& r : runs) {
     const run::RunRecord& x = r.record;
     if ((r.group != "case" && r.group != "sweep") || r.method == "monolithic" ||
-        x.method != "implicit" || x.accelerator.value_or("") != "iqn-ils" || !run::ran_to_end(x) ||
-        !(r.rel_l2_error_converged > 0))
+        x.method != "implicit" || x.accelerator.value_or("") != "iqn-ils" ||
+        !verdict::ran_to_end(x) || !(r.rel_l2_error_converged > 0))
       continue;
     if (std::find(cases.begin(), cases.end(), x.case_name) == cases.end())
       cases.push_back(x.case_name);

@@ -23,28 +23,29 @@
 #include "remote/node_launcher.hpp"
 #include "remote/remote_participant.hpp"
 #include "remote/transport.hpp"
-#include "run/evaluation.hpp"
 #include "run/execute.hpp"
 #include "run/progress.hpp"
 #include "run/run_output.hpp"
 #include "run/runner.hpp"
-#include "run/stability.hpp"
 #include "study/report.hpp"
 #include "study/report_methods.hpp"
 #include "study/study_plan.hpp"
+#include "verdict/evaluation.hpp"
+#include "verdict/reference.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::study {
 namespace {}  // namespace
 
 using run::execute;
 using run::format_double;
-using run::ran_to_end;
 using run::run_monolithic;
 using run::RunJob;
 using run::RunOptions;
 using run::RunOutcome;
 using run::RunRecord;
 using run::write_file_atomically;
+using verdict::ran_to_end;
 
 std::string Method::label() const {
   std::string s = spec.name();
@@ -263,7 +264,7 @@ struct Reference {
 struct PlanScenes {
   std::map<std::string, Scene> scenes;
   std::map<std::tuple<std::string, double, double>, Reference> references;
-  run::CosimReferences cosim;  // the co-simulation references of a case, made once
+  verdict::CosimReferences cosim;  // the co-simulation references of a case, made once
 };
 
 // Runs one planned run with the worker's nodes and writes its folder (see

@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "log.hpp"
-#include "run/evaluation.hpp"
 #include "run/run_output.hpp"
 #include "study/report.hpp"
 #include "study/study.hpp"
 #include "study/study_plan.hpp"
+#include "verdict/evaluation.hpp"
 
 namespace railcosim::study {
 namespace {
@@ -173,7 +173,7 @@ run::RunRecord record_of(const fs::path& json) {
 }
 
 bool has_deflection(const run::RunRecord& r) {
-  return run::ran_to_end(r);
+  return verdict::ran_to_end(r);
 }
 
 // deflection.csv: x_m,w_m per rail node.
@@ -279,7 +279,7 @@ CollectedStudy collect_study(const fs::path& dir, const std::string& figure_scri
     } else if (it != converged.end() && has_deflection(s.record) &&
                s.record.deflection.size() == it->second->deflection.size())
       s.rel_l2_error_converged =
-          run::deflection_error(s.record.deflection, it->second->deflection).rel_l2;
+          verdict::deflection_error(s.record.deflection, it->second->deflection).rel_l2;
   }
   if (!write) return c;
   write_summary_csv(dir / "summary.csv", c.runs);

@@ -1,7 +1,9 @@
 // The dominant eigenvalues of a linear map seen only through its product:
-// the verdict's one contract with a model. Whatever the map is (one macro
-// step of a co-simulation linearised at rest, built-in participants, an
-// SDK's or an FMU's), the measure sees a dimension and y = A x.
+// the map's contract with the verdict (the others: matrix_free.hpp's
+// passes, reference.hpp's maker of reference runs). Whatever the map is
+// (one macro step of a co-simulation linearised at rest, built-in
+// participants, an SDK's or an FMU's), the measure sees a dimension and
+// y = A x.
 //
 // dominant_spectrum() is Arnoldi's method with implicit restarts (Spectra's
 // GenEigsSolver on Eigen), asking for the eigenvalues of largest modulus:

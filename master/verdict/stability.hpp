@@ -1,4 +1,5 @@
-// Whether a coupling is stable, told apart from whether it is accurate.
+// Whether a coupling is stable, told apart from whether it is accurate: the
+// growth measures' arithmetic and what the verdict makes of them.
 //
 // The size of a run's error against the monolithic run says how accurate a
 // coupling is, not whether it is stable: a consistent first-order coupling at
@@ -7,18 +8,17 @@
 // parked at its start (speed 0) from the coupled static state, where the
 // monolithic solution stays at rest: every deviation from that state is the
 // coupling's own error, seeded by round-off. A stable coupling keeps it at
-// round-off; an unstable one multiplies it by orders of magnitude.
+// round-off; an unstable one multiplies it by orders of magnitude. The run
+// module makes the probe's run (run/assess.hpp); the verdict classifies it.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "cosim_case.hpp"
-#include "run/run_record.hpp"
-#include "run/runner.hpp"
-#include "scene.hpp"
+#include "verdict/map_measure.hpp"
+#include "verdict/run_record.hpp"
 
-namespace railcosim::run {
+namespace railcosim::verdict {
 
 struct Stability {
   bool unstable = false;
@@ -51,9 +51,6 @@ Stability classify_growth(const std::vector<double>& deviation, double dt,
 // history; per row the largest over the channels that are non-zero at rest.
 std::vector<double> deviation_from_rest(const RunRecord& run);
 
-// The scene with the vehicle parked at its start and the probe's end time.
-Scene parked_scene(const Scene& scene, double macro_step);
-
 // A growth that e-folds within this many times the run's own duration makes
 // a coupling unstable: rate >= 1 / (kGrowthHorizon t_end). Ten durations: a
 // user runs the same coupling on a track ten times as long, and the growth
@@ -83,27 +80,35 @@ struct DefectGrowth {
 inline constexpr double kDefectGrowth = 2;
 DefectGrowth defect_growth(const std::vector<double>& defect, double dt);
 
-// Runs the probe for a co-simulation case with the run's options.
-Stability probe_stability(const Scene& scene, const CaseSpec& spec, const RunOptions& options);
+// The probe's verdict on its parked run `parked`, sampled every dt seconds:
+// its deviation from rest classified against the round-off floor (an
+// implicit coupling's: at least its `convergence`); a parked run that
+// diverged is unstable.
+Stability probe_growth(const RunRecord& parked, double dt, bool implicit, double convergence);
 
 // The stability of a run whose participants the probe cannot build: one
 // served by a node the user started (--node ROLE=HOST:PORT), which may run
 // a model of its own behind the scene's name.
 inline constexpr const char* kNotJudged = "not judged";
 
-// The run's stability (unless `probe` is false: then its stability is
-// kNotJudged, unless the defect grows along the run), then its judgement
-// (evaluation.hpp): what `master run` and the study do for a co-simulation
-// whose soil runs in the master. The verdict rests on the spectral radius
-// of the macro-step map (spectral.hpp) where it can be computed, else on the
-// probe; a defect that grows along the moving run makes it unstable too.
-void assess(RunRecord& run, const RunRecord& reference, const Scene& scene, const CaseSpec& spec,
-            const RunOptions& options, bool probe = true);
-// Its first half: the stability verdict and the defect check, no errors.
-void assess_growth(RunRecord& run, const Scene& scene, const CaseSpec& spec,
-                   const RunOptions& options, bool probe = true);
+// The map's verdict on a run (the map of a case at rest, measured at
+// `t_end`'s bound unstable_rate): its spectral radius where the measure
+// converged. Arnoldi's converged eigenvalues are eigenvalues, not always the
+// largest: a Krylov measure below the bound is kNotJudged, as is one that ran
+// out of its budget. Returns true where the map's implicit steps did not
+// converge (its note recorded): the probe judges the run then
+// (judge_by_probe).
+bool judge_by_map(RunRecord& run, const MapSpectrum& m, double t_end, bool implicit);
+// The probe's verdict on a run.
+void judge_by_probe(RunRecord& run, const Stability& s);
+// The defect check over the moving run, sampled every dt seconds: recorded,
+// and the run unstable when the defect grows.
+void judge_defect(RunRecord& run, double dt);
+// The stability of a run whose model the verdict cannot build (a node the
+// user started may run a model of its own behind the scene's name): as
+// measured through its participants already (matrix_free.hpp), else
+// kNotJudged; then the defect check, which is the run's own. A failed run
+// is left as it is.
+void judge_without_model(RunRecord& run, double dt);
 
-// The stability part of summary.json: "stability": {...} (no trailing comma).
-std::string stability_json(const RunRecord& run);
-
-}  // namespace railcosim::run
+}  // namespace railcosim::verdict

@@ -1,14 +1,15 @@
-// How a co-simulation run is judged against the monolithic reference.
+// How a co-simulation run is judged against its reference: the monolithic
+// run, or the co-simulation reference (reference.hpp).
 #pragma once
 
 #include <string>
+#include <vector>
 
-#include "model.hpp"
-#include "monolithic.hpp"
-#include "run/run_record.hpp"
+#include "participant.hpp"
 #include "scene.hpp"
+#include "verdict/run_record.hpp"
 
-namespace railcosim::run {
+namespace railcosim::verdict {
 
 struct DeflectionError {
   double max_abs = 0;  // max_k |w_k - w_k,ref|, m
@@ -28,18 +29,13 @@ double history_error(const std::vector<HistoryRow>& h, const std::vector<History
 
 // The history error over every coupling quantity of a run: the wheel's two
 // channels, every further history channel (soil_peak_m, per-wheel and
-// ballast forces) and every linear cut of the run (RunRecord::coupling_history),
+// ballast forces) and every linear cut of the run (RunRecord::coupling_history,
+// which the run records as it goes),
 // each error divided by the largest magnitude of that quantity (or of its
 // family: all wheels, all sleepers) in the reference run. The result is the
 // largest RMS over the quantities, the contact force and the wheel counted
 // together as one.
 double coupling_history_error(const RunRecord& run, const RunRecord& reference);
-
-// Appends one row of RunRecord::coupling_history: from the outputs of a
-// co-simulation's participants, or from the monolithic model's state.
-void record_coupling(RunRecord& run, const std::vector<ParticipantSpec>& participants,
-                     const std::vector<StepResult>& outputs);
-void record_coupling(RunRecord& run, const MonolithicModel& model);
 
 // A run whose deflection at t_end is further than this from the monolithic
 // one (relative L2) is never `ok`: 25 %, six times the largest error of a
@@ -81,4 +77,4 @@ void judge(RunRecord& run, const RunRecord& reference, const Scene& scene);
 // diverged or failed run keeps its status.
 void judge_unmeasured(RunRecord& run, const std::string& why);
 
-}  // namespace railcosim::run
+}  // namespace railcosim::verdict

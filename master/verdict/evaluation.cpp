@@ -1,4 +1,4 @@
-#include "run/evaluation.hpp"
+#include "verdict/evaluation.hpp"
 
 #include <cctype>
 #include <map>
@@ -9,12 +9,10 @@
 #include <iomanip>
 #include <sstream>
 
-#include "monolithic.hpp"
-#include "run/spectral.hpp"
-#include "run/stability.hpp"
-#include "track_model.hpp"
+#include "verdict/map_measure.hpp"
+#include "verdict/stability.hpp"
 
-namespace railcosim::run {
+namespace railcosim::verdict {
 
 DeflectionError deflection_error(const std::vector<double>& w, const std::vector<double>& ref) {
   DeflectionError e;
@@ -105,32 +103,6 @@ double coupling_history_error(const RunRecord& run, const RunRecord& ref) {
   double worst = rms(0, 2);
   for (std::size_t k = 2; k < series.size(); ++k) worst = std::max(worst, rms(k, 1));
   return worst;
-}
-
-void record_coupling(RunRecord& run, const std::vector<ParticipantSpec>& participants,
-                     const std::vector<StepResult>& outputs) {
-  for (std::size_t p = 0; p < participants.size() && p < outputs.size(); ++p) {
-    const auto& interfaces = participants[p].interfaces;
-    for (std::size_t i = 0; i < interfaces.size() && i < outputs[p].outputs.size(); ++i) {
-      const InterfaceSpec& spec = interfaces[i];
-      if (spec.kind().moving || spec.side != CutSide::kLower) continue;
-      double largest = 0;
-      for (double u : outputs[p].outputs[i].displacement) largest = std::max(largest, std::abs(u));
-      run.coupling_history[spec.kind().name].push_back(largest);
-    }
-  }
-}
-
-void record_coupling(RunRecord& run, const MonolithicModel& model) {
-  const DofLayout& layout = model.structure().layout;
-  const auto& u = model.integrator().state().u;
-  for (const char* cut : {"rs", "ss"}) {
-    if (std::string(cut) == "ss" && layout.soil.empty()) continue;
-    double largest = 0;
-    for (int d : layer_dofs(layout, find_cut(cut), CutSide::kLower))
-      largest = std::max(largest, std::abs(u[d]));
-    run.coupling_history[cut].push_back(largest);
-  }
 }
 
 double divergence_bound(const Scene& scene, double largest_static_displacement) {
@@ -280,4 +252,4 @@ void judge_unmeasured(RunRecord& run, const std::string& why) {
   }
 }
 
-}  // namespace railcosim::run
+}  // namespace railcosim::verdict
