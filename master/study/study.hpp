@@ -74,6 +74,8 @@ std::vector<Method> methods_an_fmu_serves(const Scene& scene, const std::vector<
 // set, when none is left or the scene's own macro step is not that step.
 std::vector<double> macro_steps_an_fmu_serves(const Scene& scene, const Method& method,
                                               const std::vector<double>& sweep);
+// Both, where the scene maps a participant to an FMU; nothing otherwise.
+void fit_to_fmus(const Scene& scene, std::vector<Method>& methods, std::vector<double>& sweep);
 std::vector<Method> methods_with_started_soil(const Scene& scene,
                                               const std::vector<Method>& methods);
 

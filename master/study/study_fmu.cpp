@@ -94,4 +94,10 @@ std::vector<Method> methods_an_fmu_serves(const Scene& scene, const std::vector<
   return kept;
 }
 
+void fit_to_fmus(const Scene& scene, std::vector<Method>& methods, std::vector<double>& sweep) {
+  if (scene.fmu_mapping("vehicle").empty() && scene.fmu_mapping("soil").empty()) return;
+  methods = methods_an_fmu_serves(scene, methods);
+  sweep = macro_steps_an_fmu_serves(scene, methods.front(), sweep);
+}
+
 }  // namespace railcosim::study

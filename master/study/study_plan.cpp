@@ -273,10 +273,7 @@ void add_variant(StudyPlan& plan, const StudyOptions& o, const Variant& v, const
   if (!o.cases.empty()) methods = methods_of_cases(methods, o.cases);
   if (!o.nodes.empty()) methods = methods_with_nodes(scene, methods, o.nodes);
   if (scene.started_soil() != nullptr) methods = methods_with_started_soil(scene, methods);
-  if (!scene.fmu_mapping("vehicle").empty() || !scene.fmu_mapping("soil").empty()) {
-    methods = methods_an_fmu_serves(scene, methods);
-    sweep = macro_steps_an_fmu_serves(scene, methods.front(), sweep);
-  }
+  fit_to_fmus(scene, methods, sweep);
   // A soil of its own (FE, Green's functions, external) has no monolithic model,
   // and a node given by address runs physics of its own behind its role.
   const bool monolithic = !scene.outside_model() && o.nodes.empty();
