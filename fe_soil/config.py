@@ -136,7 +136,7 @@ def parse(table):
     out["measures"], out["variant"] = path_measures.parse(table)
     out["grounds"], out["ground"] = ground_shapes.parse(table)
     if "mitigation" in table:  # the mitigation study's load; the soil itself ignores it
-        from .mitigation import load_keys
+        from .study_load import load_keys
         load_keys(table["mitigation"])
     above = sum(l.thickness for l in out["layers"][:-1])
     if above >= out["depth"]:

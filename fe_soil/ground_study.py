@@ -23,7 +23,7 @@ import os
 import numpy as np
 
 from . import config as fe_config
-from . import ground_shapes, mitigation, path_measures, resolution
+from . import ground_shapes, mitigation, path_measures, resolution, study_load
 from .soil_table import ConfigError
 
 
@@ -54,13 +54,10 @@ def report(path, info, fc, lv, diff):
     load = info["load"]
     lines = ["# Vibration levels on the ground shapes: %s" % info["name"], "",
              "One-third-octave levels L_v of the vertical velocity (dB re 1e-9 m/s) at each "
-             "receiver, on the flat ground and on each shape, under a Ricker force of %g N "
-             "(centre %g Hz) on the middle one of %d footprints, recorded over %g s every %g s; "
+             "receiver, on the flat ground and on each shape, under one load: %s; "
              "receivers at equal distances from the track's centre line, each on the ground's "
              "surface there. Difference: L_at_grade - L_ground (positive: lower than at grade), "
-             "judged where the flat ground's mesh resolves the band at the receiver." % (
-                 load["amplitude"], load["frequency"], load["sleepers"], load["duration"],
-                 load["step"]), ""]
+             "judged where the flat ground's mesh resolves the band at the receiver." % load, ""]
     for g, per in lv.items():
         shape = info["grounds"][g]
         lines += ["## %s: %s (%d DOFs)" % (g, shape.shape.replace("_", " "), info["dofs"][g]), "",
@@ -82,8 +79,9 @@ def report(path, info, fc, lv, diff):
         f.write("\n".join(lines))
 
 
-def study(scene, out, name="scene"):
-    """Runs the flat ground and every listed ground; writes the outputs."""
+def study(scene, out, name="scene", master=None):
+    """Runs the flat ground and every listed ground; writes the outputs.
+    master: the master program, for a train load (fe_soil/study_load.py)."""
     from .model import FESoil
 
     cfg = fe_config.parse(scene["soil"])
@@ -91,13 +89,15 @@ def study(scene, out, name="scene"):
     if not cfg["grounds"]:
         raise ConfigError("[soil] grounds: the scene lists none ([[soil.grounds]]): there is "
                           "nothing to compare with the flat ground")
-    fps = mitigation.footprints(scene, load["sleepers"])
+    source = study_load.make(scene, load, cfg,
+                             lambda fps: FESoil(ground_block(cfg, fps, ground_shapes.AT_GRADE)),
+                             master, out)
     grounds = [ground_shapes.AT_GRADE] + [g.name for g in cfg["grounds"]]
     records, dofs, heights, bands = {}, {}, {}, None
     for g in grounds:
         print("ground: %s" % g, flush=True)
-        soil = FESoil(ground_block(cfg, fps, g))
-        t, vel = mitigation.drive(soil, load)
+        soil = FESoil(ground_block(cfg, source.footprints, g))
+        t, vel = source.drive(soil)
         records[g], dofs[g] = vel, soil.global_dofs()
         heights[g] = list(soil.rec_points[:, 2])
         os.makedirs(os.path.join(out, "runs", g), exist_ok=True)
@@ -106,7 +106,7 @@ def study(scene, out, name="scene"):
         if bands is None:  # the flat ground's mesh judges the bands
             bands = resolution.receiver_bands(soil, cfg, load["duration"])
     names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
-    lv = {g: mitigation.levels(records[g], load["step"]) for g in grounds}
+    lv = {g: mitigation.levels(records[g], source.dt) for g in grounds}
     ref = lv[ground_shapes.AT_GRADE]
     diff = {g: mitigation.insertion_loss(ref, lv[g], bands) for g in grounds}
     fc = ref[0]["fc"]
@@ -115,7 +115,8 @@ def study(scene, out, name="scene"):
     os.makedirs(os.path.join(out, "figures"), exist_ok=True)
     mitigation.figure(os.path.join(out, "figures", "ground_difference.png"), names, fc,
                       {g: diff[g] for g in grounds[1:]})
-    info = {"name": name, "load": load, "receivers": names, "dofs": dofs, "heights": heights,
+    info = {"name": name, "load": source.text(), "receivers": names, "dofs": dofs,
+            "heights": heights,
             "grounds": {g: ground_shapes.find(cfg["grounds"], g) for g in grounds}}
     report(os.path.join(out, "REPORT.md"), info, fc, lv, diff)
     return records, lv, diff

@@ -20,14 +20,10 @@ same load and at the same receivers, and writes
 - DIR/runs/VARIANT/receivers.npz: each run's record (t, v[time, receiver,
   component]), in full precision.
 
-The load is that of [soil.mitigation] (the FE soil ignores the table):
-
-    [soil.mitigation]
-    sleepers = 25       # footprints at [sleepers] spacing, as the track's
-    frequency = 15.0    # Hz: the centre of a Ricker force on the middle one
-    amplitude = 1e4     # N, its peak (at 1.2 / frequency)
-    duration = 0.4      # s, the record
-    step = 2e-3         # s, the record's sampling (the soil steps below it)
+The load is that of [soil.mitigation] (the FE soil ignores the table): a
+Ricker force on the middle footprint, or the scene's train on its track
+(load = "train", run by the master program given with --master), the same
+for every variant: fe_soil/study_load.py.
 
 A band is judged where the soil resolves it at the receiver
 (resolution.receiver_bands) and the reference's level lies within
@@ -42,38 +38,12 @@ import numpy as np
 
 from .scene_file import read_scene
 from . import config as fe_config
-from . import measures, path_measures, resolution, soil_table
+from . import measures, path_measures, resolution, study_load
 from .soil_table import ConfigError
+from .study_load import load_keys  # noqa: F401  (the studies' keys, read here too)
 
-# key: (default, lower bound (refused itself), upper bound (refused itself))
-LOAD_KEYS = {"sleepers": (25, 0, 401), "frequency": (15.0, 0.1, 500.0),
-             "amplitude": (1e4, 1e-3, 1e9), "duration": (0.4, 0.0, 60.0),
-             "step": (2e-3, 1e-5, 0.05)}
-MIN_SAMPLES = 10  # the record holds at least this many steps
 BAND_TOP = 80.0  # Hz, the highest band centre reported
 CONTENT_DB = 40.0  # bands more than this below the reference's highest are not judged
-
-
-def load_keys(table):
-    """The checked [soil.mitigation] keys as a dict."""
-    table = table or {}
-    if not isinstance(table, dict):
-        raise ConfigError("[soil] mitigation must be a table ([soil.mitigation])")
-    unknown = sorted(set(table) - set(LOAD_KEYS))
-    if unknown:
-        raise ConfigError("[soil] mitigation.%s is not a key of [soil.mitigation] (its keys: %s)"
-                          % (unknown[0], ", ".join(sorted(LOAD_KEYS))))
-    out = {}
-    for key, (default, lo, hi) in LOAD_KEYS.items():
-        out[key] = soil_table.number(table, key, "mitigation.", lo=lo, hi=hi, default=default)
-    if out["sleepers"] != int(out["sleepers"]):
-        raise ConfigError("[soil] mitigation.sleepers must be a whole number (got %g)"
-                          % out["sleepers"])
-    out["sleepers"] = int(out["sleepers"])
-    if out["duration"] < MIN_SAMPLES * out["step"]:
-        raise ConfigError("[soil] mitigation.duration %g s holds fewer than %d steps of %g s "
-                          "([soil] mitigation.step)" % (out["duration"], MIN_SAMPLES, out["step"]))
-    return out
 
 
 def footprints(scene, n):
@@ -91,25 +61,6 @@ def footprints(scene, n):
 def variant_block(cfg, fps, variant):
     """SoilParams of the scene's block with the measures of `variant`."""
     return fe_config.block_params(dict(cfg, variant=variant), fps)[0]
-
-
-def drive(soil, load):
-    """The soil from rest under the Ricker force on the middle footprint:
-    (t, v[time, receiver, component]) every `step` s."""
-    fc, amp, H = load["frequency"], load["amplitude"], load["step"]
-    t0 = 1.2 / fc
-    n = len(soil.p.footprints)
-
-    def force(t):
-        a = (math.pi * fc * (t - t0)) ** 2
-        out = np.zeros(n)
-        out[n // 2] = amp * (1.0 - 2.0 * a) * math.exp(-a)
-        return out
-
-    soil.reset()
-    for k in range(int(round(load["duration"] / H))):
-        soil.advance(k * H, H, force(k * H), force((k + 1) * H))
-    return soil.receiver_series()
 
 
 def levels(v, dt):
@@ -177,13 +128,9 @@ def report(path, info, fc, losses):
              "IL = L_ref - L_measure in dB, the vertical velocity at each receiver: positive "
              "where the measure reduces the vibration, negative where it amplifies. The "
              "reference is the scene's FE soil without any measure; each measure is run alone "
-             "under the same load: a Ricker force of %g N peaking at %.3g s, centre %g Hz, on "
-             "the middle one of %d footprints, recorded over %g s every %g s. A band is judged "
-             "where the soil resolves it at the receiver and the reference lies within %g dB "
-             "of its highest band (`-` elsewhere)." % (
-                 info["load"]["amplitude"], 1.2 / info["load"]["frequency"],
-                 info["load"]["frequency"], info["load"]["sleepers"], info["load"]["duration"],
-                 info["load"]["step"], CONTENT_DB), ""]
+             "under the same load: %s. A band is judged where the soil resolves it at the "
+             "receiver and the reference lies within %g dB of its highest band (`-` elsewhere)."
+             % (info["load"], CONTENT_DB), ""]
     for name, per in losses.items():
         m = info["measures"][name]
         lines += ["## %s: %s" % (name, m.kind.replace("_", " ")), "",
@@ -237,8 +184,9 @@ def figure(path, names, fc, losses):
     plt.close(fig)
 
 
-def study(scene, out, name="scene"):
-    """Runs the reference and every measure; writes the outputs into out."""
+def study(scene, out, name="scene", master=None):
+    """Runs the reference and every measure; writes the outputs into out.
+    master: the master program, for a train load (fe_soil/study_load.py)."""
     from .model import FESoil
 
     cfg = fe_config.parse(scene["soil"])
@@ -246,31 +194,40 @@ def study(scene, out, name="scene"):
     if not cfg["measures"]:
         raise ConfigError("[soil] measures: the scene lists none ([[soil.measures]]): there is "
                           "nothing to compare with the reference")
-    fps = footprints(scene, load["sleepers"])
+    source = study_load.make(
+        scene, load, cfg, lambda fps: FESoil(variant_block(cfg, fps, path_measures.REFERENCE)),
+        master, out)
     variants = [path_measures.REFERENCE] + [m.name for m in cfg["measures"]]
     records, dofs, bands = {}, {}, None
     for v in variants:
         print("mitigation: %s" % v, flush=True)
-        soil = FESoil(variant_block(cfg, fps, v))
-        t, vel = drive(soil, load)
+        soil = FESoil(variant_block(cfg, source.footprints, v))
+        t, vel = source.drive(soil)
         records[v], dofs[v] = vel, soil.global_dofs()
         os.makedirs(os.path.join(out, "runs", v), exist_ok=True)
         np.savez(os.path.join(out, "runs", v, "receivers.npz"), t=t, v=vel)
         if bands is None:  # the reference's mesh judges the bands
             bands = resolution.receiver_bands(soil, cfg, load["duration"])
     names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
-    ref = levels(records[path_measures.REFERENCE], load["step"])
-    losses = {v: insertion_loss(ref, levels(records[v], load["step"]), bands)
+    ref = levels(records[path_measures.REFERENCE], source.dt)
+    losses = {v: insertion_loss(ref, levels(records[v], source.dt), bands)
               for v in variants[1:]}
     fc = ref[0]["fc"]
     with open(os.path.join(out, "insertion_loss.csv"), "w") as f:
         f.write(csv_text(names, cfg["receivers"], fc, losses))
     os.makedirs(os.path.join(out, "figures"), exist_ok=True)
     figure(os.path.join(out, "figures", "insertion_loss.png"), names, fc, losses)
-    info = {"name": name, "load": load, "receivers": names, "dofs": dofs,
+    info = {"name": name, "load": source.text(), "receivers": names, "dofs": dofs,
             "measures": {m.name: m for m in cfg["measures"]}}
     report(os.path.join(out, "REPORT.md"), info, fc, losses)
     return records, losses
+
+
+def default_master():
+    """The build's master program beside this package, if there is one."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "bin",
+                        "master")
+    return os.path.normpath(here) if os.path.isfile(here) else None
 
 
 def main(argv=None):
@@ -281,6 +238,9 @@ def main(argv=None):
     ap.add_argument("--grounds", action="store_true", help="compare the scene's "
                     "[[soil.grounds]] (embankments, cuttings) with the flat ground instead "
                     "(fe_soil/ground_study.py)")
+    ap.add_argument("--master", default=default_master(), help="the master program, for "
+                    "[soil.mitigation] load = \"train\" (default: build/bin/master beside "
+                    "this package)")
     a = ap.parse_args(argv)
     scene = read_scene(a.scene, "fe")
     if "sleepers" not in scene or "spacing" not in scene["sleepers"]:
@@ -291,9 +251,9 @@ def main(argv=None):
     try:
         if a.grounds:
             from . import ground_study
-            ground_study.study(scene, out, scene.get("scene", {}).get("name", a.scene))
+            ground_study.study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master)
         else:
-            study(scene, out, scene.get("scene", {}).get("name", a.scene))
+            study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master)
     except ConfigError as e:
         sys.exit("%s: %s" % (a.scene, e))
     print("mitigation: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)

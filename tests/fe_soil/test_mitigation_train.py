@@ -1,0 +1,135 @@
+"""The insertion-loss study under the scene's own train ([soil.mitigation]
+load = "train", fe_soil/study_load.py) on
+scenes/ground_vibration_trench_ci.toml, its record shortened (RECORD s) and
+its mesh coarsened (MESH m) to CI size:
+
+- the forces are those of the master's monolithic run of the scene's car on
+  the lumped soil fitted to the reference block (two_step.fit_lumped, the
+  fit repeated here), one column per sleeper of the track, and their first
+  row carries exactly the car's weight on one rail (g (M_c + 2 M_t + 4 M_w),
+  the half masses of the scene; the track's own weight is not a load of the
+  model);
+- the reference variant equals those forces applied one way to a plain
+  block built here (its table without the measures), to 1e-12 of each
+  receiver's peak over the whole record;
+- behind the trench (6 and 9 m) the PPV is lower than without it;
+- REPORT.md names the load: the car, its speed and its sleepers;
+- the Ricker force's keys beside load = "train", an unknown load and a
+  missing master program are refused by name.
+Usage: test_mitigation_train.py BIN_DIR"""
+import csv
+import os
+import sys
+import tempfile
+import tomllib
+import unittest
+
+import numpy as np
+
+from support import HALF_SPACE  # noqa: F401  (skips without dolfinx)
+
+from fe_soil import config, mitigation, path_measures, study_load, two_step
+from fe_soil.model import FESoil
+
+SRC = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+BIN = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(SRC, "build", "bin")
+SCENE = os.path.join(SRC, "scenes", "ground_vibration_trench_ci.toml")
+RECORD = 0.15  # s
+MESH = 0.7  # m
+
+
+def read(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array([[float(x) for x in r] for r in rows[1:]])
+
+
+class TrainLoad(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        with open(SCENE, "rb") as f:
+            cls.scene = tomllib.load(f)
+        cls.scene["soil"]["mitigation"] = {"load": "train", "duration": RECORD}
+        cls.scene["soil"]["mesh_size"] = MESH
+        cls.out = tempfile.mkdtemp(prefix="mitigation_train_")
+        cls.records, cls.losses = mitigation.study(cls.scene, cls.out, "trench_train",
+                                                   os.path.join(BIN, "master"))
+        cls.train_run = os.path.join(cls.out, "train", "lumped", "monolithic")
+        head, cls.forces = read(os.path.join(cls.train_run, "soil_forces.csv"))
+        cls.xs = [float(x) for x in head[1:]]
+
+    def plain_block(self):
+        table = {k: v for k, v in self.scene["soil"].items() if k not in ("measures", "variant")}
+        cfg = config.parse(table)
+        return FESoil(config.block_params(cfg, self.footprints())[0]), cfg
+
+    def footprints(self):
+        from railcosim_sdk import Footprint
+
+        s = self.scene["sleepers"]
+        return [Footprint(x, s.get("length", 2.6) / 4.0, 0.0, s["spacing"],
+                          s.get("length", 2.6) / 2.0) for x in self.xs]
+
+    def test_the_forces_carry_the_cars_weight_at_every_sleeper(self):
+        v = self.scene["vehicle"]
+        weight = 9.81 * (v["body_mass"] + 2 * v["bogie_mass"] + 4 * v["wheelset_mass"])
+        self.assertAlmostEqual(float(self.forces[0, 1:].sum()) / weight, 1.0, delta=1e-9)
+        spacing = self.scene["sleepers"]["spacing"]
+        np.testing.assert_allclose(np.diff(self.xs), spacing, rtol=1e-9)
+        self.assertGreater(len(self.xs), 40)
+        np.testing.assert_allclose(np.diff(self.forces[:, 0]),
+                                   self.scene["simulation"]["macro_step"], rtol=1e-6)
+        self.assertAlmostEqual(self.forces[-1, 0], RECORD, delta=1e-9)
+        # the car moves: the sleeper under the largest force is not the same
+        peak = np.argmax(self.forces[:, 1:], axis=1)
+        self.assertGreater(int(peak[-1] - peak[0]), 5)
+
+    def test_the_lumped_soil_is_fitted_to_the_reference_block(self):
+        soil, _ = self.plain_block()
+        kf, kc = two_step.fit_lumped(soil, len(self.xs))
+        with open(os.path.join(self.out, "train", "lumped.toml"), "rb") as f:
+            lumped = tomllib.load(f)["soil"]
+        self.assertAlmostEqual(lumped["stiffness"] / kf, 1.0, delta=1e-8)
+        self.assertAlmostEqual(lumped["coupling_stiffness"] / kc, 1.0, delta=1e-8)
+        self.assertEqual(lumped["model"], "lumped")
+
+    def test_the_reference_is_the_forces_one_way_into_a_plain_block(self):
+        soil, _ = self.plain_block()
+        H = self.scene["simulation"]["macro_step"]
+        t, v = two_step.one_way(soil, self.forces[:, 1:], self.forces[:, 0], H)
+        ref = self.records[path_measures.REFERENCE]
+        self.assertEqual(ref.shape, v.shape)
+        for k in range(v.shape[1]):
+            scale = np.abs(v[:, k, :]).max()
+            self.assertGreater(scale, 0.0)
+            self.assertLess(float(np.abs(ref[:, k, :] - v[:, k, :]).max() / scale), 1e-12, k)
+        saved = np.load(os.path.join(self.out, "runs", "reference", "receivers.npz"))
+        np.testing.assert_array_equal(saved["t"], t)
+
+    def test_behind_the_trench_the_ppv_is_lower(self):
+        per = self.losses["trench"]
+        self.assertEqual(len(per), 3)
+        self.assertTrue(all(il["ppv"] > 0.0 for il in per[1:]), [il["ppv"] for il in per])
+
+    def test_the_report_names_the_train(self):
+        with open(os.path.join(self.out, "REPORT.md")) as f:
+            text = f.read()
+        self.assertIn("the scene's car at 160 km/h on its track, by the two-step method", text)
+        self.assertIn("each of its %d sleepers" % len(self.xs), text)
+
+    def test_wrong_keys_are_refused_by_name(self):
+        for table, pattern in (
+                ({"load": "train", "frequency": 20.0},
+                 r"mitigation\.frequency is a key of the Ricker force"),
+                ({"load": "trains"}, r"mitigation\.load must be one of \"ricker\", \"train\""),
+                ({"load": "train", "duration": 0.0}, r"mitigation\.duration must be > 0")):
+            with self.assertRaisesRegex(config.ConfigError, pattern):
+                study_load.load_keys(table)
+        cfg = config.parse(self.scene["soil"])
+        with self.assertRaisesRegex(config.ConfigError, r"give it \(--master BIN/master"):
+            study_load.make(self.scene, study_load.load_keys({"load": "train"}), cfg,
+                            None, os.path.join(self.out, "nowhere"), self.out)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1])
