@@ -12,6 +12,10 @@ built-in soil's monolithic run:
 - a soil four times stiffer (through its own --config) is judged against
   its own co-simulation and ends ok too (against the built-in monolithic
   run its history error is 0.69: `inaccurate` before this version);
+- with --judge stability (no reference) that run's stability still holds
+  the matrix-free rho, its rate and its steps, as the full judgement's do,
+  under the same verdict (the section was left out where it found no
+  growth);
 - the same soil behind an `external` scene is judged the same way (it was
   `ok` with every error null);
 - a lagged wheel-rail coupling with that soil is still caught (amplified,
@@ -160,6 +164,24 @@ class OutsideReference(unittest.TestCase):
         self.assertLessEqual(s["stability"]["rho_matrix_free"], 1.0, s)
         # Ten run lengths parked (200 macro steps), at most 2000.
         self.assertEqual(s["stability"]["matrix_free_steps"], 2000, s)
+
+    def test_stability_alone_writes_the_measured_rho(self):
+        # --judge stability takes the same matrix-free measure as the full
+        # judgement: its rho, rate and steps are written, and its verdict is
+        # the same (stable at rest, not resolved: not judged).
+        full = self.run_master("full", "ss-xx-jacobi", self.stiff)["stability"]
+        s = self.run_master("stability", "ss-xx-jacobi", self.stiff, "--judge", "stability")
+        self.assertEqual(s["status"], "not_judged", s)
+        self.assertIn("errors not measured (--judge stability)", s["message"])
+        self.assertIn("stability", s, s)
+        st = s["stability"]
+        self.assertEqual(st["verdict"], "not judged", s)
+        self.assertEqual(st["verdict"], full["verdict"], (s, full))
+        for key in ("rho_matrix_free", "rho_matrix_free_rate_per_s", "matrix_free_steps"):
+            self.assertIsNotNone(st.get(key), s)
+            self.assertEqual(st[key], full[key], (key, s, full))
+        self.assertLessEqual(st["rho_matrix_free"], 1.0, s)
+        self.assertEqual(st["matrix_free_steps"], 2000, s)
 
     def test_unstable_coupling_is_still_caught(self):
         s = self.run_master("lagged", "wr-xt+ss-xx-jacobi", self.stiff, "--reference-step", "2.5e-5")

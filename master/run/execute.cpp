@@ -10,6 +10,7 @@
 #include "run/matrix_free.hpp"
 #include "run/run_output.hpp"
 #include "verdict/evaluation.hpp"
+#include "verdict/stability.hpp"
 
 namespace railcosim::run {
 namespace {
@@ -59,10 +60,15 @@ RunRecord made_run(const RunJob& job, const RunOptions& o) {
   if (o.judge.mode == JudgeMode::kStability) {
     r.reference_kind = "none";
     const bool own_model = !given_node && !scene.outside_model();
-    if (own_model)
+    if (own_model) {
       assess_growth(r, scene, job.spec, o);
-    else
+    } else {
+      // As the full judgement does (assess_against_reference): the verdict
+      // of a model the verdict cannot build, with the measure's rho (also
+      // where it found no growth) and the defect check along the run.
       judge_growth_matrix_free(r, scene, job.spec, o, t.name, job.nodes);
+      verdict::judge_without_model(r, o.macro_step);
+    }
     verdict::judge_unmeasured(r, "errors not measured (--judge stability)");
     return r;
   }
