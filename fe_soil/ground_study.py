@@ -79,9 +79,33 @@ def report(path, info, fc, lv, diff):
         f.write("\n".join(lines))
 
 
-def study(scene, out, name="scene", master=None):
+def sources(scene, load, cfg, grounds, master, out, scene_dir):
+    """The load per ground: one Ricker force for all; a train's forces from
+    each ground's own block, which carries the track (fe_soil/study_load.py)."""
+    from .model import FESoil
+
+    if load["load"] != "train":
+        one = study_load.make(scene, load, cfg, None, master, out, scene_dir)
+        return {g: one for g in grounds}
+    return {g: study_load.make(scene, load, cfg,
+                               lambda fps, g=g: FESoil(ground_block(cfg, fps, g)), master,
+                               os.path.join(out, "train", g), scene_dir) for g in grounds}
+
+
+def load_text(per):
+    """The report's sentence on the load."""
+    first = next(iter(per.values()))
+    if not isinstance(first, study_load.Train):
+        return first.text()
+    return ("%s; each ground's forces from its own track: the lumped soil fitted to that "
+            "ground's block (k_f %s N/m)" % (first.text(), ", ".join(
+                "%s %.4g" % (g, src.kf) for g, src in per.items())))
+
+
+def study(scene, out, name="scene", master=None, scene_dir="."):
     """Runs the flat ground and every listed ground; writes the outputs.
-    master: the master program, for a train load (fe_soil/study_load.py)."""
+    master: the master program, for a train load (fe_soil/study_load.py);
+    scene_dir: the folder of the scene's relative file names."""
     from .model import FESoil
 
     cfg = fe_config.parse(scene["soil"])
@@ -89,13 +113,12 @@ def study(scene, out, name="scene", master=None):
     if not cfg["grounds"]:
         raise ConfigError("[soil] grounds: the scene lists none ([[soil.grounds]]): there is "
                           "nothing to compare with the flat ground")
-    source = study_load.make(scene, load, cfg,
-                             lambda fps: FESoil(ground_block(cfg, fps, ground_shapes.AT_GRADE)),
-                             master, out)
     grounds = [ground_shapes.AT_GRADE] + [g.name for g in cfg["grounds"]]
+    per = sources(scene, load, cfg, grounds, master, out, scene_dir)
     records, dofs, heights, bands = {}, {}, {}, None
     for g in grounds:
         print("ground: %s" % g, flush=True)
+        source = per[g]
         soil = FESoil(ground_block(cfg, source.footprints, g))
         t, vel = source.drive(soil)
         records[g], dofs[g] = vel, soil.global_dofs()
@@ -115,7 +138,7 @@ def study(scene, out, name="scene", master=None):
     os.makedirs(os.path.join(out, "figures"), exist_ok=True)
     mitigation.figure(os.path.join(out, "figures", "ground_difference.png"), names, fc,
                       {g: diff[g] for g in grounds[1:]})
-    info = {"name": name, "load": source.text(), "receivers": names, "dofs": dofs,
+    info = {"name": name, "load": load_text(per), "receivers": names, "dofs": dofs,
             "heights": heights,
             "grounds": {g: ground_shapes.find(cfg["grounds"], g) for g in grounds}}
     report(os.path.join(out, "REPORT.md"), info, fc, lv, diff)

@@ -47,15 +47,10 @@ CONTENT_DB = 40.0  # bands more than this below the reference's highest are not 
 
 
 def footprints(scene, n):
-    """n footprints at the scene's sleeper spacing (one rail's half, as the
-    ss cut sends them: fe_soil/two_step.py)."""
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "sdk",
-                                    "python"))
-    from railcosim_sdk import Footprint
-
+    """n footprints at the scene's sleeper spacing from x = 0 (one rail's
+    half, as the ss cut sends them: fe_soil/two_step.py)."""
     spacing = scene["sleepers"]["spacing"]
-    length = scene["sleepers"].get("length", 2.6)
-    return [Footprint(spacing * i, length / 4.0, 0.0, spacing, length / 2.0) for i in range(n)]
+    return study_load.footprints_at(scene, [spacing * i for i in range(n)])
 
 
 def variant_block(cfg, fps, variant):
@@ -184,9 +179,10 @@ def figure(path, names, fc, losses):
     plt.close(fig)
 
 
-def study(scene, out, name="scene", master=None):
+def study(scene, out, name="scene", master=None, scene_dir="."):
     """Runs the reference and every measure; writes the outputs into out.
-    master: the master program, for a train load (fe_soil/study_load.py)."""
+    master: the master program, for a train load (fe_soil/study_load.py);
+    scene_dir: the folder of the scene's relative file names."""
     from .model import FESoil
 
     cfg = fe_config.parse(scene["soil"])
@@ -196,7 +192,7 @@ def study(scene, out, name="scene", master=None):
                           "nothing to compare with the reference")
     source = study_load.make(
         scene, load, cfg, lambda fps: FESoil(variant_block(cfg, fps, path_measures.REFERENCE)),
-        master, out)
+        master, os.path.join(out, "train"), scene_dir)
     variants = [path_measures.REFERENCE] + [m.name for m in cfg["measures"]]
     records, dofs, bands = {}, {}, None
     for v in variants:
@@ -251,9 +247,11 @@ def main(argv=None):
     try:
         if a.grounds:
             from . import ground_study
-            ground_study.study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master)
+            ground_study.study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master,
+                               os.path.dirname(os.path.abspath(a.scene)))
         else:
-            study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master)
+            study(scene, out, scene.get("scene", {}).get("name", a.scene), a.master,
+                  os.path.dirname(os.path.abspath(a.scene)))
     except ConfigError as e:
         sys.exit("%s: %s" % (a.scene, e))
     print("mitigation: wrote %s" % os.path.join(out, "REPORT.md"), flush=True)

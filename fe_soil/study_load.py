@@ -13,26 +13,29 @@ the measure or the ground, not the source.
 
 "ricker": a Ricker force on the middle one of `sleepers` footprints.
 
-"train": the scene's own vehicle (a car or a whole train) on its own track,
-by the two-step method (fe_soil/two_step.py): the master runs the vehicle
-and track monolithically over `duration` s on a lumped soil fitted to the
-reference variant's static stiffness under the track's footprints, and
-the forces into the ballast under every sleeper (soil_forces.csv) are then
-applied one way to each variant's block, at every sleeper of the track,
-every [simulation] macro_step. The variants feel the same train; a measure's
-effect on the forces themselves is left out (the measure stands away from
-the track; say so wherever the numbers are used).
+"train": the scene's own vehicle (a car or a train, with its rail
+roughness) on its own track, by the two-step method (fe_soil/two_step.py):
+the master runs the vehicle and track monolithically over `duration` s on
+a lumped soil fitted to a block's static stiffness under the track's
+footprints (the stiffness at the middle one, every footprint loaded alike:
+it depends on how many there are, and the track's length follows
+`duration` where its count is "auto"), and the forces into the ballast
+under every sleeper (soil_forces.csv) are applied one way, every
+[simulation] macro_step, from the static state. Every sleeper of the track
+is a footprint of the FE block (at most MAX_FOOTPRINTS), the receivers
+beside the middle one. The insertion-loss study fits to the reference
+block and drives every variant with the same forces (a measure's effect on
+them is left out: it stands away from the track); the ground shapes'
+comparison fits to each ground's own block, which carries the track.
 """
-import json
 import math
 import os
-import re
 import subprocess
 import tomllib
 
 import numpy as np
 
-from . import soil_table, two_step
+from . import scene_file, soil_table, two_step
 from .soil_table import ConfigError
 
 KINDS = ("ricker", "train")
@@ -83,10 +86,9 @@ class Ricker:
     """A Ricker force on the middle footprint, from rest."""
 
     def __init__(self, scene, load):
-        from .mitigation import footprints
-
         self.load = load
-        self.footprints = footprints(scene, load["sleepers"])
+        spacing = scene["sleepers"]["spacing"]
+        self.footprints = footprints_at(scene, [spacing * i for i in range(load["sleepers"])])
         self.dt = load["step"]
 
     def force(self, t):
@@ -112,87 +114,111 @@ class Ricker:
                     ld["duration"], ld["step"]))
 
 
-def toml_text(table, prefix=""):
-    """A TOML text of a table read by tomllib (scalars, arrays, tables and
-    arrays of tables; JSON's numbers, strings and booleans are TOML's)."""
-    lines, subs = [], []
-    for k, v in table.items():
-        if isinstance(v, dict):
-            subs.append(("[%s%s]" % (prefix, k), v, prefix + k + "."))
-        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
-            subs += [("[[%s%s]]" % (prefix, k), x, prefix + k + ".") for x in v]
-        else:
-            key = k if re.fullmatch(r"[A-Za-z0-9_-]+", k) else json.dumps(k)
-            lines.append("%s = %s" % (key, json.dumps(v)))
-    for head, sub, pre in subs:
-        lines += ["", head, toml_text(sub, pre)]
-    return "\n".join(lines)
+MAX_FOOTPRINTS = 400  # the Ricker's bound on footprints, the train's too
+
+
+def footprints_at(scene, xs):
+    """A footprint under one rail's half of each sleeper at xs (m), as the ss
+    cut sends them (fe_soil/two_step.py)."""
+    from railcosim_sdk import Footprint  # two_step puts the SDK on the path
+
+    spacing = scene["sleepers"]["spacing"]
+    length = scene["sleepers"].get("length", 2.6)
+    return [Footprint(x, length / 4.0, 0.0, spacing, length / 2.0) for x in xs]
 
 
 class Train:
-    """The scene's train on its track: the forces into the ballast of a
-    monolithic run on a fitted lumped soil, applied one way to every block."""
+    """The scene's vehicle on its track: the forces into the ballast of a
+    monolithic run on a lumped soil fitted to a block, applied one way."""
 
-    def __init__(self, scene, load, cfg, reference_block, master, out):
-        """reference_block(footprints): the FESoil the lumped soil is fitted
-        to; master: the master program; out: where the lumped runs go."""
+    def __init__(self, scene, load, cfg, block, master, out, scene_dir="."):
+        """block(footprints): the FESoil the lumped soil is fitted to (not
+        kept: a run builds its block afresh, so that the reference is a plain
+        run's to round-off, its static solves started alike); master: the
+        master program;
+        out: where the train's runs go; scene_dir: the folder the scene's
+        relative file names are read from."""
         if not master or not os.path.isfile(master):
-            raise ConfigError("[soil] mitigation.load = \"train\" runs the scene's train with "
-                              "the master program: give it (--master BIN/master; not found: %s)"
-                              % master)
-        self.scene, self.load, self.master = scene, load, master
-        self.folder = os.path.join(out, "train")
+            raise ConfigError("[soil] mitigation.load = \"train\" runs the scene's vehicle with "
+                              "the master program: give it with --master BIN/master%s"
+                              % ("" if not master else " (not found: %s)" % master))
+        if "fmu" in scene.get("vehicle", {}):
+            raise ConfigError("[soil] mitigation.load = \"train\" runs the vehicle "
+                              "monolithically, which a [vehicle.fmu] cannot: use load = "
+                              "\"ricker\"")
+        self.scene, self.load, self.master, self.scene_dir = scene, load, master, scene_dir
+        self.folder = out
         os.makedirs(self.folder, exist_ok=True)
-        sim = scene.get("simulation", {})
-        self.dt = float(sim.get("macro_step", 0.0))
-        if not self.dt > 0.0 or load["duration"] < MIN_SAMPLES * self.dt:
-            raise ConfigError("[soil] mitigation.duration %g s holds fewer than %d macro steps "
-                              "of %g s ([simulation] macro_step)"
-                              % (load["duration"], MIN_SAMPLES, self.dt))
+        self.dt = float(scene.get("simulation", {}).get("macro_step", 0.0))
+        steps = load["duration"] / self.dt if self.dt > 0.0 else 0.0
+        if steps < MIN_SAMPLES or abs(steps - round(steps)) > 1e-9 * steps:
+            raise ConfigError("[soil] mitigation.duration %g s must be a whole number of at "
+                              "least %d macro steps of %g s ([simulation] macro_step): it is "
+                              "the end time of the vehicle's run" % (
+                                  load["duration"], MIN_SAMPLES, self.dt))
         # The track's sleepers: a first run on any lumped soil (the track's
         # length follows the run's end time where its count is "auto").
-        xs = self._positions(load["duration"])
+        probe = {"model": "lumped", "stiffness": 1e8, "damping": 1e5, "mass": 1e3,
+                 "coupling_stiffness": 0.0, "coupling_damping": 0.0}
+        xs, _, _ = self._run(probe, "positions")
+        if len(xs) > MAX_FOOTPRINTS:
+            raise ConfigError("[soil] mitigation.load = \"train\": the vehicle's track over "
+                              "[soil] mitigation.duration = %g s has %d sleepers, each a "
+                              "footprint of the FE block, more than %d: shorten the duration "
+                              "(or the vehicle)" % (load["duration"], len(xs), MAX_FOOTPRINTS))
+        self.footprints = footprints_at(scene, xs)
+        self.kf, self.kc = two_step.fit_lumped(block(self.footprints), len(xs))
         spacing = scene["sleepers"]["spacing"]
-        length = scene["sleepers"].get("length", 2.6)
-        from railcosim_sdk import Footprint
+        lumped = tomllib.loads(two_step.lumped_table(cfg, self.kf, self.kc, spacing,
+                                                     scene["sleepers"].get("length", 2.6)))
+        at, self.t, self.forces = self._run(lumped["soil"], "lumped")
+        if not np.allclose(at, xs, rtol=0.0, atol=1e-9):
+            raise ConfigError("the vehicle's run on the fitted soil has other sleepers (%d) "
+                              "than its first run (%d)" % (len(at), len(xs)))
+        if not np.allclose(np.diff(self.t), self.dt, rtol=1e-6, atol=0.0):
+            raise ConfigError("the vehicle's run wrote its ballast forces at other times than "
+                              "every [simulation] macro_step %g s" % self.dt)
 
-        self.footprints = [Footprint(x, length / 4.0, 0.0, spacing, length / 2.0) for x in xs]
-        soil = reference_block(self.footprints)
-        self.kf, self.kc = two_step.fit_lumped(soil, len(xs))
-        lumped = tomllib.loads(two_step.lumped_table(cfg, self.kf, self.kc, spacing, length))
-        self.t, self.forces = self._run(lumped["soil"], load["duration"], "lumped")
-        if self.forces.shape[1] != len(xs):
-            raise ConfigError("the train's run has %d sleepers where its first step had %d"
-                              % (self.forces.shape[1], len(xs)))
-
-    def _scene(self, soil, end_time, name):
+    def _scene(self, soil, name):
         s = {k: v for k, v in self.scene.items() if k not in ("soil", "output")}
-        s["simulation"] = dict(self.scene.get("simulation", {}), end_time=end_time)
+        s["simulation"] = dict(self.scene.get("simulation", {}), end_time=self.load["duration"])
+        irr = s.get("irregularity", {})
+        if isinstance(irr.get("file"), str) and not os.path.isabs(irr["file"]):
+            s["irregularity"] = dict(irr, file=os.path.join(os.path.abspath(self.scene_dir),
+                                                           irr["file"]))
         s["soil"] = soil
         s["output"] = {"ballast_forces": True}
         path = os.path.join(self.folder, name + ".toml")
+        try:
+            text = scene_file.toml_text(s)
+        except scene_file.SceneWriteError as e:
+            raise ConfigError("the vehicle's run cannot be written: %s" % e)
         with open(path, "w") as f:
-            f.write("# The train's run of the soil study (fe_soil/study_load.py)\n")
-            f.write(toml_text(s) + "\n")
+            f.write("# The vehicle's run of a soil study (fe_soil/study_load.py): the scene\n"
+                    "# with [soil] mitigation.duration as its end time, on a lumped soil.\n")
+            f.write(text + "\n")
         return path
 
-    def _run(self, soil, end_time, name):
-        path = self._scene(soil, end_time, name)
+    def _run(self, soil, name):
+        """(sleepers' x, t, forces[time, sleeper]) of the monolithic run."""
+        path = self._scene(soil, name)
         out = os.path.join(self.folder, name)
+        print("mitigation: the vehicle's run (%s)" % name, flush=True)
         p = subprocess.run([self.master, "run", "--scene", path, "--case", "monolithic",
                             "--out", out], capture_output=True, text=True)
         if p.returncode != 0:
-            raise ConfigError("the train's run (%s run --scene %s --case monolithic) failed:\n%s"
-                              % (self.master, path, (p.stdout + p.stderr).strip()))
+            said = "\n".join((p.stdout + p.stderr).strip().splitlines()[:40])
+            raise ConfigError("the vehicle's run (%s run --scene %s --case monolithic: the "
+                              "scene with [soil] mitigation.duration = %g s as its "
+                              "[simulation] end_time) failed:\n%s"
+                              % (self.master, path, self.load["duration"], said))
         head, data = two_step.read_csv(os.path.join(out, "monolithic", "soil_forces.csv"))
-        self.positions = [float(x) for x in head[1:]]
-        return data[:, 0], data[:, 1:]
-
-    def _positions(self, end_time):
-        probe = {"model": "lumped", "stiffness": 1e8, "damping": 1e5, "mass": 1e3,
-                 "coupling_stiffness": 0.0, "coupling_damping": 0.0}
-        self._run(probe, end_time, "positions")
-        return list(self.positions)
+        try:
+            xs = [float(x) for x in head[1:]]
+        except ValueError:
+            raise ConfigError("%s: its header does not give the sleepers' positions"
+                              % os.path.join(out, "monolithic", "soil_forces.csv"))
+        return xs, data[:, 0], data[:, 1:]
 
     def drive(self, soil):
         """(t, v[time, receiver, component]) every macro step: statics under
@@ -201,17 +227,22 @@ class Train:
 
     def text(self):
         v = self.scene.get("vehicle", {})
-        return ("the scene's %s at %g km/h on its track, by the two-step method: the forces into "
-                "the ballast under each of its %d sleepers from a monolithic run on a lumped soil "
-                "fitted to the reference's static stiffness (k_f = %.4g N/m, k_c = %.4g N/m), "
-                "applied one way to every variant from the static state, recorded over %g s "
-                "every %g s" % (v.get("model", "vehicle"), v.get("speed_kmh", float("nan")),
-                                len(self.footprints), self.kf, self.kc, self.load["duration"],
-                                self.dt))
+        return ("the scene's vehicle (%s) at %g km/h on its track, by the two-step method: the "
+                "forces into the ballast under each of its %d sleepers (each a footprint, the "
+                "receivers beside the middle one) from a monolithic run on a lumped soil fitted "
+                "to the static stiffness of the block they were fitted to (k_f = %.4g N/m, "
+                "k_c = %.4g N/m), applied one way from the static state, recorded over %g s "
+                "every %g s. The forces are those of the track on that lumped soil: a "
+                "variant's own effect on them is left out, and every band above the highest "
+                "judged one (PPV, KB_Fmax and the overall level include them) is beyond what "
+                "the mesh resolves" % (
+                    v.get("model", "wheel"), v.get("speed_kmh", float("nan")),
+                    len(self.footprints), self.kf, self.kc, self.load["duration"], self.dt))
 
 
-def make(scene, load, cfg, reference_block, master, out):
-    """The study's load: Ricker or Train."""
+def make(scene, load, cfg, block, master, out, scene_dir="."):
+    """The study's load: Ricker or Train (fitted to block(footprints), its
+    runs in out)."""
     if load["load"] == "train":
-        return Train(scene, load, cfg, reference_block, master, out)
+        return Train(scene, load, cfg, block, master, out, scene_dir)
     return Ricker(scene, load)

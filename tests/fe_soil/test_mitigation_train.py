@@ -17,7 +17,6 @@ its mesh coarsened (MESH m) to CI size:
 - the Ricker force's keys beside load = "train", an unknown load and a
   missing master program are refused by name.
 Usage: test_mitigation_train.py BIN_DIR"""
-import csv
 import os
 import sys
 import tempfile
@@ -38,12 +37,6 @@ RECORD = 0.15  # s
 MESH = 0.7  # m
 
 
-def read(path):
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    return rows[0], np.array([[float(x) for x in r] for r in rows[1:]])
-
-
 class TrainLoad(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -55,7 +48,7 @@ class TrainLoad(unittest.TestCase):
         cls.records, cls.losses = mitigation.study(cls.scene, cls.out, "trench_train",
                                                    os.path.join(BIN, "master"))
         cls.train_run = os.path.join(cls.out, "train", "lumped", "monolithic")
-        head, cls.forces = read(os.path.join(cls.train_run, "soil_forces.csv"))
+        head, cls.forces = two_step.read_csv(os.path.join(cls.train_run, "soil_forces.csv"))
         cls.xs = [float(x) for x in head[1:]]
 
     def plain_block(self):
@@ -72,7 +65,7 @@ class TrainLoad(unittest.TestCase):
 
     def test_the_forces_carry_the_cars_weight_at_every_sleeper(self):
         v = self.scene["vehicle"]
-        weight = 9.81 * (v["body_mass"] + 2 * v["bogie_mass"] + 4 * v["wheelset_mass"])
+        weight = self.scene["simulation"]["gravity"] * (v["body_mass"] + 2 * v["bogie_mass"] + 4 * v["wheelset_mass"])
         self.assertAlmostEqual(float(self.forces[0, 1:].sum()) / weight, 1.0, delta=1e-9)
         spacing = self.scene["sleepers"]["spacing"]
         np.testing.assert_allclose(np.diff(self.xs), spacing, rtol=1e-9)
@@ -92,6 +85,14 @@ class TrainLoad(unittest.TestCase):
         self.assertAlmostEqual(lumped["stiffness"] / kf, 1.0, delta=1e-8)
         self.assertAlmostEqual(lumped["coupling_stiffness"] / kc, 1.0, delta=1e-8)
         self.assertEqual(lumped["model"], "lumped")
+
+    def test_the_vehicles_run_is_the_scene_with_the_studys_end_time(self):
+        with open(os.path.join(self.out, "train", "lumped.toml"), "rb") as f:
+            written = tomllib.load(f)
+        for key in set(self.scene) - {"soil", "output", "simulation"}:
+            self.assertEqual(written[key], self.scene[key], key)
+        self.assertEqual(written["simulation"], dict(self.scene["simulation"], end_time=RECORD))
+        self.assertEqual(written["output"], {"ballast_forces": True})
 
     def test_the_reference_is_the_forces_one_way_into_a_plain_block(self):
         soil, _ = self.plain_block()
@@ -114,7 +115,9 @@ class TrainLoad(unittest.TestCase):
     def test_the_report_names_the_train(self):
         with open(os.path.join(self.out, "REPORT.md")) as f:
             text = f.read()
-        self.assertIn("the scene's car at 160 km/h on its track, by the two-step method", text)
+        self.assertIn("the scene's vehicle (car) at 160 km/h on its track, by the two-step method",
+                      text)
+        self.assertIn("a variant's own effect on them is left out", text)
         self.assertIn("each of its %d sleepers" % len(self.xs), text)
 
     def test_wrong_keys_are_refused_by_name(self):
@@ -126,9 +129,21 @@ class TrainLoad(unittest.TestCase):
             with self.assertRaisesRegex(config.ConfigError, pattern):
                 study_load.load_keys(table)
         cfg = config.parse(self.scene["soil"])
-        with self.assertRaisesRegex(config.ConfigError, r"give it \(--master BIN/master"):
-            study_load.make(self.scene, study_load.load_keys({"load": "train"}), cfg,
-                            None, os.path.join(self.out, "nowhere"), self.out)
+        master = os.path.join(BIN, "master")
+        train = study_load.load_keys({"load": "train"})
+        for scene, where, pattern in (
+                (self.scene, os.path.join(self.out, "nowhere"),
+                 r"give it with --master BIN/master \(not found: .*nowhere\)"),
+                (self.scene, None, r"give it with --master BIN/master$"),
+                (dict(self.scene, vehicle=dict(self.scene["vehicle"], fmu={"file": "v.fmu"})),
+                 master, r"\[vehicle\.fmu\] cannot"),
+                (self.scene, master, None)):
+            load = train if pattern else study_load.load_keys({"load": "train",
+                                                               "duration": 0.01234})
+            with self.assertRaisesRegex(config.ConfigError, pattern or
+                                        r"mitigation\.duration 0\.01234 s must be a whole "
+                                        r"number of at least 10 macro steps of 0\.0001 s"):
+                study_load.make(scene, load, cfg, None, where, self.out)
 
 
 if __name__ == "__main__":
