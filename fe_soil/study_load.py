@@ -180,24 +180,14 @@ class Train:
                               "every [simulation] macro_step %g s" % self.dt)
 
     def _scene(self, soil, name):
-        s = {k: v for k, v in self.scene.items() if k not in ("soil", "output")}
-        s["simulation"] = dict(self.scene.get("simulation", {}), end_time=self.load["duration"])
-        irr = s.get("irregularity", {})
-        if isinstance(irr.get("file"), str) and not os.path.isabs(irr["file"]):
-            s["irregularity"] = dict(irr, file=os.path.join(os.path.abspath(self.scene_dir),
-                                                           irr["file"]))
-        s["soil"] = soil
-        s["output"] = {"ballast_forces": True}
-        path = os.path.join(self.folder, name + ".toml")
         try:
-            text = scene_file.toml_text(s)
+            return two_step.write_scene(
+                self.scene, self.scene_dir, soil, os.path.join(self.folder, name + ".toml"),
+                "The vehicle's run of a soil study (fe_soil/study_load.py): the scene\n"
+                "with [soil] mitigation.duration as its end time, on a lumped soil.",
+                self.load["duration"])
         except scene_file.SceneWriteError as e:
             raise ConfigError("the vehicle's run cannot be written: %s" % e)
-        with open(path, "w") as f:
-            f.write("# The vehicle's run of a soil study (fe_soil/study_load.py): the scene\n"
-                    "# with [soil] mitigation.duration as its end time, on a lumped soil.\n")
-            f.write(text + "\n")
-        return path
 
     def _run(self, soil, name):
         """(sleepers' x, t, forces[time, sleeper]) of the monolithic run."""

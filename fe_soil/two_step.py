@@ -16,7 +16,6 @@ import argparse
 import csv
 import math
 import os
-import re
 import subprocess
 import sys
 import tomllib
@@ -113,19 +112,35 @@ def one_way(soil, forces, t, H, hold=False, after_step=None):
     return soil.receiver_series()
 
 
+def write_scene(scene, scene_dir, soil, path, note, end_time=None):
+    """Writes to path the scene on the given [soil] table, with ballast
+    forces written (soil_forces.csv) and, if given, another end time; a
+    relative rail profile file is named from scene_dir, the scene's own
+    folder. Raises scene_file.SceneWriteError on a value TOML cannot hold."""
+    from .scene_file import toml_text
+
+    s = {k: v for k, v in scene.items() if k not in ("soil", "output")}
+    if end_time is not None:
+        s["simulation"] = dict(scene.get("simulation", {}), end_time=end_time)
+    irr = s.get("irregularity", {})
+    if isinstance(irr.get("file"), str) and not os.path.isabs(irr["file"]):
+        s["irregularity"] = dict(irr, file=os.path.join(os.path.abspath(scene_dir), irr["file"]))
+    s["soil"] = soil
+    s["output"] = {"ballast_forces": True}
+    text = toml_text(s)
+    with open(path, "w") as f:
+        f.write("".join("# %s\n" % line for line in note.splitlines()) + text + "\n")
+    return path
+
+
 def lumped_scene(scene_path, scene, cfg, kf, kc, path):
     """Writes to path the scene with the FE soil replaced by the fitted
-    lumped one and ballast forces written (soil_forces.csv)."""
-    with open(scene_path) as f:
-        text = f.read()
+    lumped one (write_scene)."""
     spacing, length = scene["sleepers"]["spacing"], scene["sleepers"].get("length", 2.6)
-    text = re.sub(r"(?ms)^\[soil\].*?(?=^\[(?!\[soil\.))", "", text)  # the FE table and its layers
-    text = text.replace("[output]", "[output_]")  # one [output] table, ours
-    text = re.sub(r"(?ms)^\[output_\].*?(?=^\[|\Z)", "", text)
-    text += "\n" + lumped_table(cfg, kf, kc, spacing, length) + "[output]\nballast_forces = true\n"
-    with open(path, "w") as f:
-        f.write(text)
-    return path
+    soil = tomllib.loads(lumped_table(cfg, kf, kc, spacing, length))["soil"]
+    return write_scene(scene, os.path.dirname(os.path.abspath(scene_path)), soil, path,
+                       "%s on the lumped soil fitted to its FE block (fe_soil/two_step.py)"
+                       % scene_path)
 
 
 def summaries(v, dt):

@@ -18,6 +18,7 @@ its mesh coarsened (MESH m) to CI size:
   missing master program are refused by name.
 Usage: test_mitigation_train.py BIN_DIR"""
 import os
+import subprocess
 import sys
 import tempfile
 import tomllib
@@ -93,6 +94,20 @@ class TrainLoad(unittest.TestCase):
             self.assertEqual(written[key], self.scene[key], key)
         self.assertEqual(written["simulation"], dict(self.scene["simulation"], end_time=RECORD))
         self.assertEqual(written["output"], {"ballast_forces": True})
+
+    def test_the_two_step_scene_of_a_scene_with_a_study_load_runs(self):
+        # two_step's lumped scene (fe_soil.study) of this scene, whose [soil]
+        # has [soil.mitigation] and [[soil.layers]] tables: the master takes it
+        cfg = config.parse(self.scene["soil"])
+        path = two_step.lumped_scene(SCENE, self.scene, cfg, 3e7, 7e7,
+                                     os.path.join(self.out, "two_step.toml"))
+        with open(path, "rb") as f:
+            written = tomllib.load(f)
+        self.assertEqual(sorted(written["soil"]), ["coupling_damping", "coupling_stiffness",
+                                                   "damping", "mass", "model", "stiffness"])
+        p = subprocess.run([os.path.join(BIN, "master"), "run", "--scene", path, "--case",
+                            "monolithic", "--check"], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
 
     def test_the_reference_is_the_forces_one_way_into_a_plain_block(self):
         soil, _ = self.plain_block()
