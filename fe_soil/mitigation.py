@@ -38,7 +38,7 @@ import numpy as np
 
 from .scene_file import read_scene
 from . import config as fe_config
-from . import measures, path_measures, resolution, study_load
+from . import measures, path_measures, resolution, study_load, two_step
 from .soil_table import ConfigError
 from .study_load import load_keys  # noqa: F401  (the studies' keys, read here too)
 
@@ -50,7 +50,7 @@ def footprints(scene, n):
     """n footprints at the scene's sleeper spacing from x = 0 (one rail's
     half, as the ss cut sends them: fe_soil/two_step.py)."""
     spacing = scene["sleepers"]["spacing"]
-    return study_load.footprints_at(scene, [spacing * i for i in range(n)])
+    return two_step.footprints(scene, [spacing * i for i in range(n)])
 
 
 def variant_block(cfg, fps, variant):

@@ -88,7 +88,8 @@ class Ricker:
     def __init__(self, scene, load):
         self.load = load
         spacing = scene["sleepers"]["spacing"]
-        self.footprints = footprints_at(scene, [spacing * i for i in range(load["sleepers"])])
+        self.footprints = two_step.footprints(scene,
+                                              [spacing * i for i in range(load["sleepers"])])
         self.dt = load["step"]
 
     def force(self, t):
@@ -115,16 +116,6 @@ class Ricker:
 
 
 MAX_FOOTPRINTS = 400  # the Ricker's bound on footprints, the train's too
-
-
-def footprints_at(scene, xs):
-    """A footprint under one rail's half of each sleeper at xs (m), as the ss
-    cut sends them (fe_soil/two_step.py)."""
-    from railcosim_sdk import Footprint  # two_step puts the SDK on the path
-
-    spacing = scene["sleepers"]["spacing"]
-    length = scene["sleepers"].get("length", 2.6)
-    return [Footprint(x, length / 4.0, 0.0, spacing, length / 2.0) for x in xs]
 
 
 class Train:
@@ -166,7 +157,7 @@ class Train:
                               "[soil] mitigation.duration = %g s has %d sleepers, each a "
                               "footprint of the FE block, more than %d: shorten the duration "
                               "(or the vehicle)" % (load["duration"], len(xs), MAX_FOOTPRINTS))
-        self.footprints = footprints_at(scene, xs)
+        self.footprints = two_step.footprints(scene, xs)
         self.kf, self.kc = two_step.fit_lumped(block(self.footprints), len(xs))
         spacing = scene["sleepers"]["spacing"]
         lumped = tomllib.loads(two_step.lumped_table(cfg, self.kf, self.kc, spacing,

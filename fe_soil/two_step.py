@@ -62,13 +62,19 @@ def fit_lumped(soil, n):
     return kf, mid
 
 
+def footprints(scene, xs):
+    """A footprint under one rail's half of each sleeper at xs (m), as the ss
+    cut sends them."""
+    spacing = scene["sleepers"]["spacing"]
+    length = scene["sleepers"].get("length", 2.6)
+    return [Footprint(x, length / 4.0, 0.0, spacing, length / 2.0) for x in xs]
+
+
 def block(scene, xs):
     """The FE soil of the scene's [soil] table under footprints at xs (m)."""
     from .model import FESoil
 
-    spacing = scene["sleepers"]["spacing"]
-    length = scene["sleepers"].get("length", 2.6)
-    fps = [Footprint(x, length / 4.0, 0.0, spacing, length / 2.0) for x in xs]
+    fps = footprints(scene, xs)
     cfg = fe_config.parse(scene["soil"])
     params, _ = fe_config.block_params(cfg, fps)
     return FESoil(params), cfg

@@ -55,18 +55,13 @@ class TrainLoad(unittest.TestCase):
     def plain_block(self):
         table = {k: v for k, v in self.scene["soil"].items() if k not in ("measures", "variant")}
         cfg = config.parse(table)
-        return FESoil(config.block_params(cfg, self.footprints())[0]), cfg
-
-    def footprints(self):
-        from railcosim_sdk import Footprint
-
-        s = self.scene["sleepers"]
-        return [Footprint(x, s.get("length", 2.6) / 4.0, 0.0, s["spacing"],
-                          s.get("length", 2.6) / 2.0) for x in self.xs]
+        fps = two_step.footprints(self.scene, self.xs)
+        return FESoil(config.block_params(cfg, fps)[0]), cfg
 
     def test_the_forces_carry_the_cars_weight_at_every_sleeper(self):
         v = self.scene["vehicle"]
-        weight = self.scene["simulation"]["gravity"] * (v["body_mass"] + 2 * v["bogie_mass"] + 4 * v["wheelset_mass"])
+        weight = self.scene["simulation"]["gravity"] * (
+            v["body_mass"] + 2 * v["bogie_mass"] + 4 * v["wheelset_mass"])
         self.assertAlmostEqual(float(self.forces[0, 1:].sum()) / weight, 1.0, delta=1e-9)
         spacing = self.scene["sleepers"]["spacing"]
         np.testing.assert_allclose(np.diff(self.xs), spacing, rtol=1e-9)
