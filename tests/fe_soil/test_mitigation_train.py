@@ -1,7 +1,9 @@
 """The insertion-loss study under the scene's own train ([soil.mitigation]
 load = "train", fe_soil/study_load.py) on
 scenes/ground_vibration_trench_ci.toml, its record shortened (RECORD s) and
-its mesh coarsened (MESH m) to CI size:
+its mesh coarsened (MESH m) to CI size, run as a user runs it (python3 -m
+fe_soil.mitigation --scene FILE --out DIR --master BIN/master) and judged
+on what it wrote:
 
 - the forces are those of the master's monolithic run of the scene's car on
   the lumped soil fitted to the reference block (two_step.fit_lumped, the
@@ -28,7 +30,7 @@ import numpy as np
 
 from support import HALF_SPACE  # noqa: F401  (skips without dolfinx)
 
-from fe_soil import config, mitigation, path_measures, study_load, two_step
+from fe_soil import config, path_measures, scene_file, study_load, two_step
 from fe_soil.model import FESoil
 
 SRC = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -36,6 +38,21 @@ BIN = os.path.abspath(sys.argv.pop(1)) if len(sys.argv) > 1 else os.path.join(SR
 SCENE = os.path.join(SRC, "scenes", "ground_vibration_trench_ci.toml")
 RECORD = 0.15  # s
 MESH = 0.7  # m
+
+
+def read_losses(path):
+    """insertion_loss.csv as {measure: [{quantity: IL dB} per receiver]}
+    (the whole-record quantities: ppv, kb_fmax, overall)."""
+    losses = {}
+    with open(path) as f:
+        next(f)
+        for line in f:
+            measure, receiver, _, quantity, _, il = line.strip().split(",")
+            if quantity == "band":
+                continue
+            per = losses.setdefault(measure, {})
+            per.setdefault(receiver, {})[quantity] = float(il)
+    return {m: list(per.values()) for m, per in losses.items()}
 
 
 class TrainLoad(unittest.TestCase):
@@ -46,8 +63,21 @@ class TrainLoad(unittest.TestCase):
         cls.scene["soil"]["mitigation"] = {"load": "train", "duration": RECORD}
         cls.scene["soil"]["mesh_size"] = MESH
         cls.out = tempfile.mkdtemp(prefix="mitigation_train_")
-        cls.records, cls.losses = mitigation.study(cls.scene, cls.out, "trench_train",
-                                                   os.path.join(BIN, "master"))
+        # The study as a user runs it: the command on a scene file, the
+        # master given by --master; what the tests read is what it wrote.
+        path = os.path.join(cls.out, "scene.toml")
+        with open(path, "w") as f:
+            f.write(scene_file.toml_text(cls.scene) + "\n")
+        cls.cli = subprocess.run(
+            [sys.executable, "-m", "fe_soil.mitigation", "--scene", path, "--out", cls.out,
+             "--master", os.path.join(BIN, "master")],
+            cwd=SRC, capture_output=True, text=True, timeout=600)
+        if cls.cli.returncode != 0:
+            raise AssertionError("the study failed:\n" + cls.cli.stdout + cls.cli.stderr)
+        variants = [path_measures.REFERENCE] + [m["name"] for m in cls.scene["soil"]["measures"]]
+        cls.records = {v: np.load(os.path.join(cls.out, "runs", v, "receivers.npz"))["v"]
+                       for v in variants}
+        cls.losses = read_losses(os.path.join(cls.out, "insertion_loss.csv"))
         cls.train_run = os.path.join(cls.out, "train", "lumped", "monolithic")
         head, cls.forces = two_step.read_csv(os.path.join(cls.train_run, "soil_forces.csv"))
         cls.xs = [float(x) for x in head[1:]]
@@ -121,6 +151,11 @@ class TrainLoad(unittest.TestCase):
         per = self.losses["trench"]
         self.assertEqual(len(per), 3)
         self.assertTrue(all(il["ppv"] > 0.0 for il in per[1:]), [il["ppv"] for il in per])
+
+    def test_the_command_says_what_it_wrote(self):
+        self.assertIn("mitigation: wrote %s" % os.path.join(self.out, "REPORT.md"),
+                      self.cli.stdout)
+        self.assertTrue(os.path.isfile(os.path.join(self.out, "figures", "insertion_loss.png")))
 
     def test_the_report_names_the_train(self):
         with open(os.path.join(self.out, "REPORT.md")) as f:
