@@ -213,12 +213,58 @@ class Modes(unittest.TestCase):
         # away (0.95 x the Rayleigh step); a stiff one gains (above).
         for cutoff, soil in self.soils.items():
             a1 = rayleigh_coefficients(0.04, *BAND, cutoff)[1]
-            self.assertAlmostEqual(soil.a1, a1, delta=1e-18)
+            self.assertEqual(len(soil.parts), 1)  # one ratio: the whole K, one product
+            self.assertAlmostEqual(soil.parts[0][0], a1, delta=1e-18)
             self.assertAlmostEqual(soil.dt, soil.p.cfl_safety * stable_step(soil.w_max, a1, soil.tau),
                                    delta=1e-15)
         self.assertEqual(self.soils[0.0].w_max, self.soils[100.0].w_max)
         self.assertEqual(self.soils[0.0].tau, 0.0)
         self.assertAlmostEqual(self.soils[100.0].tau, 1.0 / (2.0 * math.pi * 100.0), delta=1e-15)
+
+
+class Layers(unittest.TestCase):
+    """Two layers of other damping ratios: the step's product, one matrix
+    per ratio over its cells (sum A_l (u + a1_l v)), equals K u plus the
+    Rayleigh part assembled whole, a1(x) K_elastic v over every cell and
+    a1_ref on the boundary springs, to round-off."""
+
+    def test_the_parts_sum_to_the_whole_product(self):
+        from dolfinx import fem
+        from fe_soil import forms
+        from fe_soil.mesh import layer_fields
+        from fe_soil.model import FESoil
+        from fe_soil.params import Layer, SoilParams, uniform_nodes
+        top = Layer(thickness=1.0, density=1800.0, shear_speed=120.0, poisson=0.3, damping=0.05)
+        bottom = Layer(thickness=1.0, density=2000.0, shear_speed=200.0, poisson=0.3, damping=0.02)
+        p = SoilParams(length=4.0, half_width=2.0, depth=3.0, layers=[top, bottom],
+                       damping_band=BAND, x_nodes=uniform_nodes(0.0, 4.0, 0.5),
+                       y_nodes=uniform_nodes(0.0, 2.0, 0.5), z_nodes=uniform_nodes(-3.0, 0.0, 0.5))
+        soil = FESoil(p)
+        self.assertEqual(len(soil.parts), 2)
+        a1 = {xi: rayleigh_coefficients(xi, *BAND, p.damping_cutoff)[1] for xi in (0.05, 0.02)}
+        # the bottom layer holds most cells (4 of 6 planes): its ratio is the reference
+        self.assertEqual([a for a, _ in soil.parts], [a1[0.02], a1[0.05]])
+        rng = np.random.default_rng(7)
+        u, v = (rng.standard_normal(soil.n_owned) for _ in range(2))
+        W, Y = soil.K.createVecs()
+        parts = np.zeros(soil.n_owned)
+        for a, A in soil.parts:
+            W.array[:] = u + a * v
+            A.mult(W, Y)
+            parts += Y.array
+        W.array[:] = u + a1[0.02] * v
+        soil.K.mult(W, Y)  # K (u + a1_ref v): the springs and every cell at a1_ref
+        whole = Y.array.copy()
+        A1 = damping_law(*BAND, p.damping_cutoff)[1]
+        f = layer_fields(soil.mesh, p)
+        excess = forms.assembled(forms.damping_stiffness_form(
+            soil.V, f, fem.Constant(soil.mesh, A1) * (f["xi"] - fem.Constant(soil.mesh, 0.02))))
+        W.array[:] = v
+        excess.mult(W, Y)
+        whole += Y.array
+        scale = np.abs(whole).max()
+        self.assertGreater(np.abs(parts - u).max(), 0.0)
+        self.assertLess(np.abs(parts - whole).max() / scale, 1e-12)
 
 
 if __name__ == "__main__":
