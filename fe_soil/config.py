@@ -238,23 +238,28 @@ def block_params(cfg, footprints):
         p.x_nodes = uniform_nodes(0.0, length, h)
         p.y_nodes = uniform_nodes(0.0, half_width, h)
         p.z_nodes = layered_nodes(cfg["layers"], cfg["depth"], h)
-    measures = path_measures.selected(cfg.get("measures", []), cfg.get("variant"))
-    if measures:
-        p.measures = path_measures.place(measures, cfg["measures"], rx, x0 - along, p, fps, h)
+    # Every listed measure's faces are node planes, whichever the variant
+    # builds: a study's variants share one mesh (path_measures.py).
+    listed = cfg.get("measures", [])
+    planes = [path_measures.place([m], listed, rx, x0 - along, p, fps, h)[0] for m in listed]
+    if listed:
         c_min = min(rayleigh_speed(l.shear_speed, l.poisson) for l in cfg["layers"])
         rule = cfg["mesh_size"] is None
-        path_measures.refine(p, p.measures, h, c_min, cfg["f_max"] if rule else None,
+        path_measures.refine(p, planes, h, c_min, cfg["f_max"] if rule else None,
                              cfg["elements_per_wavelength"] if rule else None,
                              protect_z=layered_nodes(cfg["layers"], cfg["depth"], math.inf))
-    _shape(p, cfg, h, fps)
+        built = path_measures.selected(listed, cfg.get("variant"))
+        p.measures = path_measures.place(built, listed, rx, x0 - along, p, fps, h)
+    _shape(p, cfg, h, fps, planes)
     check_size(cfg, h, [length, half_width, cfg["depth"]],
                [len(p.x_nodes) - 1, len(p.y_nodes) - 1, len(p.z_nodes) - 1])
     return p, x0 - along
 
 
-def _shape(p, cfg, h, fps):
+def _shape(p, cfg, h, fps, measures):
     """The ground's shape of [soil] ground checked against the block and its
-    node planes added (fe_soil/ground_shapes.py)."""
+    node planes added (fe_soil/ground_shapes.py), those of the measures'
+    faces kept."""
     g = ground_shapes.find(cfg.get("grounds", []), cfg.get("ground", ground_shapes.AT_GRADE))
     if g.shape == ground_shapes.AT_GRADE:
         return
@@ -265,8 +270,8 @@ def _shape(p, cfg, h, fps):
         c = rayleigh_speed(g.material.shear_speed, g.material.poisson)
         h_ground = min(h, h * c / c_min if cfg["mesh_size"] is not None else
                        c / (cfg["elements_per_wavelength"] * cfg["f_max"]))
-    faces_y = [q.y_lo for q in p.measures] + [q.y_hi for q in p.measures]
-    faces_z = layered_nodes(cfg["layers"], cfg["depth"], math.inf) + [q.z_lo for q in p.measures]
+    faces_y = [q.y_lo for q in measures] + [q.y_hi for q in measures]
+    faces_z = layered_nodes(cfg["layers"], cfg["depth"], math.inf) + [q.z_lo for q in measures]
     ground_shapes.refine(p, g, h, h_ground, protect_y=faces_y, protect_z=faces_z)
     p.ground = g
 

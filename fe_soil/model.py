@@ -53,8 +53,9 @@ class FESoil:
         self.dt = self._stable_step()
         self._inv = None  # (dt, the update's diagonal) of the last run
         self.ksp, self._extension = None, None  # the block's static solver, the far field
-        # (forces, block solution, solution, held force) of the last static solves
-        self._static_basis = []
+        # (forces, block solution, solution, held force) of the last static
+        # solves; (forces, block solution) of another block's to start from
+        self._static_basis, self._static_start = [], []
         self.reset()
 
     # ---- set-up -------------------------------------------------------
@@ -283,9 +284,29 @@ class FESoil:
                 self.U, self.dof_coordinates(), self.mask, self.comm))
             self.ksp = far_field.cg_gamg(self.K_static, self.comm, counter=self)
         x = self.U.duplicate()
-        x.array[:] = far_field.start_from(self._static_basis, forces)
+        x.array[:] = far_field.start_from(self._static_basis or self._static_start,
+                                          forces) * self.mask
         far_field.solve(self.ksp, b, x, rtol, "")
         return x.array.copy()
+
+    def static_solutions(self):
+        """What another block of the same mesh starts its statics from
+        (start_statics_from): this rank's DOF coordinates, and the kept
+        forces with the block's solution under each."""
+        return self.dof_coordinates(), [b[:2] for b in self._static_basis]
+
+    def start_statics_from(self, solutions):
+        """Static solves start from another block's (static_solutions) until
+        this one has its own, if its DOFs are the same points on every rank
+        (a study's variants share one mesh); otherwise from zero."""
+        coords, kept = solutions
+        mine = self.dof_coordinates()
+        same = coords.shape == mine.shape and np.array_equal(coords, mine)
+        self._static_start = kept if self.comm.allreduce(int(same), op=MPI.MIN) else []
+
+    def forget_statics(self):
+        """Static solves start from zero again, as on a fresh block."""
+        self._static_basis, self._static_start = [], []
 
     def _set_static(self, x, corr):
         self.u[:] = x
@@ -366,20 +387,6 @@ class FESoil:
         t = np.array([h[0] for h in self.history])
         v = np.array([h[1] for h in self.history]).reshape(len(t), len(self.rec_points), 3)
         return t, v
-
-    def open_xdmf(self, path):
-        """An XDMF file with the mesh; `write_snapshot` adds the velocity."""
-        import dolfinx.io
-
-        xdmf = dolfinx.io.XDMFFile(self.comm, path, "w")
-        xdmf.write_mesh(self.mesh)
-        self.vfun.name = "velocity"
-        return xdmf
-
-    def write_snapshot(self, xdmf):  # at the current time
-        self.vfun.x.array[: self.n_owned] = self.v
-        self.vfun.x.scatter_forward()
-        xdmf.write_function(self.vfun, self.t)
 
     def kinetic_energy(self, dofs_weight=None):
         e = 0.5 * self.m * self.v**2 * (1.0 if dofs_weight is None else dofs_weight)

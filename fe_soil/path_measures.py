@@ -237,10 +237,18 @@ def refine_axis(nodes, lo, hi, h_in, protect=()):
         mean = abs(face - anchor) / max(1, len(set(inside)) - 1)
         n = max(1, round(abs(face - anchor) / mean))
         out = _respace(out, min(anchor, face), max(anchor, face), n)
+    # Planes closer than round-off are one (a face at the surface z = 0 and
+    # the block's top at -2e-16 would give elements of no thickness, and an
+    # explicit step of none): the face's exact value is kept.
+    tol = 1e-9 * max(1.0, out[-1] - out[0])
     res = [out[0]]
     for a, b in zip(out, out[1:]):
         n = max(1, math.ceil((b - a) / h_in - 1e-9)) if lo - 1e-12 <= a and b <= hi + 1e-12 else 1
-        res.extend(a + (b - a) * i / n for i in range(1, n + 1))
+        for x in (a + (b - a) * i / n for i in range(1, n + 1)):
+            if x - res[-1] > tol:
+                res.append(x)
+            elif x in (lo, hi):
+                res[-1] = x
     return res
 
 

@@ -114,8 +114,10 @@ class Snapshots:
     figure)."""
 
     def __init__(self, soil, path, steps, count):
+        from . import snapshots
+
         self.steps = sorted({max(1, round(steps * (j + 1) / count)) for j in range(count)})
-        self.xdmf = soil.open_xdmf(path)
+        self.xdmf = snapshots.open_xdmf(soil, path)
         nodes = soil.V.tabulate_dof_coordinates()[: soil.V.dofmap.index_map.size_local]
         self.surface = np.flatnonzero(nodes[:, 2] > -1e-6)
         self.xy = nodes[self.surface, :2]
@@ -123,7 +125,9 @@ class Snapshots:
 
     def __call__(self, k, soil):
         if k in self.steps:
-            soil.write_snapshot(self.xdmf)
+            from . import snapshots
+
+            snapshots.write_snapshot(soil, self.xdmf)
             self.t.append(soil.t)
             self.vz.append(soil.v[3 * self.surface + 2].copy())
 

@@ -85,6 +85,9 @@ def load_keys(table):
 class Ricker:
     """A Ricker force on the middle footprint, from rest."""
 
+    def take_block(self):  # no block was built for it
+        return None
+
     def __init__(self, scene, load):
         self.load = load
         spacing = scene["sleepers"]["spacing"]
@@ -122,13 +125,12 @@ class Train:
     """The scene's vehicle on its track: the forces into the ballast of a
     monolithic run on a lumped soil fitted to a block, applied one way."""
 
-    def __init__(self, scene, load, cfg, block, master, out, scene_dir="."):
-        """block(footprints): the FESoil the lumped soil is fitted to (not
-        kept: a run builds its block afresh, so that the reference is a plain
-        run's to round-off, its static solves started alike); master: the
-        master program;
-        out: where the train's runs go; scene_dir: the folder the scene's
-        relative file names are read from."""
+    def __init__(self, scene, load, cfg, block, master, out, scene_dir=".", keep=False):
+        """block(footprints): the FESoil the lumped soil is fitted to, kept
+        for `take_block` if `keep` (its static solutions dropped, so that a
+        run on it starts its statics from zero as on a fresh block); master:
+        the master program; out: where the train's runs go; scene_dir: the
+        folder the scene's relative file names are read from."""
         if not master or not os.path.isfile(master):
             raise ConfigError("[soil] mitigation.load = \"train\" runs the scene's vehicle with "
                               "the master program: give it with --master BIN/master%s"
@@ -158,7 +160,10 @@ class Train:
                               "footprint of the FE block, more than %d: shorten the duration "
                               "(or the vehicle)" % (load["duration"], len(xs), MAX_FOOTPRINTS))
         self.footprints = two_step.footprints(scene, xs)
-        self.kf, self.kc = two_step.fit_lumped(block(self.footprints), len(xs))
+        fitted = block(self.footprints)
+        self.kf, self.kc = two_step.fit_lumped(fitted, len(xs))
+        self._block = fitted if keep else None
+        del fitted
         spacing = scene["sleepers"]["spacing"]
         lumped = tomllib.loads(two_step.lumped_table(cfg, self.kf, self.kc, spacing,
                                                      scene["sleepers"].get("length", 2.6)))
@@ -201,6 +206,14 @@ class Train:
                               % os.path.join(out, "monolithic", "soil_forces.csv"))
         return xs, data[:, 0], data[:, 1:]
 
+    def take_block(self):
+        """The block the lumped soil was fitted to, once (None if not kept):
+        at rest, its statics to start from zero."""
+        soil, self._block = self._block, None
+        if soil is not None:
+            soil.forget_statics()
+        return soil
+
     def drive(self, soil):
         """(t, v[time, receiver, component]) every macro step: statics under
         the first row, then the rows linear in between."""
@@ -221,9 +234,9 @@ class Train:
                     len(self.footprints), self.kf, self.kc, self.load["duration"], self.dt))
 
 
-def make(scene, load, cfg, block, master, out, scene_dir="."):
-    """The study's load: Ricker or Train (fitted to block(footprints), its
-    runs in out)."""
+def make(scene, load, cfg, block, master, out, scene_dir=".", keep=False):
+    """The study's load: Ricker or Train (fitted to block(footprints), kept
+    for its take_block if `keep`, its runs in out)."""
     if load["load"] == "train":
-        return Train(scene, load, cfg, block, master, out, scene_dir)
+        return Train(scene, load, cfg, block, master, out, scene_dir, keep)
     return Ricker(scene, load)

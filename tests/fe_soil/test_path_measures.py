@@ -160,6 +160,31 @@ class NodePlanes(unittest.TestCase):
         self.assertEqual([m.name for m in block([TRENCH, WALL], variant="wall")[0].measures],
                          ["wall"])
         self.assertEqual(list(block([TRENCH, WALL], variant="reference")[0].measures), [])
+        # every variant's mesh holds every listed measure's faces: one mesh
+        planes = [block([TRENCH, WALL], variant=v)[0] for v in (None, "reference", "wall")]
+        for p in planes[1:]:
+            for axis in ("x_nodes", "y_nodes", "z_nodes"):
+                self.assertEqual(getattr(p, axis), getattr(planes[0], axis), axis)
+        # alternatives at one place (a shallow and a deep trench) may overlap
+        # as variants; built together they are refused
+        deep = {**TRENCH, "name": "deep", "depth": 4.5}
+        self.assertEqual([m.name for m in block([TRENCH, deep], variant="deep")[0].measures],
+                         ["deep"])
+        self.assertTrue(np.isclose(block([TRENCH, deep], variant="open")[0].z_nodes, -4.5).any())
+        with self.assertRaisesRegex(config.ConfigError, r"measures\[2\]\.distance: the trench "
+                                    r"overlaps 'open'"):
+            block([TRENCH, deep])
+
+    def test_planes_closer_than_round_off_are_one(self):
+        # a face at the surface beside a top plane a rounding below it
+        out = path_measures.refine_axis([-2.0, -1.4, -0.7, -2e-16], -1.0, 0.0, 0.5)
+        self.assertEqual(out[-1], 0.0)
+        self.assertGreater(min(np.diff(out)), 0.1, out)
+        # an in-fill 1 m deep on a 0.5 m mesh whose top layer is 1.4 m thick
+        layers = [dict(LAYER, thickness=1.4), dict(LAYER)]
+        p, _ = block([{**FOAM, "depth": 1.0, "shear_wave_speed": 100.0}], mesh_size=0.5,
+                     layers=layers)
+        self.assertGreater(min(np.diff(p.z_nodes)), 0.1, p.z_nodes)
 
 
 class Cells(unittest.TestCase):

@@ -10,6 +10,7 @@ import numpy as np
 
 from support import Footprint, Layer, SoilParams, graded_nodes
 
+from fe_soil import snapshots
 from fe_soil.model import FESoil
 
 SOIL = Layer(thickness=1.0, density=2000.0, shear_speed=100.0, poisson=1.0 / 3.0)
@@ -104,10 +105,10 @@ class Statics(unittest.TestCase):
 
         with tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "soil.xdmf")
-            xdmf = soil.open_xdmf(path)
-            soil.write_snapshot(xdmf)
+            xdmf = snapshots.open_xdmf(soil, path)
+            snapshots.write_snapshot(soil, xdmf)
             soil.advance(soil.t, H, forces, forces)
-            soil.write_snapshot(xdmf)
+            snapshots.write_snapshot(soil, xdmf)
             xdmf.close()
             with open(path) as f:
                 text = f.read()
