@@ -57,7 +57,10 @@ def report(path, info, fc, lv, diff):
              "receiver, on the flat ground and on each shape, under one load: %s; "
              "receivers at equal distances from the track's centre line, each on the ground's "
              "surface there. Difference: L_at_grade - L_ground (positive: lower than at grade), "
-             "judged where the flat ground's mesh resolves the band at the receiver." % load, ""]
+             "judged where the flat ground's mesh resolves the band at the receiver. PPV and "
+             "the overall level: the record low-passed at the frequency that mesh resolves "
+             "there (%s)." % (load, mitigation.lowpass_text(
+                 info["receivers"], next(iter(diff.values())))), ""]
     for g, per in lv.items():
         shape = info["grounds"][g]
         lines += ["## %s: %s (%d DOFs)" % (g, shape.shape.replace("_", " "), info["dofs"][g]), "",
@@ -128,8 +131,9 @@ def study(scene, out, name="scene", master=None, scene_dir="."):
                  z=soil.rec_points[:, 2])
         if bands is None:  # the flat ground's mesh judges the bands
             bands = resolution.receiver_bands(soil, cfg, load["duration"])
+            tops = resolution.resolved_frequencies(soil, cfg)
     names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
-    lv = {g: mitigation.levels(records[g], source.dt) for g in grounds}
+    lv = {g: mitigation.levels(records[g], source.dt, tops) for g in grounds}
     ref = lv[ground_shapes.AT_GRADE]
     diff = {g: mitigation.insertion_loss(ref, lv[g], bands) for g in grounds}
     fc = ref[0]["fc"]

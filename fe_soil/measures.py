@@ -32,6 +32,22 @@ def ppv(v):
     return float(np.max(np.abs(np.asarray(v, dtype=float))))
 
 
+def low_passed(v, dt, top_hz):
+    """v with its content above top_hz taken out: unchanged up to a third
+    of an octave below it (top_hz 2^(-1/3)), a cos^2 taper to zero at it, by
+    FFT with the record padded to twice its length (no wrap-around of its
+    end onto its start). top_hz <= 0 or not finite: v as it is."""
+    v = np.asarray(v, dtype=float)
+    if not (math.isfinite(top_hz) and top_hz > 0.0):
+        return v.copy()
+    n = len(v)
+    spec = np.fft.rfft(v, 2 * n)
+    f = np.fft.rfftfreq(2 * n, dt)
+    f1 = top_hz * 2.0 ** (-1.0 / 3.0)
+    s = np.clip((f - f1) / (top_hz - f1), 0.0, 1.0)
+    return np.fft.irfft(spec * np.cos(0.5 * math.pi * s) ** 2, 2 * n)[:n]
+
+
 def third_octave_bands(f_lo=1.0, f_hi=100.0):
     """(centres, lower edges, upper edges) of the base-10 one-third-octave
     bands whose exact centres lie in [f_lo, f_hi]."""

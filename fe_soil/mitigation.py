@@ -13,7 +13,8 @@ same load and at the same receivers, and writes
   IL = L_ref - L_measure (dB; positive: the measure reduces the vibration)
   of the vertical velocity in each one-third-octave band from 1 to 80 Hz,
   of its PPV and KB_Fmax (20 log10 of the ratio) and of its overall level
-  (the bands' energies summed);
+  (the bands' energies summed), these three of the record low-passed at
+  the frequency the mesh resolves at the receiver;
 - DIR/REPORT.md: a table per measure, and where a measure amplifies (IL < 0);
 - DIR/figures/insertion_loss.png: IL against band, a line per measure and
   receiver;
@@ -58,18 +59,22 @@ def variant_block(cfg, fps, variant):
     return fe_config.block_params(dict(cfg, variant=variant), fps)[0]
 
 
-def levels(v, dt):
-    """Per receiver: band centres, vertical band levels (1-80 Hz), PPV,
-    KB_Fmax and the overall level of v_z."""
+def levels(v, dt, tops):
+    """Per receiver: band centres, vertical band levels (1-80 Hz) of v_z,
+    and its PPV, KB_Fmax and overall level (the bands' energies summed) of
+    v_z low-passed at tops[k], the frequency the mesh resolves there
+    (measures.low_passed; the bands are judged by insertion_loss)."""
     out = []
-    for k in range(v.shape[1]):
+    for k, top in zip(range(v.shape[1]), tops):
         vz = v[:, k, 2]
         fc, rms = measures.band_rms(vz, dt, 1.0, BAND_TOP)
+        lp = measures.low_passed(vz, dt, top)
+        _, rms_lp = measures.band_rms(lp, dt, 1.0, BAND_TOP)
         with np.errstate(divide="ignore"):
             lv = 20.0 * np.log10(rms / measures.V_REF)
-            overall = 10.0 * np.log10(np.sum(rms**2)) - 20.0 * math.log10(measures.V_REF)
-        out.append({"fc": fc, "lv": lv, "ppv": measures.ppv(vz), "kb": measures.kb_fmax(vz, dt),
-                    "overall": overall})
+            overall = 10.0 * np.log10(np.sum(rms_lp**2)) - 20.0 * math.log10(measures.V_REF)
+        out.append({"fc": fc, "lv": lv, "ppv": measures.ppv(lp), "kb": measures.kb_fmax(lp, dt),
+                    "overall": overall, "lowpass_hz": top})
     return out
 
 
@@ -85,7 +90,7 @@ def insertion_loss(ref, var, bands):
             band = np.where(ok, r["lv"] - m["lv"], math.nan)
         out.append({"band": band, "ppv": 20.0 * math.log10(r["ppv"] / m["ppv"]),
                     "kb_fmax": 20.0 * math.log10(r["kb"] / m["kb"]),
-                    "overall": r["overall"] - m["overall"]})
+                    "overall": r["overall"] - m["overall"], "lowpass_hz": r["lowpass_hz"]})
     return out
 
 
@@ -118,14 +123,23 @@ def amplifications(names, fc, per):
             "It amplifies nowhere: IL >= 0 in every judged band and measure.")
 
 
+def lowpass_text(names, per):
+    """'r3m 24.1 Hz, r6m 22.0 Hz' (unfiltered where nothing is resolved)."""
+    return ", ".join("%s %.3g Hz" % (n, il["lowpass_hz"]) if il["lowpass_hz"] > 0.0 else
+                     "%s unfiltered (nothing resolved)" % n for n, il in zip(names, per))
+
+
 def report(path, info, fc, losses):
     lines = ["# Insertion loss of the path measures: %s" % info["name"], "",
              "IL = L_ref - L_measure in dB, the vertical velocity at each receiver: positive "
              "where the measure reduces the vibration, negative where it amplifies. The "
              "reference is the scene's FE soil without any measure; each measure is run alone "
              "under the same load: %s. A band is judged where the soil resolves it at the "
-             "receiver and the reference lies within %g dB of its highest band (`-` elsewhere)."
-             % (info["load"], CONTENT_DB), ""]
+             "receiver and the reference lies within %g dB of its highest band (`-` elsewhere). "
+             "PPV, KB_Fmax and the overall level are those of the record low-passed at the "
+             "frequency the mesh resolves at the receiver (%s): what lies above it is the "
+             "mesh's, not the ground's." % (info["load"], CONTENT_DB, lowpass_text(
+                 info["receivers"], next(iter(losses.values())))), ""]
     for name, per in losses.items():
         m = info["measures"][name]
         lines += ["## %s: %s" % (name, m.kind.replace("_", " ")), "",
@@ -210,11 +224,12 @@ def study(scene, out, name="scene", master=None, scene_dir="."):
         np.savez(os.path.join(out, "runs", v, "receivers.npz"), t=t, v=vel)
         if bands is None:  # the reference's mesh judges the bands
             bands = resolution.receiver_bands(soil, cfg, load["duration"])
+            tops = resolution.resolved_frequencies(soil, cfg)
             start = soil.static_solutions()
         del soil  # one block at a time
     names = [c[: -len("_vz_mps")] for c in fe_config.channel_names(cfg["receivers"])]
-    ref = levels(records[path_measures.REFERENCE], source.dt)
-    losses = {v: insertion_loss(ref, levels(records[v], source.dt), bands)
+    ref = levels(records[path_measures.REFERENCE], source.dt, tops)
+    losses = {v: insertion_loss(ref, levels(records[v], source.dt, tops), bands)
               for v in variants[1:]}
     fc = ref[0]["fc"]
     with open(os.path.join(out, "insertion_loss.csv"), "w") as f:

@@ -228,8 +228,8 @@ class Train:
                 "k_c = %.4g N/m), applied one way from the static state, recorded over %g s "
                 "every %g s. The forces are those of the track on that lumped soil: a "
                 "variant's own effect on them is left out, and every band above the highest "
-                "judged one (PPV, KB_Fmax and the overall level include them) is beyond what "
-                "the mesh resolves" % (
+                "judged one is beyond what the mesh resolves (PPV, KB_Fmax and the overall "
+                "level are taken below it)" % (
                     v.get("model", "wheel"), v.get("speed_kmh", float("nan")),
                     len(self.footprints), self.kf, self.kc, self.load["duration"], self.dt))
 

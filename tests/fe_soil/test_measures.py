@@ -22,6 +22,18 @@ class Measures(unittest.TestCase):
         v3 = np.stack([v, -2.0 * v, 0.5 * v], axis=1)
         self.assertAlmostEqual(measures.ppv(v3), 6e-4, delta=6e-4 * 1e-6)
 
+    def test_low_passed_keeps_what_lies_below_and_takes_out_what_lies_above(self):
+        dt, n = 1e-3, 4000
+        t = np.arange(n) * dt
+        below, above = np.sin(2 * np.pi * 10.0 * t), np.sin(2 * np.pi * 40.0 * t)
+        out = measures.low_passed(below + above, dt, 20.0)  # flat to 15.9 Hz, zero from 20
+        inner = slice(n // 4, 3 * n // 4)  # away from the record's ends
+        self.assertLess(float(np.abs(out - below)[inner].max()), 1e-3)
+        # the record's start is not wrapped onto by its end: a late pulse stays late
+        pulse = np.exp(-((t - 3.5) / 0.05) ** 2)
+        self.assertLess(float(np.abs(measures.low_passed(pulse, dt, 20.0)[:n // 2]).max()), 1e-6)
+        np.testing.assert_array_equal(measures.low_passed(above, dt, 0.0), above)
+
     def test_bands_are_base_ten_thirds_from_1_to_100_hz(self):
         fc, lo, hi = measures.third_octave_bands()
         self.assertEqual(len(fc), 21)
