@@ -5,6 +5,8 @@ the measure or the ground, not the source.
     [soil.mitigation]
     load = "ricker"     # or "train"
     duration = 0.4      # s, the record (both loads)
+    track_window = 60.0 # m, train only, optional: the block carries the
+                        # sleepers within half of it of the track's middle
     # the Ricker force's keys (refused with load = "train"):
     sleepers = 25       # footprints at [sleepers] spacing
     frequency = 15.0    # Hz: the centre of a Ricker force on the middle one
@@ -23,7 +25,9 @@ it depends on how many there are, and the track's length follows
 under every sleeper (soil_forces.csv) are applied one way, every
 [simulation] macro_step, from the static state. Every sleeper of the track
 is a footprint of the FE block (at most MAX_FOOTPRINTS), the receivers
-beside the middle one. The insertion-loss study fits to the reference
+beside the middle one; with track_window only those around the middle,
+the others' forces left out (a long train on a block of its own length
+would be too large). The insertion-loss study fits to the reference
 block and drives every variant with the same forces (a measure's effect on
 them is left out: it stands away from the track); the ground shapes'
 comparison fits to each ground's own block, which carries the track.
@@ -44,6 +48,7 @@ RICKER_KEYS = {"sleepers": (25, 0, 401), "frequency": (15.0, 0.1, 500.0),
                "amplitude": (1e4, 1e-3, 1e9), "step": (2e-3, 1e-5, 0.05)}
 DURATION = (0.4, 0.0, 60.0)
 MIN_SAMPLES = 10  # the record holds at least this many steps
+TRACK_WINDOW_MAX = 1e4  # m: the bound of [soil.mitigation] track_window (refused itself)
 
 
 def load_keys(table):
@@ -52,7 +57,7 @@ def load_keys(table):
     table = table or {}
     if not isinstance(table, dict):
         raise ConfigError("[soil] mitigation must be a table ([soil.mitigation])")
-    known = set(RICKER_KEYS) | {"load", "duration"}
+    known = set(RICKER_KEYS) | {"load", "duration", "track_window"}
     unknown = sorted(set(table) - known)
     if unknown:
         raise ConfigError("[soil] mitigation.%s is not a key of [soil.mitigation] (its keys: %s)"
@@ -69,7 +74,13 @@ def load_keys(table):
             raise ConfigError("[soil] mitigation.%s is a key of the Ricker force: with load = "
                               "\"train\" the forces come from the scene's train, every "
                               "[simulation] macro_step at every sleeper" % given[0])
+        out["track_window"] = (soil_table.number(table, "track_window", "mitigation.", lo=0.0,
+                                                 hi=TRACK_WINDOW_MAX)
+                               if "track_window" in table else None)
         return out
+    if "track_window" in table:
+        raise ConfigError("[soil] mitigation.track_window is a key of the train's load "
+                          "(load = \"train\"): the Ricker force has its own sleepers")
     for key, (default, lo, hi) in RICKER_KEYS.items():
         out[key] = soil_table.number(table, key, "mitigation.", lo=lo, hi=hi, default=default)
     if out["sleepers"] != int(out["sleepers"]):
@@ -154,14 +165,20 @@ class Train:
         probe = {"model": "lumped", "stiffness": 1e8, "damping": 1e5, "mass": 1e3,
                  "coupling_stiffness": 0.0, "coupling_damping": 0.0}
         xs, _, _ = self._run(probe, "positions")
-        if len(xs) > MAX_FOOTPRINTS:
+        self.track = len(xs)
+        self.window = self._window(xs, load.get("track_window"))
+        if len(self.window) > MAX_FOOTPRINTS:
             raise ConfigError("[soil] mitigation.load = \"train\": the vehicle's track over "
-                              "[soil] mitigation.duration = %g s has %d sleepers, each a "
+                              "[soil] mitigation.duration = %g s has %d sleepers%s, each a "
                               "footprint of the FE block, more than %d: shorten the duration "
-                              "(or the vehicle)" % (load["duration"], len(xs), MAX_FOOTPRINTS))
-        self.footprints = two_step.footprints(scene, xs)
+                              "(or the vehicle), or give [soil] mitigation.track_window, the "
+                              "length of track around the receivers the block carries" % (
+                                  load["duration"], len(self.window),
+                                  "" if len(self.window) == len(xs) else " in its track_window",
+                                  MAX_FOOTPRINTS))
+        self.footprints = two_step.footprints(scene, [xs[i] for i in self.window])
         fitted = block(self.footprints)
-        self.kf, self.kc = two_step.fit_lumped(fitted, len(xs))
+        self.kf, self.kc = two_step.fit_lumped(fitted, len(self.window))
         self._block = fitted if keep else None
         del fitted
         spacing = scene["sleepers"]["spacing"]
@@ -174,6 +191,21 @@ class Train:
         if not np.allclose(np.diff(self.t), self.dt, rtol=1e-6, atol=0.0):
             raise ConfigError("the vehicle's run wrote its ballast forces at other times than "
                               "every [simulation] macro_step %g s" % self.dt)
+        self.forces = self.forces[:, self.window]
+
+    @staticmethod
+    def _window(xs, length):
+        """The sleepers the block carries: all of them, or (track_window)
+        those within length / 2 of the track's middle, where the receivers
+        stand; at least three."""
+        if length is None:
+            return list(range(len(xs)))
+        mid = 0.5 * (xs[0] + xs[-1])
+        out = [i for i, x in enumerate(xs) if abs(x - mid) <= 0.5 * length + 1e-9]
+        if len(out) < 3:
+            raise ConfigError("[soil] mitigation.track_window %g m holds %d of the track's "
+                              "sleepers: it must hold at least three" % (length, len(out)))
+        return out
 
     def _scene(self, soil, name):
         try:
@@ -226,12 +258,17 @@ class Train:
                 "receivers beside the middle one) from a monolithic run on a lumped soil fitted "
                 "to the static stiffness of the block they were fitted to (k_f = %.4g N/m, "
                 "k_c = %.4g N/m), applied one way from the static state, recorded over %g s "
-                "every %g s. The forces are those of the track on that lumped soil: a "
+                "every %g s.%s The forces are those of the track on that lumped soil: a "
                 "variant's own effect on them is left out, and every band above the highest "
                 "judged one is beyond what the mesh resolves (PPV, KB_Fmax and the overall "
                 "level are taken below it)" % (
                     v.get("model", "wheel"), v.get("speed_kmh", float("nan")),
-                    len(self.footprints), self.kf, self.kc, self.load["duration"], self.dt))
+                    len(self.footprints), self.kf, self.kc, self.load["duration"], self.dt,
+                    "" if len(self.footprints) == self.track else
+                    " The block carries %d of the track's %d sleepers, those within %g m of its "
+                    "middle ([soil] mitigation.track_window %g m): the others' forces are left "
+                    "out." % (len(self.footprints), self.track, 0.5 * self.load["track_window"],
+                              self.load["track_window"])))
 
 
 def make(scene, load, cfg, block, master, out, scene_dir=".", keep=False):

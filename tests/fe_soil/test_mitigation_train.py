@@ -18,6 +18,9 @@ on what it wrote:
 - the trench's statics started from the reference's solution: fewer
   iterations than from zero, the same static state to the solver's
   tolerance;
+- with [soil.mitigation] track_window the block carries the sleepers
+  within half of it of the track's middle, their columns of the vehicle's
+  forces, and the load's text says how many of the track's;
 - behind the trench (6 and 9 m) the PPV is lower than without it;
 - REPORT.md names the load: the car, its speed and its sleepers;
 - the Ricker force's keys beside load = "train", an unknown load and a
@@ -172,6 +175,24 @@ class TrainLoad(unittest.TestCase):
         print("static CG iterations of the trench: %d from zero, %d from the reference's"
               % (fresh, started))
 
+    def test_a_track_window_carries_the_sleepers_around_the_middle(self):
+        cfg = config.parse(self.scene["soil"])
+        load = study_load.load_keys({"load": "train", "duration": RECORD, "track_window": 12.0})
+        out = os.path.join(self.out, "window")
+        train = study_load.make(self.scene, load, cfg,
+                                lambda fps: FESoil(config.block_params(cfg, fps)[0]),
+                                os.path.join(BIN, "master"), out, os.path.dirname(SCENE))
+        mid = 0.5 * (self.xs[0] + self.xs[-1])
+        want = [x for x in self.xs if abs(x - mid) <= 6.0 + 1e-9]
+        self.assertEqual([f.x for f in train.footprints], want)
+        self.assertTrue(3 <= len(want) < len(self.xs), (len(want), len(self.xs)))
+        head, data = two_step.read_csv(os.path.join(out, "lumped", "monolithic", "soil_forces.csv"))
+        columns = [1 + [float(x) for x in head[1:]].index(x) for x in want]
+        np.testing.assert_array_equal(train.forces, data[:, columns])
+        self.assertIn("The block carries %d of the track's %d sleepers, those within 6 m of its "
+                      "middle ([soil] mitigation.track_window 12 m): the others' forces are left "
+                      "out." % (len(want), len(self.xs)), train.text())
+
     def test_behind_the_trench_the_ppv_is_lower(self):
         per = self.losses["trench"]
         self.assertEqual(len(per), 3)
@@ -195,7 +216,10 @@ class TrainLoad(unittest.TestCase):
                 ({"load": "train", "frequency": 20.0},
                  r"mitigation\.frequency is a key of the Ricker force"),
                 ({"load": "trains"}, r"mitigation\.load must be one of \"ricker\", \"train\""),
-                ({"load": "train", "duration": 0.0}, r"mitigation\.duration must be > 0")):
+                ({"load": "train", "duration": 0.0}, r"mitigation\.duration must be > 0"),
+                ({"track_window": 10.0}, r"mitigation\.track_window is a key of the train's"),
+                ({"load": "train", "track_window": 0.0},
+                 r"mitigation\.track_window must be > 0")):
             with self.assertRaisesRegex(config.ConfigError, pattern):
                 study_load.load_keys(table)
         cfg = config.parse(self.scene["soil"])
