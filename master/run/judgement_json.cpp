@@ -18,6 +18,7 @@ std::string stability_json(const RunRecord& r) {
     << ", \"map_dimension\": " << (r.map_dimension ? std::to_string(*r.map_dimension) : "null")
     << ", \"map_s\": " << opt(r.map_seconds)
     << ", \"map_method\": " << (r.map_method.empty() ? "null" : json_quoted(r.map_method))
+    << ", \"map_solver\": " << (r.map_solver.empty() ? "null" : json_quoted(r.map_solver))
     << ", \"map_products\": " << (r.map_products ? std::to_string(*r.map_products) : "null");
   if (!r.spectral_note.empty()) s << ", \"rho_not_judged\": " << json_quoted(r.spectral_note);
   if (r.matrix_free_steps)

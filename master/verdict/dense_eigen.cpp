@@ -2,6 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <dlfcn.h>
+
 #include <chrono>
 #include <cstddef>
 #include <future>
@@ -18,6 +20,19 @@ extern "C" void dgeev_(const char* jobvl, const char* jobvr, const int* n, doubl
                        std::size_t jobvl_len, std::size_t jobvr_len);
 
 namespace railcosim::verdict {
+
+std::string lapack_library() {
+  // OpenBLAS's own entry point is in the process when the LAPACK (and BLAS)
+  // the dynamic linker chose is OpenBLAS's (Debian's alternatives decide).
+  static const bool openblas = dlsym(RTLD_DEFAULT, "openblas_get_config") != nullptr;
+  return openblas ? "OpenBLAS" : "reference";
+}
+
+long lapack_from() {
+  static const long from = lapack_library() == "OpenBLAS" ? 0 : kLapackFrom;
+  return from;
+}
+
 namespace {
 
 DenseEigenvalues solve_eigen(const Eigen::MatrixXd& a) {
@@ -33,7 +48,7 @@ DenseEigenvalues solve_eigen(const Eigen::MatrixXd& a) {
 
 DenseEigenvalues solve_lapack(Eigen::MatrixXd& a) {
   DenseEigenvalues out;
-  out.solver = "LAPACK dgeev";
+  out.solver = "LAPACK dgeev (" + lapack_library() + ")";
   const int n = static_cast<int>(a.rows());
   const int one = 1;
   std::vector<double> wr(static_cast<std::size_t>(n)), wi(static_cast<std::size_t>(n));
@@ -58,8 +73,8 @@ DenseEigenvalues solve_lapack(Eigen::MatrixXd& a) {
 }
 
 DenseEigenvalues solve(Eigen::MatrixXd& a, DenseSolver solver) {
-  const bool lapack =
-      solver == DenseSolver::kLapack || (solver == DenseSolver::kBySize && a.rows() >= kLapackFrom);
+  const bool lapack = solver == DenseSolver::kLapack ||
+                      (solver == DenseSolver::kBySize && a.rows() >= lapack_from());
   return lapack ? solve_lapack(a) : solve_eigen(a);
 }
 

@@ -19,6 +19,7 @@ MapSpectrum map_spectrum(const Spectrum& m, double window, const std::string& re
   s.dimension = m.dimension;
   s.products = m.products;
   s.method = m.method;
+  s.solver = m.solver;
   if (!refused.empty()) {
     s.why_not = refused;
     return s;

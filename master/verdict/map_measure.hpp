@@ -29,6 +29,7 @@ struct MapSpectrum {
   long dimension = 0;       // the coordinates of the map (dense: after dropping the ignored)
   long products = 0;        // products of the map taken (each two parked macro steps)
   std::string method;       // "krylov" or "dense"
+  std::string solver;       // which eigen-solver (Spectrum::solver); "" if none ran
   long states = 0;          // the coupled state's coordinates before that
   long micro_steps = 0;     // the micro steps of its macro step (the most of a participant)
   double seconds = 0;       // the wall time of the computation

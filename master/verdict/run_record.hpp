@@ -53,6 +53,7 @@ struct RunRecord {
   // (the test oracle), and the products of the map it took (each two
   // parked macro steps).
   std::string map_method;
+  std::string map_solver;  // the eigen-solver that ran (Spectrum::solver)
   std::optional<long> map_products;
   std::optional<long> map_micro_steps;  // per macro step, the most of a participant
   std::string spectral_note;

@@ -133,6 +133,7 @@ Spectrum dense_spectrum(const LinearOperator& a, const Budget& budget) {
       bool stopped = false;
       auto eig = dense_eigenvalues(std::move(R), budget.stop, left, stopped);
       if (stopped) throw Stopped("stopped by a signal");
+      s.solver = eig->solver;
       if (!eig->why_not.empty()) {
         s.why_not = eig->why_not;
         finish(s, op);
@@ -161,6 +162,7 @@ Spectrum dominant_spectrum(const LinearOperator& a, const Budget& budget, const 
   }
   Spectrum s;
   s.method = "krylov";
+  s.solver = "Spectra GenEigsSolver";
   s.dimension = n;
   CountedProduct op(a, budget);
   try {

@@ -63,8 +63,9 @@ struct Spectrum {
   long products = 0;                          // products y = A x taken
   long restarts = 0;                          // Arnoldi restarts
   double seconds = 0;                         // wall time
-  long dimension = 0;   // the map's dimension (dense: after dropping zero columns)
-  std::string method;   // "krylov" or "dense"
+  long dimension = 0;  // the map's dimension (dense: after dropping zero columns)
+  std::string method;  // "krylov" or "dense"
+  std::string solver;  // dense: the eigen-solver (dense_eigen.hpp); krylov: "Spectra GenEigsSolver"
   std::string why_not;  // when not converged: why
 };
 

@@ -117,6 +117,7 @@ Stability probe_growth(const RunRecord& parked, double dt, bool implicit, double
 
 bool judge_by_map(RunRecord& run, const MapSpectrum& m, double t_end, bool implicit) {
   run.map_method = m.method;
+  run.map_solver = m.solver;
   if (m.products > 0) run.map_products = m.products;
   if (m.dimension > 0) run.map_dimension = m.dimension;
   if (m.computed && m.method == "krylov" && m.rate_per_s < unstable_rate(t_end)) {
