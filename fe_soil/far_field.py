@@ -134,6 +134,14 @@ def start_from(basis, forces):
     return sum(a * b[1] for a, b in zip(alpha, basis))
 
 
+def forcing(forces, last, rtol, eta=1e-2, cap=1e-4):
+    """An iterated static solve's residual: `eta` times the forces' relative
+    change since the `last` solve, at most `cap`, at least `rtol` (the same
+    on every rank, as the forces are)."""
+    change = np.linalg.norm(forces - last) / max(np.linalg.norm(forces), 1e-300)
+    return min(cap, max(rtol, eta * change))
+
+
 def solve(ksp, b, x, rtol, what):
     ksp.setTolerances(rtol=rtol, atol=0.0, max_it=5000)
     ksp.solve(b, x)

@@ -235,7 +235,7 @@ class FESoil:
     # ---- the participant's calls -----------------------------------------
     STATIC_BASIS = 24  # solutions kept to start the next static solve from
 
-    def statics(self, forces, rtol=1e-12):
+    def statics(self, forces, rtol=1e-12, iterating=False):
         """Equilibrium under the footprint forces; the state becomes it (at
         rest). Returns the downward displacement of each footprint.
 
@@ -245,12 +245,19 @@ class FESoil:
         Forces asked for before get that solution back bitwise, so the
         iteration sees the change stop instead of the solver's round-off.
         With `static_reach` the outer soil's correction is added
-        (far_field.StaticExtension); to the outputs, c_loc F (`_own`)."""
+        (far_field.StaticExtension); to the outputs, c_loc F (`_own`).
+
+        `iterating` (the master's iteration): after the first solve, inexact
+        while the forces still change (far_field.forcing; Eisenstat & Walker's
+        forcing terms, 1996); a kept solution is given back only if solved
+        as far as asked."""
         forces = np.asarray(forces, dtype=float)
-        for f_old, _, x_old, c_old in self._static_basis:
-            if np.array_equal(f_old, forces):
+        for f_old, _, x_old, c_old, r_old in self._static_basis:
+            if r_old <= rtol and np.array_equal(f_old, forces):
                 self._set_static(x_old, c_old)
                 return self._own(self.footprint_average(self.u), forces)
+        if iterating and self._static_basis:  # the first solve is exact
+            rtol = far_field.forcing(forces, self._static_basis[-1][0], rtol)
         x_block = self._block_statics(forces, rtol)
         x = x_block + self._far_field(forces)
         # The force the soil outside the block exerts beyond the boundary
@@ -258,7 +265,7 @@ class FESoil:
         self.U.array[:] = x
         self.K.mult(self.U, self.KU)
         corr = (self.KU.array - self.load_vector(forces)) * self.mask * (self.p.static_reach > 0.0)
-        self._static_basis.append((forces.copy(), x_block, x.copy(), corr))
+        self._static_basis.append((forces.copy(), x_block, x.copy(), corr, rtol))
         del self._static_basis[: -self.STATIC_BASIS]
         self._set_static(x, corr)
         return self._own(self.footprint_average(self.u), forces)

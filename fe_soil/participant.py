@@ -66,7 +66,9 @@ class Core:
         return self.soil
 
     def statics(self, forces):
-        return self.soil.statics(forces)
+        # The master's coupled static iteration: its solves may be inexact
+        # while the forces still change (FESoil.statics).
+        return self.soil.statics(forces, iterating=True)
 
     def advance(self, t, H, f0, f1):
         return self.soil.advance(t, H, f0, f1)
@@ -232,9 +234,10 @@ class FESoilParticipant(rc.Participant):
     def report_time(self):
         c = self.clock
         print("fe_soil: %d DOFs on %d rank(s), dt %.4g ms: built in %.1f s; %d static solves "
-              "%.1f s; %d macro steps %.1f s (%.2f ms each)"
+              "%.1f s (%d CG iterations); %d macro steps %.1f s (%.2f ms each)"
               % (self.soil.global_dofs(), self.core.comm.size, 1e3 * self.soil.dt, c["build"],
-                 c["n_statics"], c["statics"], c["n_advance"], c["advance"],
+                 c["n_statics"], c["statics"], self.static_iterations, c["n_advance"],
+                 c["advance"],
                  1e3 * c["advance"] / max(1, c["n_advance"])), file=sys.stderr, flush=True)
 
     def results(self):
