@@ -31,8 +31,6 @@ base=(
   libzip-dev libpugixml-dev  # FMUs as participants: the archive and its modelDescription.xml
   libspectra-dev    # the verdict's Arnoldi method on Eigen (master/verdict/)
   liblapack-dev     # the verdict's dense eigenvalues (multishift QR, master/verdict/)
-  libopenblas0-serial  # the LAPACK it runs with: 2-3.6 x the reference's speed there; one
-                       # thread a call, as the study runs one worker a core
   python3 python3-matplotlib python3-protobuf python3-numpy
 )
 fe=(

@@ -28,11 +28,6 @@ std::string lapack_library() {
   return openblas ? "OpenBLAS" : "reference";
 }
 
-long lapack_from() {
-  static const long from = lapack_library() == "OpenBLAS" ? 0 : kLapackFrom;
-  return from;
-}
-
 namespace {
 
 DenseEigenvalues solve_eigen(const Eigen::MatrixXd& a) {
@@ -73,8 +68,8 @@ DenseEigenvalues solve_lapack(Eigen::MatrixXd& a) {
 }
 
 DenseEigenvalues solve(Eigen::MatrixXd& a, DenseSolver solver) {
-  const bool lapack = solver == DenseSolver::kLapack ||
-                      (solver == DenseSolver::kBySize && a.rows() >= lapack_from());
+  const bool lapack =
+      solver == DenseSolver::kLapack || (solver == DenseSolver::kBySize && a.rows() >= kLapackFrom);
   return lapack ? solve_lapack(a) : solve_eigen(a);
 }
 

@@ -1,14 +1,12 @@
-// Every eigenvalue of a dense real matrix, by one of two solvers: LAPACK's
-// multishift QR (dgeev without eigenvectors: balancing, Hessenberg
-// reduction, the Hessenberg QR iteration with aggressive early deflation)
-// or Eigen's double-shift QR (EigenSolver without eigenvectors). Which one
-// depends on the LAPACK the program runs with: OpenBLAS's (what
-// scripts/install-deps.sh installs) is faster than Eigen's solver at every
-// size of the verdict's maps (1.3 to 3.6 times from 507 to 1,406
-// coordinates), and is taken at every size; the reference LAPACK breaks even
-// with Eigen's solver near kLapackFrom coordinates, and is taken from there
-// on (bench/dense_eigen_bench.cpp; docs/benchmarks.md, "The verdict's
-// cost").
+// Every eigenvalue of a dense real matrix. From kLapackFrom coordinates by
+// LAPACK's multishift QR (dgeev without eigenvectors: balancing, Hessenberg
+// reduction, the Hessenberg QR iteration with aggressive early deflation),
+// below by Eigen's double-shift QR (EigenSolver without eigenvectors): on
+// the verdict's own maps the two break even near 1,000 coordinates with the
+// reference LAPACK (bench/dense_eigen_bench.cpp; docs/benchmarks.md, "The
+// verdict's cost"). OpenBLAS's LAPACK is faster at every size, but its
+// eigenvalues of the same map differ between processes (1e-11 in rho), so
+// the size alone decides, and the solver's name says which LAPACK ran.
 //
 // The iteration runs on a thread of its own so that the caller can still
 // keep its promise to stop within a second: the wait asks `stop` every
@@ -26,9 +24,6 @@ inline constexpr long kLapackFrom = 1000;
 
 // The LAPACK this program runs with: "OpenBLAS" or "reference" (any other).
 std::string lapack_library();
-// The size from which the default solver is LAPACK's: 0 with OpenBLAS,
-// kLapackFrom with the reference LAPACK.
-long lapack_from();
 
 struct DenseEigenvalues {
   Eigen::VectorXcd values;
@@ -36,7 +31,7 @@ struct DenseEigenvalues {
   std::string solver;   // "LAPACK dgeev (<library>)" or "Eigen EigenSolver"
 };
 
-// Which solver: by size (lapack_from()), or one of the two (the tests' and
+// Which solver: by size (kLapackFrom), or one of the two (the tests' and
 // the benchmark's).
 enum class DenseSolver { kBySize, kEigen, kLapack };
 
