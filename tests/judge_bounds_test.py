@@ -105,6 +105,8 @@ def main():
     steps = full["macro_steps"]
     if st["map_method"] != "krylov":
         fail("a map of 600 sleepers measured by %r, not Arnoldi's method" % st["map_method"])
+    if st.get("map_solver") != "Spectra GenEigsSolver":
+        fail("summary.json names the map's solver %r, not Spectra's" % st.get("map_solver"))
     budget = max(200, round(steps / 2))
     if not (0 < st["map_products"] <= budget):
         fail("%s products of the map, the budget is %d" % (st["map_products"], budget))
